@@ -1,0 +1,452 @@
+//! The one configuration struct of the model (SPEC.md §1.1, §3.3, §5).
+//!
+//! Defaults are the paper's simulation values (paper §4). Angles are given in
+//! degrees (keys ending in `_deg`), everything else in SI units. A
+//! [`HandConfig`] is only used after [`HandConfig::validate`] accepted it; the
+//! error names the offending key exactly as it is spelt in the TOML file
+//! (`section.key`), so a user can find it.
+
+use serde::{Deserialize, Serialize};
+
+/// Why a configuration was refused. Every variant names the key.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum ConfigError {
+    /// A number is NaN or infinite.
+    #[error("config key `{key}` must be a finite number (got {value})")]
+    NotFinite {
+        /// Key, as written in the TOML file.
+        key: &'static str,
+        /// The value found.
+        value: f64,
+    },
+    /// A number lies outside its allowed range.
+    #[error("config key `{key}` = {value} is out of range: {expected}")]
+    OutOfRange {
+        /// Key, as written in the TOML file.
+        key: &'static str,
+        /// The value found.
+        value: f64,
+        /// The allowed range, in words.
+        expected: &'static str,
+    },
+    /// Two keys contradict each other.
+    #[error("config keys `{key}` and `{other}` are inconsistent: {why}")]
+    Inconsistent {
+        /// First key.
+        key: &'static str,
+        /// Second key.
+        other: &'static str,
+        /// What is wrong, in words.
+        why: &'static str,
+    },
+}
+
+/// Geometry, friction, workspace and margins of the hand and object
+/// (SPEC §1.1; TOML section `[model]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ModelConfig {
+    /// Object sphere radius R [m] (paper: 0.5).
+    pub object_radius: f64,
+    /// Fingertip sphere radius r [m] (paper: 0.1).
+    pub fingertip_radius: f64,
+    /// Friction angle θ, μ = tan θ [deg] (paper: 20°).
+    pub friction_angle_deg: f64,
+    /// Torsional friction ratio: μ_t = ratio · r · μ (SPEC §1.2, default 0.1).
+    pub torsion_ratio: f64,
+    /// Azimuths φ_k of the finger base directions d_k in the xy-plane [deg].
+    pub finger_azimuth_deg: [f64; 3],
+    /// Half angle β of each finger's workspace cone on the object [deg] (paper: 60°).
+    pub workspace_half_angle_deg: f64,
+    /// Height δR of the free-space shell above the object surface [m].
+    pub free_space_height: f64,
+    /// Fingertip roll limit γ about its pole axis [deg] (paper: 60°).
+    pub roll_limit_deg: f64,
+    /// Minimum gap between two fingertip spheres [m].
+    pub fingertip_clearance: f64,
+    /// Angle margin kept inside the force-closure boundary (Fact 3) [deg].
+    pub fc_margin_deg: f64,
+    /// Angle margin kept inside the workspace cones [deg].
+    pub workspace_margin_deg: f64,
+    /// Margin kept inside the roll limit [deg].
+    pub roll_margin_deg: f64,
+}
+
+impl Default for ModelConfig {
+    fn default() -> Self {
+        Self {
+            object_radius: 0.5,
+            fingertip_radius: 0.1,
+            friction_angle_deg: 20.0,
+            torsion_ratio: 0.1,
+            finger_azimuth_deg: [0.0, 120.0, 240.0],
+            workspace_half_angle_deg: 60.0,
+            free_space_height: 0.05,
+            roll_limit_deg: 60.0,
+            fingertip_clearance: 0.005,
+            fc_margin_deg: 2.0,
+            workspace_margin_deg: 1.0,
+            roll_margin_deg: 1.0,
+        }
+    }
+}
+
+/// Object load for grasp-force optimisation (SPEC §3.3; TOML section `[load]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LoadConfig {
+    /// Object mass m [kg].
+    pub object_mass: f64,
+    /// Gravity vector g in the hand frame [m/s²].
+    pub gravity: [f64; 3],
+    /// Extra force [N] the grasp must resist in any direction on top of the
+    /// weight (the disturbance margin of SPEC §3.3).
+    pub disturbance_force: f64,
+    /// Extra torque [N·m] the grasp must resist about any axis.
+    pub disturbance_torque: f64,
+}
+
+impl Default for LoadConfig {
+    fn default() -> Self {
+        Self {
+            object_mass: 0.1,
+            gravity: [0.0, 0.0, -9.81],
+            disturbance_force: 0.5,
+            disturbance_torque: 0.0,
+        }
+    }
+}
+
+/// Velocity, acceleration and jerk limit of one motion kind (SPEC §5).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionLimit {
+    /// Maximum velocity (> 0).
+    pub velocity: f64,
+    /// Maximum acceleration (> 0).
+    pub acceleration: f64,
+    /// Maximum jerk (> 0).
+    pub jerk: f64,
+}
+
+/// Motion limits (SPEC §5; TOML section `[limits]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct LimitsConfig {
+    /// Object rotation [rad/s, rad/s², rad/s³].
+    pub object: MotionLimit,
+    /// Fingertip centre translation in free space [m/s, m/s², m/s³].
+    pub fingertip: MotionLimit,
+    /// Rolling: fingertip angular velocity relative to the object [rad/s, …].
+    pub rolling: MotionLimit,
+}
+
+impl Default for LimitsConfig {
+    fn default() -> Self {
+        Self {
+            object: MotionLimit {
+                velocity: 1.0,
+                acceleration: 4.0,
+                jerk: 40.0,
+            },
+            fingertip: MotionLimit {
+                velocity: 0.5,
+                acceleration: 4.0,
+                jerk: 40.0,
+            },
+            // "same acc/jerk ratios" as the object: a/v = 4 /s, j/a = 10 /s.
+            rolling: MotionLimit {
+                velocity: 2.0,
+                acceleration: 8.0,
+                jerk: 80.0,
+            },
+        }
+    }
+}
+
+/// Everything the model, planner and controller need (SPEC §1.1, §3.3, §5).
+///
+/// Deserialises from TOML with sections `[model]`, `[load]`, `[limits]`;
+/// missing keys take the paper's defaults, unknown keys are refused.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HandConfig {
+    /// Geometry, friction, workspace, margins.
+    pub model: ModelConfig,
+    /// Object load for grasp forces.
+    pub load: LoadConfig,
+    /// Motion limits.
+    pub limits: LimitsConfig,
+}
+
+fn finite(key: &'static str, value: f64) -> Result<f64, ConfigError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(ConfigError::NotFinite { key, value })
+    }
+}
+
+/// `lo < value <= hi` (open below, closed above).
+fn in_range(
+    key: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    expected: &'static str,
+) -> Result<(), ConfigError> {
+    finite(key, value)?;
+    if value > lo && value <= hi {
+        Ok(())
+    } else {
+        Err(ConfigError::OutOfRange {
+            key,
+            value,
+            expected,
+        })
+    }
+}
+
+/// `lo <= value <= hi`.
+fn in_closed(
+    key: &'static str,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    expected: &'static str,
+) -> Result<(), ConfigError> {
+    finite(key, value)?;
+    if (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(ConfigError::OutOfRange {
+            key,
+            value,
+            expected,
+        })
+    }
+}
+
+impl MotionLimit {
+    fn validate(&self, keys: [&'static str; 3]) -> Result<(), ConfigError> {
+        let expected = "> 0 and at most 1e6";
+        in_range(keys[0], self.velocity, 0.0, 1e6, expected)?;
+        in_range(keys[1], self.acceleration, 0.0, 1e6, expected)?;
+        in_range(keys[2], self.jerk, 0.0, 1e6, expected)
+    }
+}
+
+impl HandConfig {
+    /// Checks every key; the first failure is returned, naming its key.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let m = &self.model;
+        in_range(
+            "model.object_radius",
+            m.object_radius,
+            0.0,
+            100.0,
+            "> 0 m and at most 100 m",
+        )?;
+        in_range(
+            "model.fingertip_radius",
+            m.fingertip_radius,
+            0.0,
+            m.object_radius,
+            "> 0 m and at most model.object_radius",
+        )?;
+        in_range(
+            "model.friction_angle_deg",
+            m.friction_angle_deg,
+            0.0,
+            60.0,
+            "in (0°, 60°]",
+        )?;
+        in_range(
+            "model.torsion_ratio",
+            m.torsion_ratio,
+            0.0,
+            10.0,
+            "in (0, 10]",
+        )?;
+        for a in m.finger_azimuth_deg {
+            in_closed(
+                "model.finger_azimuth_deg",
+                a,
+                -360.0,
+                360.0,
+                "each in [-360°, 360°]",
+            )?;
+        }
+        in_range(
+            "model.workspace_half_angle_deg",
+            m.workspace_half_angle_deg,
+            0.0,
+            90.0,
+            "in (0°, 90°]",
+        )?;
+        in_range(
+            "model.free_space_height",
+            m.free_space_height,
+            0.0,
+            m.object_radius,
+            "> 0 m and at most model.object_radius",
+        )?;
+        in_range(
+            "model.roll_limit_deg",
+            m.roll_limit_deg,
+            0.0,
+            180.0,
+            "in (0°, 180°]",
+        )?;
+        in_closed(
+            "model.fingertip_clearance",
+            m.fingertip_clearance,
+            0.0,
+            m.object_radius,
+            "in [0, model.object_radius] m",
+        )?;
+        in_closed(
+            "model.fc_margin_deg",
+            m.fc_margin_deg,
+            0.0,
+            10.0,
+            "in [0°, 10°]",
+        )?;
+        in_closed(
+            "model.workspace_margin_deg",
+            m.workspace_margin_deg,
+            0.0,
+            m.workspace_half_angle_deg,
+            "in [0°, model.workspace_half_angle_deg)",
+        )?;
+        in_closed(
+            "model.roll_margin_deg",
+            m.roll_margin_deg,
+            0.0,
+            m.roll_limit_deg,
+            "in [0°, model.roll_limit_deg)",
+        )?;
+        if m.workspace_margin_deg >= m.workspace_half_angle_deg {
+            return Err(ConfigError::Inconsistent {
+                key: "model.workspace_margin_deg",
+                other: "model.workspace_half_angle_deg",
+                why: "the margin leaves no workspace",
+            });
+        }
+        if m.roll_margin_deg >= m.roll_limit_deg {
+            return Err(ConfigError::Inconsistent {
+                key: "model.roll_margin_deg",
+                other: "model.roll_limit_deg",
+                why: "the margin leaves no roll range",
+            });
+        }
+        // Fact 3 needs two contacts at least π − 2θ + margin apart.
+        if 180.0 - 2.0 * m.friction_angle_deg + m.fc_margin_deg >= 180.0 {
+            return Err(ConfigError::Inconsistent {
+                key: "model.fc_margin_deg",
+                other: "model.friction_angle_deg",
+                why: "no two-finger grasp can be force-closure with this margin",
+            });
+        }
+
+        let l = &self.load;
+        in_closed(
+            "load.object_mass",
+            l.object_mass,
+            0.0,
+            1e3,
+            "in [0, 1000] kg",
+        )?;
+        for g in l.gravity {
+            in_closed(
+                "load.gravity",
+                g,
+                -100.0,
+                100.0,
+                "each component in [-100, 100] m/s²",
+            )?;
+        }
+        in_closed(
+            "load.disturbance_force",
+            l.disturbance_force,
+            0.0,
+            1e4,
+            "in [0, 1e4] N",
+        )?;
+        in_closed(
+            "load.disturbance_torque",
+            l.disturbance_torque,
+            0.0,
+            1e4,
+            "in [0, 1e4] N·m",
+        )?;
+
+        let lim = &self.limits;
+        lim.object.validate([
+            "limits.object.velocity",
+            "limits.object.acceleration",
+            "limits.object.jerk",
+        ])?;
+        lim.fingertip.validate([
+            "limits.fingertip.velocity",
+            "limits.fingertip.acceleration",
+            "limits.fingertip.jerk",
+        ])?;
+        lim.rolling.validate([
+            "limits.rolling.velocity",
+            "limits.rolling.acceleration",
+            "limits.rolling.jerk",
+        ])
+    }
+
+    /// Friction coefficient μ = tan θ.
+    pub fn mu(&self) -> f64 {
+        self.model.friction_angle_deg.to_radians().tan()
+    }
+
+    /// Torsional friction coefficient μ_t = ratio · r · μ (SPEC §1.2) [m].
+    pub fn mu_torsion(&self) -> f64 {
+        self.model.torsion_ratio * self.model.fingertip_radius * self.mu()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_the_papers_and_valid() {
+        let c = HandConfig::default();
+        c.validate().unwrap();
+        assert!((c.mu() - 0.36397).abs() < 1e-5);
+        assert_eq!(c.model.object_radius, 0.5);
+        assert_eq!(c.model.fingertip_radius, 0.1);
+    }
+
+    #[test]
+    fn bad_values_name_their_key() {
+        let mut c = HandConfig::default();
+        c.model.roll_limit_deg = f64::NAN;
+        let e = c.validate().unwrap_err();
+        assert!(e.to_string().contains("model.roll_limit_deg"), "{e}");
+
+        let mut c = HandConfig::default();
+        c.limits.fingertip.jerk = 0.0;
+        let e = c.validate().unwrap_err();
+        assert!(e.to_string().contains("limits.fingertip.jerk"), "{e}");
+
+        let mut c = HandConfig::default();
+        c.model.fingertip_radius = 0.6;
+        let e = c.validate().unwrap_err();
+        assert!(e.to_string().contains("model.fingertip_radius"), "{e}");
+    }
+
+    #[test]
+    fn toml_partial_and_unknown_keys() {
+        let c: HandConfig = toml::from_str("[model]\nroll_limit_deg = 45\n").unwrap();
+        assert_eq!(c.model.roll_limit_deg, 45.0);
+        assert_eq!(c.model.object_radius, 0.5);
+        let e = toml::from_str::<HandConfig>("[model]\nroll_limt_deg = 45\n").unwrap_err();
+        assert!(e.to_string().contains("roll_limt_deg"), "{e}");
+    }
+}

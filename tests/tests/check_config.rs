@@ -1,0 +1,55 @@
+//! `gaitd --check-config` on the shipped example and on broken files.
+
+use std::process::Command;
+
+fn gaitd() -> Command {
+    Command::new(gaitd_tests::workspace_bin("gaitd"))
+}
+
+#[test]
+fn shipped_example_config_is_valid() {
+    let path = gaitd_tests::repo_root().join("deploy/gaitd.toml");
+    let out = gaitd()
+        .arg("--config")
+        .arg(&path)
+        .arg("--check-config")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn bad_key_is_named_in_the_error() {
+    let dir = std::env::temp_dir().join(format!("gaitd-check-config-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.toml");
+    std::fs::write(&path, "[model]\nroll_limit_deg = -5\n").unwrap();
+    let out = gaitd()
+        .arg("--config")
+        .arg(&path)
+        .arg("--check-config")
+        .output()
+        .unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("model.roll_limit_deg"), "{err}");
+}
+
+#[test]
+fn missing_file_is_a_clear_error() {
+    let out = gaitd()
+        .args(["--config", "/nonexistent/gaitd.toml", "--check-config"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("cannot read config file /nonexistent/gaitd.toml"),
+        "{err}"
+    );
+}
