@@ -11,5 +11,7 @@
 //! configuration file, in keys ending in `_deg`).
 
 pub mod config;
+pub mod state;
 
 pub use config::{ConfigError, HandConfig};
+pub use state::{FINGERS, FingerMode, FingerState, HandState};
