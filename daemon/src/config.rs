@@ -2,7 +2,7 @@
 //! [`gait::HandConfig`] (`[model]`, `[load]`, `[limits]`) plus `[control]`.
 //! Every key is validated at start; errors name the key.
 
-use gait::config::{LimitsConfig, LoadConfig, ModelConfig};
+use gait::config::{LimitsConfig, LoadConfig, ModelConfig, PlannerConfig};
 use gait::{ConfigError, HandConfig};
 use serde::{Deserialize, Serialize};
 
@@ -33,6 +33,8 @@ pub struct DaemonConfig {
     pub load: LoadConfig,
     /// `[limits]`: motion limits.
     pub limits: LimitsConfig,
+    /// `[planner]`: planner tuning.
+    pub planner: PlannerConfig,
     /// `[control]`: loop rate.
     pub control: ControlConfig,
 }
@@ -73,6 +75,7 @@ impl DaemonConfig {
             model: self.model,
             load: self.load,
             limits: self.limits,
+            planner: self.planner,
         }
     }
 

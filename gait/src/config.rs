@@ -164,6 +164,40 @@ impl Default for LimitsConfig {
     }
 }
 
+/// Planner tuning (SPEC §4; TOML section `[planner]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PlannerConfig {
+    /// Height above the contact surface at which free fingertips hover and
+    /// travel [m]; at most `model.free_space_height`.
+    pub transfer_height: f64,
+    /// Spacing of the candidate contact grid in each workspace cone [deg].
+    pub candidate_spacing_deg: f64,
+    /// Children kept per relocation pattern in the search.
+    pub branching: u32,
+    /// Search budget: node expansions per search.
+    pub max_expansions: u32,
+    /// Directions tried when the object must first rotate about another
+    /// axis (paper Theory 1 fails, SPEC §4.3).
+    pub escape_axes: u32,
+    /// Extra pair separation [deg] beyond the force-closure boundary (with
+    /// its margin) that the roll from a three-finger start aims for.
+    pub start_roll_extra_deg: f64,
+}
+
+impl Default for PlannerConfig {
+    fn default() -> Self {
+        Self {
+            transfer_height: 0.03,
+            candidate_spacing_deg: 6.0,
+            branching: 3,
+            max_expansions: 3000,
+            escape_axes: 64,
+            start_roll_extra_deg: 1.0,
+        }
+    }
+}
+
 /// Everything the model, planner and controller need (SPEC §1.1, §3.3, §5).
 ///
 /// Deserialises from TOML with sections `[model]`, `[load]`, `[limits]`;
@@ -177,6 +211,8 @@ pub struct HandConfig {
     pub load: LoadConfig,
     /// Motion limits.
     pub limits: LimitsConfig,
+    /// Planner tuning.
+    pub planner: PlannerConfig,
 }
 
 fn finite(key: &'static str, value: f64) -> Result<f64, ConfigError> {
@@ -379,6 +415,38 @@ impl HandConfig {
             0.0,
             1e4,
             "in [0, 1e4] N·m",
+        )?;
+
+        let p = &self.planner;
+        in_range(
+            "planner.transfer_height",
+            p.transfer_height,
+            0.0,
+            m.free_space_height,
+            "> 0 m and at most model.free_space_height",
+        )?;
+        in_range(
+            "planner.candidate_spacing_deg",
+            p.candidate_spacing_deg,
+            0.5,
+            20.0,
+            "in (0.5°, 20°]",
+        )?;
+        in_range("planner.branching", f64::from(p.branching), 0.0, 16.0, "in [1, 16]")?;
+        in_range(
+            "planner.max_expansions",
+            f64::from(p.max_expansions),
+            0.0,
+            1e6,
+            "in [1, 1000000]",
+        )?;
+        in_range("planner.escape_axes", f64::from(p.escape_axes), 3.0, 4096.0, "in [4, 4096]")?;
+        in_closed(
+            "planner.start_roll_extra_deg",
+            p.start_roll_extra_deg,
+            0.0,
+            20.0,
+            "in [0°, 20°]",
         )?;
 
         let lim = &self.limits;

@@ -11,6 +11,7 @@
 //! configuration file, in keys ending in `_deg`).
 
 pub mod config;
+pub mod planner;
 pub mod state;
 
 pub use config::{ConfigError, HandConfig};

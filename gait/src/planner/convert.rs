@@ -1,0 +1,259 @@
+//! From search segments to executable steps (SPEC §4.2 primitives).
+//!
+//! Each gait becomes concrete motions: a Place is an optional arc on the
+//! transfer shell (routed via the cone centre when the direct arc would pass
+//! too close to another fingertip) then a radial descent; a Lift is a radial
+//! ascent. While the object turns, the free finger already travels to above
+//! its next placement when that is clear of the sweeping fingertips
+//! (PLANNER-NOTES: saves about a second per goal); otherwise it stays, or
+//! first parks over its cone centre, which no other fingertip can reach.
+
+use nalgebra::Vector3;
+
+use super::collision::{other_centers, path_clear, sweep_clear};
+use super::geometry::{Geometry, angle_between};
+use super::plan::{FreeMove, FreePath, Motion, Reorientation, Step, StepKind};
+use super::start::PrefixAction;
+use crate::state::{FingerMode, HandState};
+
+/// Why segments could not be turned into collision-free motions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Blocked {
+    /// The finger that could not move safely.
+    pub finger: usize,
+}
+
+/// Builds the step list, tracking the exact state after each step.
+pub struct Builder<'a> {
+    g: &'a Geometry,
+    /// Steps so far.
+    pub steps: Vec<Step>,
+    /// State after the last step.
+    pub hand: HandState,
+}
+
+impl<'a> Builder<'a> {
+    /// Starts at `hand`.
+    pub fn new(g: &'a Geometry, hand: HandState) -> Self {
+        Self {
+            g,
+            steps: Vec::with_capacity(32),
+            hand,
+        }
+    }
+
+    fn push(&mut self, kind: StepKind, motion: Motion) {
+        let step = Step {
+            kind,
+            start: self.hand,
+            motion,
+        };
+        let d = step.dofs();
+        self.hand = step.eval(&d.length, &[0.0; 3]).state;
+        self.steps.push(step);
+    }
+
+    /// A prefix action of the start.
+    pub fn prefix(&mut self, a: &PrefixAction) -> Result<(), Blocked> {
+        match *a {
+            PrefixAction::Roll(rolls) => {
+                let ratio = self.g.contact_radius / self.g.fingertip_radius;
+                self.push(StepKind::Roll, Motion::Roll { rolls, ratio });
+                Ok(())
+            }
+            PrefixAction::Lift(f) => {
+                self.lift(f);
+                Ok(())
+            }
+        }
+    }
+
+    /// Radial ascent of a grasping finger to the transfer height.
+    pub fn lift(&mut self, finger: usize) {
+        let dir = self.hand.fingers[finger].contact_normal();
+        self.push(
+            StepKind::Lift,
+            Motion::Free(FreeMove {
+                finger,
+                path: FreePath::Radial {
+                    dir,
+                    from: self.g.contact_radius,
+                    to: self.g.transfer_radius,
+                },
+                turn: Reorientation::NONE,
+                contact_at_end: false,
+            }),
+        );
+    }
+
+    /// Brings a free finger to the transfer height if it is elsewhere in
+    /// its shell.
+    fn to_transfer_height(&mut self, finger: usize) {
+        let p = self.hand.fingers[finger].center;
+        let rho = p.norm();
+        if (rho - self.g.transfer_radius).abs() > 1e-12 {
+            self.push(
+                StepKind::Transfer,
+                Motion::Free(FreeMove {
+                    finger,
+                    path: FreePath::Radial {
+                        dir: p / rho,
+                        from: rho,
+                        to: self.g.transfer_radius,
+                    },
+                    turn: Reorientation::NONE,
+                    contact_at_end: false,
+                }),
+            );
+        }
+    }
+
+    /// The arcs (one, or two via the cone centre) that take a hovering
+    /// finger to above `target` clear of the other fingertips.
+    fn route(&self, finger: usize, target: &Vector3<f64>) -> Result<([Option<FreePath>; 2], bool), Blocked> {
+        let from = self.hand.fingers[finger].center.normalize();
+        if angle_between(&from, target) < 1e-12 {
+            return Ok(([None, None], true));
+        }
+        let (others, n) = other_centers(&self.hand, finger);
+        let rho = self.g.transfer_radius;
+        let direct = FreePath::arc(&from, target, rho);
+        if path_clear(self.g, &direct, &others[..n]) {
+            return Ok(([Some(direct), None], false));
+        }
+        let centre = self.g.base[finger];
+        let a = FreePath::arc(&from, &centre, rho);
+        let b = FreePath::arc(&centre, target, rho);
+        if path_clear(self.g, &a, &others[..n]) && path_clear(self.g, &b, &others[..n]) {
+            return Ok(([Some(a), Some(b)], false));
+        }
+        Err(Blocked { finger })
+    }
+
+    /// Place: travel above `contact`, turn to pole-down with roll `roll`,
+    /// descend and touch.
+    pub fn place(&mut self, finger: usize, contact: &Vector3<f64>, roll: f64) -> Result<(), Blocked> {
+        self.to_transfer_height(finger);
+        let f = self.hand.fingers[finger];
+        let mut turn = Reorientation::towards(&f.orientation, &(-contact), roll - f.roll);
+        let (arcs, _) = self.route(finger, contact)?;
+        let n_arcs = arcs.iter().flatten().count();
+        for (i, arc) in arcs.iter().flatten().enumerate() {
+            // The whole turn happens on the last arc.
+            let this_turn = if i + 1 == n_arcs { turn } else { Reorientation::NONE };
+            if i + 1 == n_arcs {
+                turn = Reorientation::NONE;
+            }
+            self.push(
+                StepKind::Transfer,
+                Motion::Free(FreeMove {
+                    finger,
+                    path: *arc,
+                    turn: this_turn,
+                    contact_at_end: false,
+                }),
+            );
+        }
+        // Correct any residual turn (none after an arc) on the way down.
+        let f = self.hand.fingers[finger];
+        if n_arcs == 0 {
+            turn = Reorientation::towards(&f.orientation, &(-contact), roll - f.roll);
+        }
+        self.push(
+            StepKind::Place,
+            Motion::Free(FreeMove {
+                finger,
+                path: FreePath::Radial {
+                    dir: *contact,
+                    from: self.g.transfer_radius,
+                    to: self.g.contact_radius,
+                },
+                turn,
+                contact_at_end: true,
+            }),
+        );
+        Ok(())
+    }
+
+    /// Rotates the object by the grasping fingers; the free finger (if any)
+    /// travels towards `next` (its next placement) meanwhile when safe.
+    pub fn rotate(
+        &mut self,
+        axis: &Vector3<f64>,
+        angle: f64,
+        next: Option<(usize, Vector3<f64>, f64)>,
+    ) -> Result<(), Blocked> {
+        let free = (0..3).find(|&k| self.hand.fingers[k].mode == FingerMode::Free);
+        let Some(z) = free else {
+            self.push(
+                StepKind::Rotate,
+                Motion::Rotate {
+                    axis: *axis,
+                    angle,
+                    free: None,
+                },
+            );
+            return Ok(());
+        };
+        let at_height =
+            (self.hand.fingers[z].center.norm() - self.g.transfer_radius).abs() <= 1e-12;
+        if let Some((finger, target, roll)) = next
+            && finger == z
+            && at_height
+        {
+            let f = self.hand.fingers[z];
+            let from = f.center.normalize();
+            if angle_between(&from, &target) > 1e-12 {
+                let path = FreePath::arc(&from, &target, self.g.transfer_radius);
+                if sweep_clear(self.g, &self.hand, z, axis, angle, Some(&path)) {
+                    let turn = Reorientation::towards(&f.orientation, &(-target), roll - f.roll);
+                    self.push(
+                        StepKind::Rotate,
+                        Motion::Rotate {
+                            axis: *axis,
+                            angle,
+                            free: Some(FreeMove {
+                                finger: z,
+                                path,
+                                turn,
+                                contact_at_end: false,
+                            }),
+                        },
+                    );
+                    return Ok(());
+                }
+            }
+        }
+        if !sweep_clear(self.g, &self.hand, z, axis, angle, None) {
+            // Park over the cone centre first: no other fingertip can reach it.
+            self.to_transfer_height(z);
+            let from = self.hand.fingers[z].center.normalize();
+            let path = FreePath::arc(&from, &self.g.base[z], self.g.transfer_radius);
+            let (others, n) = other_centers(&self.hand, z);
+            if !path_clear(self.g, &path, &others[..n]) {
+                return Err(Blocked { finger: z });
+            }
+            self.push(
+                StepKind::Transfer,
+                Motion::Free(FreeMove {
+                    finger: z,
+                    path,
+                    turn: Reorientation::NONE,
+                    contact_at_end: false,
+                }),
+            );
+            if !sweep_clear(self.g, &self.hand, z, axis, angle, None) {
+                return Err(Blocked { finger: z });
+            }
+        }
+        self.push(
+            StepKind::Rotate,
+            Motion::Rotate {
+                axis: *axis,
+                angle,
+                free: None,
+            },
+        );
+        Ok(())
+    }
+}

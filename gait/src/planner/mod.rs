@@ -1,0 +1,423 @@
+//! The reorientation planner (SPEC §4; paper §2, §3.2).
+//!
+//! From any state satisfying SPEC §1.3 to any goal orientation: reach a
+//! two-finger force-closure grasp ([`start`]), then A* over rotation segments
+//! about the goal's axis with gaits between them ([`search`]). If no gait is
+//! possible (paper Theory 1 fails for the pair) or the search finds nothing,
+//! first rotate about another axis to a state where it does ([`Planner::plan`]
+//! tries a set of axes). The result is a list of primitive [`Step`]s with
+//! exact start states ([`plan`]).
+//!
+//! Planning allocates and is not bounded by a tick: it never runs on the
+//! control-loop thread (SPEC §4.3, §7.2). It is deterministic: the same state,
+//! goal and configuration give the same plan, bit for bit.
+
+pub mod candidates;
+pub mod collision;
+pub mod convert;
+pub mod geometry;
+pub mod plan;
+pub mod search;
+pub mod start;
+pub mod timing;
+
+use nalgebra::{UnitQuaternion, Vector3};
+
+pub use plan::{FreeMove, FreePath, LimitKind, Motion, Setpoint, Step, StepDofs, StepKind};
+
+use crate::config::{ConfigError, HandConfig};
+use crate::state::{FingerMode, HandState};
+use candidates::Candidates;
+use convert::Builder;
+use geometry::{BOUNDARY_EPS, Geometry, cone_exit, roll_exit, rotation};
+use search::{Problem, Root, split};
+use start::{Start, starts};
+use timing::{Timing, rest_to_rest};
+
+/// Why no plan was returned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum PlanError {
+    /// The goal quaternion has a non-finite or zero component vector.
+    #[error("goal orientation is not a finite non-zero quaternion")]
+    InvalidGoal,
+    /// The start state has a number that is not finite.
+    #[error("start state contains a non-finite number")]
+    NonFiniteState,
+    /// Fewer than two fingers grasp, or the grasping fingers are not
+    /// force-closure.
+    #[error("start state is not a force-closure grasp")]
+    NoGrasp,
+    /// Three fingers grasp, no pair is force-closure, and no roll reaches a
+    /// force-closure pair.
+    #[error("no roll reaches a two-finger force-closure grasp from this three-finger grasp")]
+    NoTwoFingerGrasp,
+    /// The search (with every escape rotation) found no plan in its budget.
+    #[error("no plan found within the search budget")]
+    SearchExhausted,
+    /// A free finger could not travel without coming too close to another.
+    #[error("finger {finger} cannot travel clear of the other fingertips")]
+    Blocked {
+        /// The finger.
+        finger: usize,
+    },
+}
+
+/// Plan statistics (SPEC §11 plan quality).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PlanSummary {
+    /// Place and Lift steps.
+    pub gaits: u32,
+    /// Rotate steps.
+    pub rotations: u32,
+    /// Roll steps.
+    pub rolls: u32,
+    /// Execution time at the configured limits, rest to rest per step [s].
+    pub duration: f64,
+    /// Angle of the rotation from start to goal [rad].
+    pub goal_angle: f64,
+    /// Whether an escape rotation about another axis was needed.
+    pub escaped: bool,
+    /// Search nodes expanded (all searches).
+    pub expansions: u32,
+}
+
+/// A complete plan.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The state it starts from.
+    pub start: HandState,
+    /// The goal object orientation.
+    pub goal: UnitQuaternion<f64>,
+    /// The primitive steps, in order.
+    pub steps: Vec<Step>,
+    /// Statistics.
+    pub summary: PlanSummary,
+}
+
+impl Plan {
+    /// The state after the last step (the start if there are none).
+    pub fn end_state(&self) -> HandState {
+        self.steps.last().map_or(self.start, |s| {
+            s.eval(&s.dofs().length, &[0.0; 3]).state
+        })
+    }
+}
+
+/// The planner: configuration plus precomputed geometry. Cheap to share
+/// read-only between threads.
+#[derive(Debug, Clone)]
+pub struct Planner {
+    config: HandConfig,
+    geom: Geometry,
+    timing: Timing,
+    cand: Candidates,
+}
+
+impl Planner {
+    /// Builds the planner for a configuration (validated here).
+    pub fn new(config: &HandConfig) -> Result<Self, ConfigError> {
+        config.validate()?;
+        let geom = Geometry::new(config);
+        Ok(Self {
+            config: *config,
+            geom,
+            timing: Timing::new(config),
+            cand: Candidates::new(&geom, config.planner.candidate_spacing_deg),
+        })
+    }
+
+    /// Model constants.
+    pub fn geometry(&self) -> &Geometry {
+        &self.geom
+    }
+
+    /// Step durations.
+    pub fn timing(&self) -> &Timing {
+        &self.timing
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &HandConfig {
+        &self.config
+    }
+
+    /// Execution time of one step at the configured limits.
+    pub fn step_duration(&self, step: &Step) -> f64 {
+        let d = step.dofs();
+        let l = &self.config.limits;
+        (0..d.count)
+            .map(|i| {
+                let lim = match d.kind[i] {
+                    LimitKind::Object => &l.object,
+                    LimitKind::Fingertip => &l.fingertip,
+                    LimitKind::Rolling => &l.rolling,
+                };
+                rest_to_rest(d.length[i], lim)
+            })
+            .fold(0.0, f64::max)
+    }
+
+    /// Plans from `start` to the object orientation `goal`.
+    pub fn plan(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Result<Plan, PlanError> {
+        let gq = goal.quaternion();
+        if !gq.coords.iter().all(|x| x.is_finite()) || gq.norm() < 1e-9 {
+            return Err(PlanError::InvalidGoal);
+        }
+        let goal = UnitQuaternion::new_normalize(*gq);
+        if !state_finite(start) {
+            return Err(PlanError::NonFiniteState);
+        }
+        let n_grasp = start.grasping().1;
+        if n_grasp < 2 {
+            return Err(PlanError::NoGrasp);
+        }
+        let (axis, total) = rotation_to(&start.object, &goal);
+        let mut summary = PlanSummary {
+            goal_angle: total,
+            ..PlanSummary::default()
+        };
+        if total < 1e-12 {
+            return Ok(Plan {
+                start: *start,
+                goal,
+                steps: Vec::new(),
+                summary,
+            });
+        }
+        if n_grasp == 2 {
+            let ([a, b], _) = split(start).ok_or(PlanError::NoGrasp)?;
+            let (ca, cb) = (
+                start.fingers[a].contact_normal(),
+                start.fingers[b].contact_normal(),
+            );
+            if ca.dot(&cb) > self.geom.cos_fc + 1e-9 {
+                return Err(PlanError::NoGrasp);
+            }
+        }
+        let starts = starts(
+            &self.geom,
+            &self.timing,
+            start,
+            self.config.planner.start_roll_extra_deg.to_radians(),
+        );
+        if starts.is_empty() {
+            return Err(PlanError::NoTwoFingerGrasp);
+        }
+        // 1. Straight: search about the goal axis from every start.
+        let roots: Vec<Root> = starts
+            .iter()
+            .enumerate()
+            .map(|(i, s)| Root {
+                hand: s.hand,
+                cost: s.cost,
+                tag: i,
+            })
+            .collect();
+        let problem = self.problem(axis, total);
+        if let Some(found) = problem.solve(&roots) {
+            summary.expansions += found.expansions as u32;
+            let s = &starts[found.tag];
+            if let Ok(plan) = self.build(start, &goal, s, None, &axis, &found.segments, summary) {
+                return Ok(plan);
+            }
+        }
+        summary.expansions += self.config.planner.max_expansions;
+        // 2. Escape: rotate about another axis first (Theory 1, SPEC §4.3).
+        summary.escaped = true;
+        let mut last_err = PlanError::SearchExhausted;
+        for s in &starts {
+            let esc = self.escapes(&s.hand);
+            if std::env::var("GAIT_DEBUG").is_ok() {
+                eprintln!("escapes: {:?}", esc.iter().map(|e| e.1.to_degrees()).collect::<Vec<_>>());
+            }
+            for (e_axis, e_angle) in esc {
+                let mut h = s.hand;
+                search::rotate_hand(&mut h, &e_axis, e_angle);
+                let (axis2, total2) = rotation_to(&h.object, &goal);
+                let root = Root {
+                    hand: h,
+                    cost: 0.0,
+                    tag: 0,
+                };
+                let Some(found) = self.problem(axis2, total2).solve(&[root]) else {
+                    if std::env::var("GAIT_DEBUG").is_ok() {
+                        eprintln!("escape {:.1} deg: search failed", e_angle.to_degrees());
+                    }
+                    continue;
+                };
+                summary.expansions += found.expansions as u32;
+                match self.build(
+                    start,
+                    &goal,
+                    s,
+                    Some((e_axis, e_angle)),
+                    &axis2,
+                    &found.segments,
+                    summary,
+                ) {
+                    Ok(plan) => return Ok(plan),
+                    Err(e) => last_err = e,
+                }
+            }
+        }
+        Err(last_err)
+    }
+
+    fn problem(&self, axis: Vector3<f64>, total: f64) -> Problem<'_> {
+        Problem {
+            geom: &self.geom,
+            timing: &self.timing,
+            cand: &self.cand,
+            axis,
+            total,
+            branching: self.config.planner.branching as usize,
+            max_expansions: self.config.planner.max_expansions as usize,
+        }
+    }
+
+    /// Escape rotations from a two-finger state, smallest first: for each of
+    /// a set of axes, the least rotation (within the pair's range) after
+    /// which the free finger has a force-closure placement (Theory 1).
+    fn escapes(&self, hand: &HandState) -> Vec<(Vector3<f64>, f64)> {
+        let Some((pair, free)) = split(hand) else {
+            return Vec::new();
+        };
+        let n = self.config.planner.escape_axes as usize;
+        let step = 3f64.to_radians();
+        let mut found = Vec::new();
+        for e in fibonacci_sphere(n) {
+            let mut range = f64::INFINITY;
+            for &k in &pair {
+                let f = &hand.fingers[k];
+                range = range
+                    .min(cone_exit(&self.geom, k, &e, &f.contact_normal()))
+                    .min(roll_exit(&self.geom, &e, &f.pole_axis(), f.roll));
+            }
+            let range = (range - BOUNDARY_EPS).min(std::f64::consts::PI);
+            let mut t = step;
+            while t <= range {
+                let mut h = *hand;
+                search::rotate_hand(&mut h, &e, t);
+                // (The free finger parks over its cone centre if it is in
+                // the way: the builder does that.)
+                if self.theory1(&h, pair, free) {
+                    found.push((e, t));
+                    break;
+                }
+                t += step;
+            }
+        }
+        found.sort_by(|a, b| a.1.total_cmp(&b.1));
+        found.truncate(8);
+        found
+    }
+
+    /// Paper Theory 1: some placement of the free finger is force-closure
+    /// with one of the grasping fingers (and clear of both).
+    pub fn theory1(&self, hand: &HandState, pair: [usize; 2], free: usize) -> bool {
+        self.problem(Vector3::z(), 0.0).theory1(hand, pair, free)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn build(
+        &self,
+        start: &HandState,
+        goal: &UnitQuaternion<f64>,
+        s: &Start,
+        escape: Option<(Vector3<f64>, f64)>,
+        axis: &Vector3<f64>,
+        segments: &[search::Segment],
+        mut summary: PlanSummary,
+    ) -> Result<Plan, PlanError> {
+        let blocked = |b: convert::Blocked| PlanError::Blocked { finger: b.finger };
+        let mut b = Builder::new(&self.geom, *start);
+        for a in &s.actions {
+            b.prefix(a).map_err(blocked)?;
+        }
+        if let Some((e_axis, e_angle)) = escape {
+            let next = segments.first().and_then(first_place);
+            b.rotate(&e_axis, e_angle, next).map_err(blocked)?;
+        }
+        for (i, seg) in segments.iter().enumerate() {
+            for gait in &seg.gaits {
+                match *gait {
+                    search::Gait::Place {
+                        finger,
+                        contact,
+                        roll,
+                    } => b.place(finger, &contact, roll).map_err(blocked)?,
+                    search::Gait::Lift { finger } => b.lift(finger),
+                }
+            }
+            if seg.rotate > 0.0 {
+                let next = segments.get(i + 1).and_then(first_place);
+                b.rotate(axis, seg.rotate, next).map_err(blocked)?;
+            }
+        }
+        for st in &b.steps {
+            match st.kind {
+                StepKind::Place | StepKind::Lift => summary.gaits += 1,
+                StepKind::Rotate => summary.rotations += 1,
+                StepKind::Roll => summary.rolls += 1,
+                StepKind::Transfer => {}
+            }
+            summary.duration += self.step_duration(st);
+        }
+        Ok(Plan {
+            start: *start,
+            goal: *goal,
+            steps: b.steps,
+            summary,
+        })
+    }
+}
+
+fn first_place(seg: &search::Segment) -> Option<(usize, Vector3<f64>, f64)> {
+    match seg.gaits.first() {
+        Some(&search::Gait::Place {
+            finger,
+            contact,
+            roll,
+        }) => Some((finger, contact, roll)),
+        _ => None,
+    }
+}
+
+/// Axis (unit) and angle in [0, π] of the hand-frame rotation taking `from`
+/// to `to` (q_d = to · from⁻¹).
+pub fn rotation_to(from: &UnitQuaternion<f64>, to: &UnitQuaternion<f64>) -> (Vector3<f64>, f64) {
+    let d = to * from.inverse();
+    match d.axis_angle() {
+        Some((axis, angle)) if angle > 0.0 => (axis.into_inner(), angle),
+        _ => (Vector3::z(), 0.0),
+    }
+}
+
+fn state_finite(h: &HandState) -> bool {
+    h.object.coords.iter().all(|x| x.is_finite())
+        && h.fingers.iter().all(|f| {
+            f.center.iter().all(|x| x.is_finite())
+                && f.orientation.coords.iter().all(|x| x.is_finite())
+                && f.roll.is_finite()
+                && (f.mode == FingerMode::Free || f.center.norm() > 0.0)
+        })
+}
+
+/// `n` roughly uniform unit vectors (Fibonacci lattice), deterministic.
+pub fn fibonacci_sphere(n: usize) -> Vec<Vector3<f64>> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    (0..n)
+        .map(|i| {
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / n as f64;
+            let r = (1.0 - z * z).sqrt();
+            let phi = golden * i as f64;
+            Vector3::new(r * phi.cos(), r * phi.sin(), z)
+        })
+        .collect()
+}
+
+/// Convenience: the orientation reached by rotating `from` about a hand-frame
+/// axis by an angle (for relative goals).
+pub fn relative_goal(from: &UnitQuaternion<f64>, axis: &Vector3<f64>, angle: f64) -> UnitQuaternion<f64> {
+    rotation(&axis.normalize(), angle) * from
+}

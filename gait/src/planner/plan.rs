@@ -1,0 +1,355 @@
+//! A plan: a sequence of primitive motions (SPEC §4.2), each with its exact
+//! start state, evaluable at any value of its path parameters.
+//!
+//! Each step moves along a fixed geometric path; the executor times the path
+//! parameters with the trajectory generator (rest to rest, SPEC §5) and asks
+//! the step for the hand state and its rates at those parameters. Because
+//! every step stores its own start state, evaluating a step never accumulates
+//! error from earlier steps.
+
+use nalgebra::{UnitQuaternion, Vector3};
+
+use super::geometry::{rotation, swing};
+use crate::state::{FingerMode, HandState};
+
+/// Most path parameters a step has (a rotation plus a concurrent free-finger
+/// transfer, or up to three rolling fingers).
+pub const MAX_DOFS: usize = 3;
+
+/// Which kind of motion a path parameter is limited as (SPEC §5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LimitKind {
+    /// Object rotation angle [rad].
+    Object,
+    /// Fingertip path length in free space [m].
+    Fingertip,
+    /// Fingertip rotation relative to the object while rolling [rad].
+    Rolling,
+}
+
+/// A change of a free fingertip's orientation: the minimal swing of its pole
+/// axis (τ unchanged) plus a twist about the pole (τ changes by the twist),
+/// both proportional to the path fraction λ ∈ [0, 1]:
+/// Q(λ) = Rot(s, λ σ) · Q₀ · Rot_z(λ Δτ).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reorientation {
+    /// Unit swing axis s (hand frame; any unit vector when σ = 0).
+    pub swing_axis: Vector3<f64>,
+    /// Swing angle σ.
+    pub swing_angle: f64,
+    /// Twist Δτ about the pole axis (the roll change).
+    pub twist: f64,
+}
+
+impl Reorientation {
+    /// No change.
+    pub const NONE: Self = Self {
+        swing_axis: Vector3::new(0.0, 0.0, 1.0),
+        swing_angle: 0.0,
+        twist: 0.0,
+    };
+
+    /// The change that turns a fingertip with orientation `q0` so that its
+    /// pole axis becomes `pole` and its roll changes by `twist`.
+    pub fn towards(q0: &UnitQuaternion<f64>, pole: &Vector3<f64>, twist: f64) -> Self {
+        let a0 = q0 * Vector3::z();
+        let s = swing(&a0, pole);
+        match s.axis_angle() {
+            Some((axis, angle)) => Self {
+                swing_axis: axis.into_inner(),
+                swing_angle: angle,
+                twist,
+            },
+            None => Self { twist, ..Self::NONE },
+        }
+    }
+
+    /// Orientation at fraction `lambda` from `q0`.
+    pub fn at(&self, q0: &UnitQuaternion<f64>, lambda: f64) -> UnitQuaternion<f64> {
+        rotation(&self.swing_axis, lambda * self.swing_angle)
+            * q0
+            * rotation(&Vector3::z(), lambda * self.twist)
+    }
+
+    /// Angular velocity (hand frame) per unit of λ at fraction `lambda`.
+    pub fn rate(&self, q0: &UnitQuaternion<f64>, lambda: f64) -> Vector3<f64> {
+        let q = self.at(q0, lambda);
+        self.swing_axis * self.swing_angle + (q * Vector3::z()) * self.twist
+    }
+}
+
+/// A geometric path of a fingertip centre in free space.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum FreePath {
+    /// Straight along the unit direction `dir` from radius `from` to `to`
+    /// (lift: up from contact; place: down to contact).
+    Radial {
+        /// Unit direction from O.
+        dir: Vector3<f64>,
+        /// Start radius.
+        from: f64,
+        /// End radius.
+        to: f64,
+    },
+    /// Great-circle arc at constant `radius` from direction `from` to `to`.
+    Arc {
+        /// Unit start direction.
+        from: Vector3<f64>,
+        /// Unit rotation axis of the arc.
+        axis: Vector3<f64>,
+        /// Arc angle seen from O.
+        angle: f64,
+        /// Radius of the arc.
+        radius: f64,
+    },
+}
+
+impl FreePath {
+    /// Great-circle arc between two unit directions at `radius`.
+    pub fn arc(from: &Vector3<f64>, to: &Vector3<f64>, radius: f64) -> Self {
+        let q = swing(from, to);
+        let (axis, angle) = q
+            .axis_angle()
+            .map_or((Vector3::z(), 0.0), |(a, t)| (a.into_inner(), t));
+        Self::Arc {
+            from: *from,
+            axis,
+            angle,
+            radius,
+        }
+    }
+
+    /// Path length [m].
+    pub fn length(&self) -> f64 {
+        match *self {
+            Self::Radial { from, to, .. } => (to - from).abs(),
+            Self::Arc { angle, radius, .. } => angle * radius,
+        }
+    }
+
+    /// Position and unit tangent (d position / d length) at arc length `s`.
+    pub fn at(&self, s: f64) -> (Vector3<f64>, Vector3<f64>) {
+        match *self {
+            Self::Radial { dir, from, to } => {
+                let sign = if to >= from { 1.0 } else { -1.0 };
+                (dir * (from + sign * s), dir * sign)
+            }
+            Self::Arc {
+                from,
+                axis,
+                angle,
+                radius,
+            } => {
+                if angle <= 0.0 {
+                    return (from * radius, Vector3::zeros());
+                }
+                let u = rotation(&axis, s / radius) * from;
+                (u * radius, axis.cross(&u))
+            }
+        }
+    }
+}
+
+/// A fingertip moving in free space: path plus reorientation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FreeMove {
+    /// Which finger.
+    pub finger: usize,
+    /// Path of its centre.
+    pub path: FreePath,
+    /// Orientation change along the path.
+    pub turn: Reorientation,
+    /// Whether the finger touches the object at the end of the move.
+    pub contact_at_end: bool,
+}
+
+/// One finger rolling on the still object along a great circle: the contact
+/// normal turns about the unit axis `w` (⊥ n) by `angle`; the fingertip turns
+/// about `w` by (R + r)/r times as much (SPEC §2.3 with ω_o = 0, no spin).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GreatCircleRoll {
+    /// Which finger.
+    pub finger: usize,
+    /// Unit axis w of the contact's great circle.
+    pub axis: Vector3<f64>,
+    /// Angle the contact moves on the object [rad] (signed about `axis`).
+    pub angle: f64,
+}
+
+/// The motion of one step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Motion {
+    /// The object turns about `axis` by `angle` (≥ 0) with every grasping
+    /// fingertip carried rigidly; optionally the free finger travels
+    /// concurrently (time-synchronised).
+    Rotate {
+        /// Unit rotation axis (hand frame).
+        axis: Vector3<f64>,
+        /// Rotation angle [rad].
+        angle: f64,
+        /// Concurrent free-finger move.
+        free: Option<FreeMove>,
+    },
+    /// Up to three fingers roll on the still object, time-synchronised.
+    Roll {
+        /// The rolling fingers (`None` for the others).
+        rolls: [Option<GreatCircleRoll>; 3],
+        /// (R + r)/r: fingertip rotation per unit of contact travel.
+        ratio: f64,
+    },
+    /// One finger moves in free space (transfer, lift or place).
+    Free(FreeMove),
+}
+
+/// What a step does, for people and for gait counting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepKind {
+    /// Rolling on the object (object still).
+    Roll,
+    /// Object rotation by a grasping pair (or triple).
+    Rotate,
+    /// A free finger travelling above the object.
+    Transfer,
+    /// A free finger descending to make contact (one gait).
+    Place,
+    /// A grasping finger leaving the object (one gait).
+    Lift,
+}
+
+/// One primitive with its exact start state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Step {
+    /// What it is.
+    pub kind: StepKind,
+    /// Hand state when it starts.
+    pub start: HandState,
+    /// The motion.
+    pub motion: Motion,
+}
+
+/// Path parameters of a step: their count, lengths and limit kinds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepDofs {
+    /// Number of parameters used (1..=MAX_DOFS).
+    pub count: usize,
+    /// Final value of each parameter (start is 0).
+    pub length: [f64; MAX_DOFS],
+    /// Which limits apply.
+    pub kind: [LimitKind; MAX_DOFS],
+}
+
+/// A hand state with its rates, as the controller commands it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Setpoint {
+    /// Poses.
+    pub state: HandState,
+    /// Object angular velocity (hand frame).
+    pub object_rate: Vector3<f64>,
+    /// Fingertip centre velocities.
+    pub finger_velocity: [Vector3<f64>; 3],
+    /// Fingertip angular velocities (hand frame).
+    pub finger_rate: [Vector3<f64>; 3],
+}
+
+impl Step {
+    /// The step's path parameters.
+    pub fn dofs(&self) -> StepDofs {
+        let mut d = StepDofs {
+            count: 1,
+            length: [0.0; MAX_DOFS],
+            kind: [LimitKind::Object; MAX_DOFS],
+        };
+        match &self.motion {
+            Motion::Rotate { angle, free, .. } => {
+                d.length[0] = *angle;
+                if let Some(f) = free {
+                    d.count = 2;
+                    d.length[1] = f.path.length();
+                    d.kind[1] = LimitKind::Fingertip;
+                }
+            }
+            Motion::Roll { rolls, ratio } => {
+                for (i, r) in rolls.iter().enumerate() {
+                    d.kind[i] = LimitKind::Rolling;
+                    d.length[i] = r.map_or(0.0, |r| r.angle.abs() * ratio);
+                }
+                d.count = MAX_DOFS;
+            }
+            Motion::Free(f) => {
+                d.length[0] = f.path.length();
+                d.kind[0] = LimitKind::Fingertip;
+            }
+        }
+        d
+    }
+
+    /// Hand state and rates at path parameters `s` with rates `ds`.
+    pub fn eval(&self, s: &[f64; MAX_DOFS], ds: &[f64; MAX_DOFS]) -> Setpoint {
+        let mut sp = Setpoint {
+            state: self.start,
+            object_rate: Vector3::zeros(),
+            finger_velocity: [Vector3::zeros(); 3],
+            finger_rate: [Vector3::zeros(); 3],
+        };
+        match &self.motion {
+            Motion::Rotate { axis, free, .. } => {
+                let q = rotation(axis, s[0]);
+                let w = axis * ds[0];
+                sp.state.object = q * self.start.object;
+                sp.object_rate = w;
+                for (k, f) in sp.state.fingers.iter_mut().enumerate() {
+                    if f.mode == FingerMode::Grasping {
+                        let pole = f.pole_axis();
+                        f.center = q * f.center;
+                        f.orientation = q * f.orientation;
+                        f.roll += s[0] * axis.dot(&pole);
+                        sp.finger_velocity[k] = w.cross(&f.center);
+                        sp.finger_rate[k] = w;
+                    }
+                }
+                if let Some(m) = free {
+                    apply_free(m, s[1], ds[1], &mut sp);
+                }
+            }
+            Motion::Roll { rolls, ratio } => {
+                let ratio = *ratio;
+                for (i, r) in rolls.iter().enumerate() {
+                    let Some(r) = r else { continue };
+                    let sign = r.angle.signum();
+                    let contact_angle = sign * s[i] / ratio;
+                    let q_n = rotation(&r.axis, contact_angle);
+                    let q_f = rotation(&r.axis, contact_angle * ratio);
+                    let f = &mut sp.state.fingers[r.finger];
+                    let pole0 = f.pole_axis();
+                    f.center = q_n * f.center;
+                    f.orientation = q_f * f.orientation;
+                    f.roll += contact_angle * ratio * r.axis.dot(&pole0);
+                    let w_f = r.axis * (sign * ds[i]);
+                    sp.finger_rate[r.finger] = w_f;
+                    sp.finger_velocity[r.finger] = (r.axis * (sign * ds[i] / ratio)).cross(&f.center);
+                }
+            }
+            Motion::Free(m) => apply_free(m, s[0], ds[0], &mut sp),
+        }
+        sp
+    }
+}
+
+fn apply_free(m: &FreeMove, s: f64, ds: f64, sp: &mut Setpoint) {
+    let len = m.path.length();
+    let lambda = if len > 0.0 { (s / len).clamp(0.0, 1.0) } else { 1.0 };
+    let dlambda = if len > 0.0 { ds / len } else { 0.0 };
+    let f = &mut sp.state.fingers[m.finger];
+    let q0 = f.orientation;
+    let (p, tangent) = m.path.at(s.clamp(0.0, len));
+    f.center = p;
+    f.orientation = m.turn.at(&q0, lambda);
+    f.roll += lambda * m.turn.twist;
+    f.mode = if m.contact_at_end && lambda >= 1.0 {
+        FingerMode::Grasping
+    } else {
+        FingerMode::Free
+    };
+    sp.finger_velocity[m.finger] = tangent * ds;
+    sp.finger_rate[m.finger] = m.turn.rate(&q0, lambda) * dlambda;
+}

@@ -1,0 +1,581 @@
+//! A* over gaits and rotation segments (PLANNER-NOTES "The search that
+//! worked", generalised).
+//!
+//! The object turns about one fixed axis k by the angle Φ still to do. A node
+//! is a two-finger force-closure grasp with the third finger hovering, plus
+//! the rotation about k done so far. Edges are
+//! - a substitution (paper §2.1): place the free finger force-closure with
+//!   one grasping finger, lift the other (two gaits). Chains of them make the
+//!   paper's finger rewind and the relocation patterns of PLANNER-NOTES
+//!   (move one finger, fresh pair, full rewind);
+//! - a rotation about k as far as the pair allows (or to the goal), or half
+//!   as far (stopping early can keep later gaits possible).
+//!
+//! Cost is execution time; nodes are expanded cheapest-first with an
+//! optimistic time-to-go. Ties break by insertion order: deterministic.
+
+use std::cmp::Ordering;
+use std::collections::{BinaryHeap, HashSet};
+
+use nalgebra::Vector3;
+
+use super::candidates::Candidates;
+use super::geometry::{
+    BOUNDARY_EPS, Geometry, angle_between, cone_exit, fresh_range, roll_exit, rotation,
+};
+use super::timing::Timing;
+use crate::state::{FingerMode, HandState};
+
+/// Rotations shorter than this are not worth a segment.
+const MIN_SEGMENT: f64 = 1e-3;
+
+/// Step by which a segment is shortened until its end state allows a gait.
+const THEORY1_BACKOFF: f64 = 0.035;
+
+/// Seconds of travel one radian of usable rotation range is worth when
+/// ranking placements (a longer segment saves later gaits).
+const RANGE_WEIGHT: f64 = 2.0;
+
+/// One gait (SPEC §4.2): a Place or a Lift.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Gait {
+    /// A free finger touches down at `contact` with roll preset `roll`.
+    Place {
+        /// Finger index.
+        finger: usize,
+        /// Unit contact normal (hand frame).
+        contact: Vector3<f64>,
+        /// Roll τ at touchdown.
+        roll: f64,
+    },
+    /// A grasping finger leaves the object.
+    Lift {
+        /// Finger index.
+        finger: usize,
+    },
+}
+
+/// Gaits then a rotation about the search axis.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Segment {
+    /// The gaits, in order.
+    pub gaits: Vec<Gait>,
+    /// Rotation about the search axis after the gaits [rad] (0 for none).
+    pub rotate: f64,
+}
+
+/// Read-only inputs of one search.
+pub struct Problem<'a> {
+    /// Model constants.
+    pub geom: &'a Geometry,
+    /// Durations.
+    pub timing: &'a Timing,
+    /// Contact candidates.
+    pub cand: &'a Candidates,
+    /// Unit rotation axis k.
+    pub axis: Vector3<f64>,
+    /// Angle Φ to rotate about k.
+    pub total: f64,
+    /// Children kept per substitution side.
+    pub branching: usize,
+    /// Expansion budget.
+    pub max_expansions: usize,
+}
+
+/// A starting point of the search: a pair grasps, one finger is free.
+#[derive(Debug, Clone, Copy)]
+pub struct Root {
+    /// Hand state (object orientation irrelevant here).
+    pub hand: HandState,
+    /// Cost already spent reaching it [s].
+    pub cost: f64,
+    /// Caller's tag, returned with the result.
+    pub tag: usize,
+}
+
+/// The search's answer.
+#[derive(Debug, Clone)]
+pub struct Found {
+    /// Tag of the root it started from.
+    pub tag: usize,
+    /// Segments in order (the last may have no rotation only if Φ = 0).
+    pub segments: Vec<Segment>,
+    /// Estimated execution time including the root's cost [s].
+    pub cost: f64,
+    /// Nodes expanded.
+    pub expansions: usize,
+}
+
+/// The edge that led to a node.
+#[derive(Debug, Clone, Copy)]
+enum Edge {
+    Root,
+    /// Place `finger` at candidate `cand`, then lift `lift`.
+    Substitute {
+        finger: usize,
+        contact: Vector3<f64>,
+        roll: f64,
+        lift: usize,
+    },
+    Rotate(f64),
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    hand: HandState,
+    pair: [usize; 2],
+    free: usize,
+    done: f64,
+    g: f64,
+    /// Duration of the rotation edge that led here (0 otherwise): the free
+    /// finger can travel meanwhile.
+    prev_rotation: f64,
+    parent: usize,
+    edge: Edge,
+    root: usize,
+}
+
+#[derive(PartialEq)]
+struct Open {
+    f: f64,
+    seq: usize,
+    idx: usize,
+}
+impl Eq for Open {}
+impl Ord for Open {
+    fn cmp(&self, other: &Self) -> Ordering {
+        // Min-heap on f, then FIFO on insertion order: deterministic.
+        other
+            .f
+            .total_cmp(&self.f)
+            .then_with(|| other.seq.cmp(&self.seq))
+    }
+}
+impl PartialOrd for Open {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// Precomputed per-search candidate data: fresh range and roll preset.
+struct Fresh {
+    range: [Vec<f64>; 3],
+    preset: [Vec<f64>; 3],
+    best: f64,
+}
+
+impl<'a> Problem<'a> {
+    fn fresh(&self) -> Fresh {
+        let mut best: f64 = 0.0;
+        let mut range: [Vec<f64>; 3] = Default::default();
+        let mut preset: [Vec<f64>; 3] = Default::default();
+        for k in 0..3 {
+            for c in &self.cand.points[k] {
+                let (tau, r) = fresh_range(self.geom, k, &self.axis, c);
+                let r = (r - BOUNDARY_EPS).max(0.0);
+                best = best.max(r);
+                range[k].push(r);
+                preset[k].push(tau);
+            }
+        }
+        Fresh { range, preset, best }
+    }
+
+    /// How far the grasping pair of `hand` can rotate about the axis.
+    pub fn pair_range(&self, hand: &HandState, pair: [usize; 2]) -> f64 {
+        let mut range = f64::INFINITY;
+        for &k in &pair {
+            let f = &hand.fingers[k];
+            let c = f.contact_normal();
+            range = range
+                .min(cone_exit(self.geom, k, &self.axis, &c))
+                .min(roll_exit(self.geom, &self.axis, &f.pole_axis(), f.roll));
+        }
+        (range - BOUNDARY_EPS).max(0.0)
+    }
+
+    /// Paper Theory 1: some placement of the free finger is force-closure
+    /// with one of the grasping fingers (and clear of both).
+    pub fn theory1(&self, hand: &HandState, pair: [usize; 2], free: usize) -> bool {
+        let ca = hand.fingers[pair[0]].contact_normal();
+        let cb = hand.fingers[pair[1]].contact_normal();
+        let sep = self.geom.cos_sep_contact - BOUNDARY_EPS;
+        self.cand.points[free].iter().any(|c| {
+            c.dot(&ca) <= sep
+                && c.dot(&cb) <= sep
+                && (self.geom.is_fc_pair(c, &ca) || self.geom.is_fc_pair(c, &cb))
+        })
+    }
+
+    /// Optimistic time to go: the rest of the rotation in one move, plus a
+    /// substitution (two vertical moves) per further segment the best fresh
+    /// range implies.
+    fn heuristic(&self, fresh: &Fresh, rem: f64, range_now: f64) -> f64 {
+        if rem <= 0.0 {
+            return 0.0;
+        }
+        let mut h = self.timing.rotate(rem);
+        if range_now < rem {
+            let segments = ((rem - range_now) / fresh.best.max(1e-3)).ceil();
+            h += segments * 2.0 * self.timing.vertical;
+        }
+        h
+    }
+
+    /// Runs A* from the roots; `None` if no plan is found within budget.
+    pub fn solve(&self, roots: &[Root]) -> Option<Found> {
+        let fresh = self.fresh();
+        let mut nodes: Vec<Node> = Vec::with_capacity(4096);
+        let mut open = BinaryHeap::new();
+        let mut closed: HashSet<[i64; 13]> = HashSet::new();
+        let mut seq = 0;
+        let mut push = |nodes: &mut Vec<Node>, open: &mut BinaryHeap<Open>, node: Node| {
+            let range = self.pair_range(&node.hand, node.pair);
+            let w: f64 = std::env::var("GAIT_W").ok().and_then(|x| x.parse().ok()).unwrap_or(1.0);
+            let f = node.g + w * self.heuristic(&fresh, self.total - node.done, range);
+            nodes.push(node);
+            open.push(Open {
+                f,
+                seq,
+                idx: nodes.len() - 1,
+            });
+            seq += 1;
+        };
+        for (ri, root) in roots.iter().enumerate() {
+            let Some((pair, free)) = split(&root.hand) else {
+                continue;
+            };
+            let node = Node {
+                hand: root.hand,
+                pair,
+                free,
+                done: 0.0,
+                g: root.cost,
+                prev_rotation: 0.0,
+                parent: usize::MAX,
+                edge: Edge::Root,
+                root: ri,
+            };
+            push(&mut nodes, &mut open, node);
+        }
+        let mut expansions = 0;
+        let mut children = Vec::with_capacity(64);
+        while let Some(Open { idx, .. }) = open.pop() {
+            let node = nodes[idx];
+            if node.done >= self.total - 1e-12 {
+                return Some(self.trace(&nodes, idx, roots, expansions));
+            }
+            if !closed.insert(self.key(&node)) {
+                continue;
+            }
+            expansions += 1;
+            if expansions > self.max_expansions {
+                return None;
+            }
+            children.clear();
+            self.expand(&node, idx, &fresh, &mut children);
+            if std::env::var("GAIT_DEBUG").is_ok() {
+                let t1 = self.theory1(&node.hand, node.pair, node.free);
+                eprintln!("expand #{expansions} {:?} done {:.1}/{:.1} g {:.2} pair {:?} free {} t1 {t1} range {:.2} -> {} children", match node.edge { Edge::Rotate(_) => "R", Edge::Root => "0", _ => "S"}, node.done.to_degrees(), self.total.to_degrees(), node.g, node.pair, node.free, self.pair_range(&node.hand, node.pair).to_degrees(), children.len());
+            }
+            for child in children.drain(..) {
+                push(&mut nodes, &mut open, child);
+            }
+        }
+        None
+    }
+
+    fn trace(&self, nodes: &[Node], mut idx: usize, roots: &[Root], expansions: usize) -> Found {
+        let cost = nodes[idx].g;
+        let mut edges = Vec::new();
+        while nodes[idx].parent != usize::MAX {
+            edges.push(nodes[idx].edge);
+            idx = nodes[idx].parent;
+        }
+        edges.reverse();
+        let mut segments = Vec::new();
+        let mut cur = Segment::default();
+        for e in edges {
+            match e {
+                Edge::Substitute {
+                    finger,
+                    contact,
+                    roll,
+                    lift,
+                } => {
+                    cur.gaits.push(place(finger, contact, roll));
+                    cur.gaits.push(Gait::Lift { finger: lift });
+                }
+                Edge::Rotate(t) => {
+                    cur.rotate = t;
+                    segments.push(std::mem::take(&mut cur));
+                }
+                Edge::Root => {}
+            }
+        }
+        if !cur.gaits.is_empty() {
+            segments.push(cur);
+        }
+        Found {
+            tag: roots[nodes[idx].root].tag,
+            segments,
+            cost,
+            expansions,
+        }
+    }
+
+    /// Quantised identity of a node for the closed set.
+    fn key(&self, n: &Node) -> [i64; 13] {
+        let q = |x: f64, s: f64| (x * s).round() as i64;
+        let (a, b) = (n.pair[0].min(n.pair[1]), n.pair[0].max(n.pair[1]));
+        let ca = n.hand.fingers[a].contact_normal();
+        let cb = n.hand.fingers[b].contact_normal();
+        [
+            (a * 3 + b) as i64,
+            matches!(n.edge, Edge::Rotate(_)) as i64,
+            q(n.done, 200.0),
+            q(ca.x, 50.0),
+            q(ca.y, 50.0),
+            q(ca.z, 50.0),
+            q(cb.x, 50.0),
+            q(cb.y, 50.0),
+            q(cb.z, 50.0),
+            q(n.hand.fingers[a].roll, 50.0),
+            q(n.hand.fingers[b].roll, 50.0),
+            q(n.hand.fingers[a].pole_axis().dot(&self.axis), 50.0),
+            q(n.hand.fingers[b].pole_axis().dot(&self.axis), 50.0),
+        ]
+    }
+
+    /// Appends the children of `node`.
+    fn expand(&self, node: &Node, idx: usize, fresh: &Fresh, out: &mut Vec<Node>) {
+        let rem = self.total - node.done;
+        if !matches!(node.edge, Edge::Rotate(_)) {
+            self.rotate_children(node, idx, out);
+        }
+        let z = node.free;
+        let z_from = hover_dir(&node.hand, z);
+        for keep_i in 0..2 {
+            let keep = node.pair[keep_i];
+            let lose = node.pair[1 - keep_i];
+            let c_keep = node.hand.fingers[keep].contact_normal();
+            let c_lose = node.hand.fingers[lose].contact_normal();
+            let zs = self.placements(fresh, rem, z, &c_keep, &[c_keep, c_lose], &z_from);
+            // The best placements by range; among them prefer those after
+            // which `lose` (then free) could come back force-closure with
+            // the new contact and so replace `keep` next.
+            let sep = self.geom.cos_sep_contact - BOUNDARY_EPS;
+            let flexible = |i: usize| {
+                self.cand.partners[z][lose][i]
+                    .iter()
+                    .any(|&j| self.cand.points[lose][j as usize].dot(&c_keep) <= sep)
+            };
+            let mut chosen: Vec<usize> = zs
+                .iter()
+                .filter(|&&(_, i)| flexible(i))
+                .take(self.branching)
+                .map(|&(_, i)| i)
+                .collect();
+            if let Some(&(_, i)) = zs.first()
+                && !chosen.contains(&i)
+            {
+                chosen.push(i);
+            }
+            // Also the quickest placement: a good temporary holder.
+            if let Some(&(_, i)) = zs
+                .iter()
+                .min_by(|a, b| self.travel(&z_from, z, a.1).total_cmp(&self.travel(&z_from, z, b.1)))
+                && !chosen.contains(&i)
+            {
+                chosen.push(i);
+            }
+            for i in chosen {
+                let contact = self.cand.points[z][i];
+                let roll = fresh.preset[z][i];
+                self.substitute_child(node, idx, z, contact, roll, lose, out);
+            }
+        }
+    }
+
+    fn travel(&self, from: &Vector3<f64>, finger: usize, i: usize) -> f64 {
+        self.timing
+            .transfer(angle_between(from, &self.cand.points[finger][i]))
+    }
+
+    /// Every placement of `finger` force-closure with `partner` and clear of
+    /// `others`, best first by the rotation it allows (then travel).
+    /// Entries are (score, candidate index).
+    fn placements(
+        &self,
+        fresh: &Fresh,
+        rem: f64,
+        finger: usize,
+        partner: &Vector3<f64>,
+        others: &[Vector3<f64>],
+        from: &Vector3<f64>,
+    ) -> Vec<(f64, usize)> {
+        let sep = self.geom.cos_sep_contact - BOUNDARY_EPS;
+        let mut out: Vec<(f64, usize)> = self.cand.points[finger]
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| {
+                self.geom.is_fc_pair(c, partner) && others.iter().all(|o| c.dot(o) <= sep)
+            })
+            .map(|(i, c)| {
+                let travel = self.timing.transfer(angle_between(from, c));
+                // Rotation beyond what is left is worth nothing.
+                (-fresh.range[finger][i].min(rem) * RANGE_WEIGHT + travel, i)
+            })
+            .collect();
+        out.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        out
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn substitute_child(
+        &self,
+        node: &Node,
+        idx: usize,
+        finger: usize,
+        contact: Vector3<f64>,
+        roll: f64,
+        lift: usize,
+        out: &mut Vec<Node>,
+    ) {
+        let mut hand = node.hand;
+        let from = hover_dir(&hand, finger);
+        // Travelled during the previous rotation, if there was one.
+        let travel = (self.timing.transfer(angle_between(&from, &contact)) - node.prev_rotation).max(0.0);
+        place_finger(self.geom, &mut hand, finger, &contact, roll);
+        lift_finger(self.geom, &mut hand, lift);
+        let Some((pair, free)) = split(&hand) else {
+            return;
+        };
+        out.push(Node {
+            hand,
+            pair,
+            free,
+            done: node.done,
+            g: node.g + travel + 2.0 * self.timing.vertical,
+            prev_rotation: 0.0,
+            parent: idx,
+            edge: Edge::Substitute {
+                finger,
+                contact,
+                roll,
+                lift,
+            },
+            root: node.root,
+        });
+    }
+
+    /// Rotation children: as far as the pair allows (or to the goal), and
+    /// half as far.
+    fn rotate_children(&self, node: &Node, idx: usize, out: &mut Vec<Node>) {
+        let rem = self.total - node.done;
+        let range = self.pair_range(&node.hand, node.pair);
+        let full = range.min(rem);
+        if full >= rem - 1e-12 {
+            self.rotate_child(node, idx, rem, out);
+            return;
+        }
+        for t in [full, 0.5 * full] {
+            if let Some(t) = self.viable(node, t) {
+                self.rotate_child(node, idx, t, out);
+            }
+        }
+    }
+
+    /// The largest rotation ≤ `t` after which a gait is still possible
+    /// (paper Theory 1), if any is worth a segment.
+    fn viable(&self, node: &Node, t: f64) -> Option<f64> {
+        let mut i = 0;
+        let mut s = t;
+        while s >= MIN_SEGMENT {
+            let mut h = node.hand;
+            rotate_hand(&mut h, &self.axis, s);
+            if self.theory1(&h, node.pair, node.free) {
+                return Some(s);
+            }
+            i += 1;
+            s = t - i as f64 * THEORY1_BACKOFF;
+        }
+        None
+    }
+
+    fn rotate_child(&self, node: &Node, idx: usize, t: f64, out: &mut Vec<Node>) {
+        let rem = self.total - node.done;
+        let t = if rem - t < 1e-12 { rem } else { t };
+        let mut hand = node.hand;
+        rotate_hand(&mut hand, &self.axis, t);
+        let time = self.timing.rotate(t);
+        out.push(Node {
+            hand,
+            pair: node.pair,
+            free: node.free,
+            done: node.done + t,
+            g: node.g + time,
+            prev_rotation: time,
+            parent: idx,
+            edge: Edge::Rotate(t),
+            root: node.root,
+        });
+    }
+}
+
+fn place(finger: usize, contact: Vector3<f64>, roll: f64) -> Gait {
+    Gait::Place {
+        finger,
+        contact,
+        roll,
+    }
+}
+
+/// The grasping pair and the free finger, if exactly two fingers grasp.
+pub fn split(hand: &HandState) -> Option<([usize; 2], usize)> {
+    let (idx, n) = hand.grasping();
+    if n != 2 {
+        return None;
+    }
+    let free = (0..3).find(|k| !idx[..2].contains(k))?;
+    Some(([idx[0], idx[1]], free))
+}
+
+/// Direction of a finger's centre from O.
+pub fn hover_dir(hand: &HandState, finger: usize) -> Vector3<f64> {
+    hand.fingers[finger].center.normalize()
+}
+
+/// Puts a free finger down at `contact` with its pole, swinging and
+/// twisting its orientation (SPEC §1.1: swing leaves τ alone, the twist
+/// about the pole changes τ to `roll`).
+pub fn place_finger(g: &Geometry, hand: &mut HandState, finger: usize, contact: &Vector3<f64>, roll: f64) {
+    let f = &mut hand.fingers[finger];
+    let pole = -contact;
+    let turn = super::plan::Reorientation::towards(&f.orientation, &pole, roll - f.roll);
+    f.orientation = turn.at(&f.orientation, 1.0);
+    f.center = contact * g.contact_radius;
+    f.roll = roll;
+    f.mode = FingerMode::Grasping;
+}
+
+/// Lifts a grasping finger straight up to the transfer height.
+pub fn lift_finger(g: &Geometry, hand: &mut HandState, finger: usize) {
+    let f = &mut hand.fingers[finger];
+    f.center = f.center.normalize() * g.transfer_radius;
+    f.mode = FingerMode::Free;
+}
+
+/// Rotates the object and every grasping finger about `axis` by `angle`.
+pub fn rotate_hand(hand: &mut HandState, axis: &Vector3<f64>, angle: f64) {
+    let q = rotation(axis, angle);
+    hand.object = q * hand.object;
+    for f in hand.fingers.iter_mut() {
+        if f.mode == FingerMode::Grasping {
+            let pole = f.pole_axis();
+            f.roll += angle * axis.dot(&pole);
+            f.center = q * f.center;
+            f.orientation = q * f.orientation;
+        }
+    }
+}

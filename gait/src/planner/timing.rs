@@ -1,0 +1,116 @@
+//! Execution-time model of the plan's motions (SPEC §4.3: "the plan's cost is
+//! its execution time under the motion limits").
+//!
+//! Every primitive is executed as a rest-to-rest, jerk-limited, time-optimal
+//! motion of one path parameter (SPEC §5), so its duration is the classic
+//! closed form for a symmetric third-order profile.
+
+use crate::config::{HandConfig, MotionLimit};
+
+/// Duration of the time-optimal rest-to-rest motion over `distance` (≥ 0)
+/// under velocity, acceleration and jerk limits (seven-phase profile with
+/// phases possibly of zero length).
+pub fn rest_to_rest(distance: f64, lim: &MotionLimit) -> f64 {
+    let d = distance.abs();
+    if d <= 0.0 {
+        return 0.0;
+    }
+    let (v, a, j) = (lim.velocity, lim.acceleration, lim.jerk);
+    // Reaching the velocity limit: with a constant-acceleration phase if
+    // v ≥ a²/j, else the acceleration peaks at √(v j).
+    let (t_acc, d_acc) = if v * j >= a * a {
+        let t = v / a + a / j;
+        (t, 0.5 * v * t)
+    } else {
+        let t = 2.0 * (v / j).sqrt();
+        (t, 0.5 * v * t)
+    };
+    if d >= 2.0 * d_acc {
+        return 2.0 * t_acc + (d - 2.0 * d_acc) / v;
+    }
+    // Velocity limit not reached. Peak velocity vp with full acceleration
+    // a: d = vp (vp/a + a/j).
+    let vp = 0.5 * a * (-(a / j) + ((a / j) * (a / j) + 4.0 * d / a).sqrt());
+    if vp * j >= a * a {
+        return 2.0 * (vp / a + a / j);
+    }
+    // Neither limit reached: four jerk phases of equal length, d = 2 j t³.
+    4.0 * (d / (2.0 * j)).cbrt()
+}
+
+/// The durations the planner needs, for one configuration.
+#[derive(Debug, Clone, Copy)]
+pub struct Timing {
+    /// Object rotation limits.
+    pub object: MotionLimit,
+    /// Fingertip translation limits.
+    pub fingertip: MotionLimit,
+    /// Rolling limits (fingertip angular velocity relative to the object).
+    pub rolling: MotionLimit,
+    /// Duration of a vertical lift or descent over the transfer height.
+    pub vertical: f64,
+    transfer_radius: f64,
+}
+
+impl Timing {
+    /// From the configuration.
+    pub fn new(config: &HandConfig) -> Self {
+        let l = &config.limits;
+        let r = config.model.object_radius + config.model.fingertip_radius;
+        Self {
+            object: l.object,
+            fingertip: l.fingertip,
+            rolling: l.rolling,
+            vertical: rest_to_rest(config.planner.transfer_height, &l.fingertip),
+            transfer_radius: r + config.planner.transfer_height,
+        }
+    }
+
+    /// Rotating the object by `angle` rad.
+    pub fn rotate(&self, angle: f64) -> f64 {
+        rest_to_rest(angle, &self.object)
+    }
+
+    /// Moving a hovering fingertip along the transfer shell by `angle` rad
+    /// (seen from O).
+    pub fn transfer(&self, angle: f64) -> f64 {
+        if angle < 1e-12 {
+            return 0.0;
+        }
+        rest_to_rest(angle * self.transfer_radius, &self.fingertip)
+    }
+
+    /// Rolling a fingertip through a relative rotation of `angle` rad.
+    pub fn roll(&self, angle: f64) -> f64 {
+        rest_to_rest(angle, &self.rolling)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hand_computed_cases() {
+        let obj = MotionLimit { velocity: 1.0, acceleration: 4.0, jerk: 40.0 };
+        // Cruise phase: 2 (v/a + a/j) + (d − v (v/a + a/j)) / v.
+        assert!((rest_to_rest(3.0, &obj) - 3.35).abs() < 1e-12);
+        let tip = MotionLimit { velocity: 0.5, acceleration: 4.0, jerk: 40.0 };
+        // Neither limit reached: 4 (d / 2j)^(1/3).
+        assert!((rest_to_rest(0.03, &tip) - 4.0 * (0.03f64 / 80.0).cbrt()).abs() < 1e-12);
+        // Acceleration limit reached, velocity not: d = vp (vp/a + a/j), vp = 0.45.
+        assert!((rest_to_rest(0.095625, &tip) - 2.0 * (0.1125 + 0.1)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn continuous_and_monotone() {
+        let lim = MotionLimit { velocity: 1.0, acceleration: 4.0, jerk: 40.0 };
+        let mut prev = 0.0;
+        for i in 1..5000 {
+            let t = rest_to_rest(i as f64 * 1e-3, &lim);
+            assert!(t > prev);
+            assert!(t - prev < 0.02, "jump at {i}");
+            prev = t;
+        }
+    }
+}

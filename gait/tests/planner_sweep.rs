@@ -1,0 +1,65 @@
+//! Seeded sweeps of Haar-random goals: every plan is checked state by state
+//! by an independent checker and must end exactly at the goal.
+
+mod common;
+
+use common::verify::Checker;
+use gait::planner::Planner;
+use gait::{HandConfig, HandState};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+fn sweep(n: usize, seed: u64, random_start: bool) {
+    let cfg = HandConfig::default();
+    let planner = Planner::new(&cfg).unwrap();
+    let checker = Checker::new(&cfg);
+    let start = HandState::paper_start(&cfg);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (mut durations, mut gaits, mut fails, mut escapes) = (Vec::new(), Vec::new(), 0, 0);
+    for i in 0..n {
+        let start = if random_start {
+            common::random_two_finger_state(&mut rng, &cfg)
+        } else {
+            start
+        };
+        let goal = common::haar(&mut rng);
+        match planner.plan(&start, &goal) {
+            Ok(plan) => {
+                let v = checker.check_plan(&plan, 50);
+                assert!(v.is_empty(), "goal {i}: {:?}", &v[..v.len().min(5)]);
+                let end = plan.end_state();
+                let err = end.object.angle_to(&goal);
+                assert!(err < 1e-9, "goal {i}: final error {err}");
+                durations.push(plan.summary.duration);
+                gaits.push(plan.summary.gaits as f64);
+                escapes += plan.summary.escaped as usize;
+            }
+            Err(e) => {
+                fails += 1;
+                eprintln!("goal {i}: {e}");
+            }
+        }
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    let mut d = durations.clone();
+    d.sort_by(f64::total_cmp);
+    println!(
+        "n={n} fails={fails} escapes={escapes} duration mean {:.2} p95 {:.2} max {:.2} s; gaits mean {:.2} max {}",
+        mean(&durations),
+        d[(d.len() * 95 / 100).min(d.len() - 1)],
+        d[d.len() - 1],
+        mean(&gaits),
+        gaits.iter().cloned().fold(0.0, f64::max)
+    );
+    assert_eq!(fails, 0);
+}
+
+#[test]
+fn paper_start_random_goals() {
+    sweep(2000, 1, false);
+}
+
+#[test]
+fn random_states_random_goals() {
+    sweep(2000, 2, true);
+}
