@@ -11,6 +11,9 @@
 //! configuration file, in keys ending in `_deg`).
 
 pub mod config;
+pub mod contact;
+pub mod rolling;
+pub mod sphere;
 pub mod state;
 
 pub use config::{ConfigError, HandConfig};

@@ -1,0 +1,63 @@
+//! Seeded random helpers shared by the kinematics tests.
+#![allow(dead_code)]
+
+use nalgebra::{UnitQuaternion, Vector3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+pub fn rng(seed: u64) -> ChaCha8Rng {
+    ChaCha8Rng::seed_from_u64(seed)
+}
+
+/// Uniform on S².
+pub fn unit(rng: &mut ChaCha8Rng) -> Vector3<f64> {
+    loop {
+        let v = Vector3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
+        let n = v.norm();
+        if n > 0.1 && n <= 1.0 {
+            return v / n;
+        }
+    }
+}
+
+/// Haar-random rotation.
+pub fn rotation(rng: &mut ChaCha8Rng) -> UnitQuaternion<f64> {
+    let axis = unit(rng);
+    let angle = rng.random_range(0.0..std::f64::consts::PI);
+    UnitQuaternion::from_scaled_axis(axis * angle)
+}
+
+/// A fingertip orientation (relative to the object) that touches the
+/// object contact `n` with the fingertip contact `m` (both unit), with a
+/// random twist about the contact normal.
+pub fn touching(rng: &mut ChaCha8Rng, n: &Vector3<f64>, m: &Vector3<f64>) -> UnitQuaternion<f64> {
+    // q m = −n: align, then twist about n.
+    let align = UnitQuaternion::rotation_between(m, &(-n))
+        .unwrap_or_else(|| UnitQuaternion::from_scaled_axis(any_perp(m) * std::f64::consts::PI));
+    let twist = UnitQuaternion::from_scaled_axis(n * rng.random_range(-3.0..3.0));
+    twist * align
+}
+
+fn any_perp(m: &Vector3<f64>) -> Vector3<f64> {
+    let e = if m.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
+    m.cross(&e).normalize()
+}
+
+/// A random point of the closed upper hemisphere (z ≥ 0).
+pub fn hemisphere_point(rng: &mut ChaCha8Rng) -> Vector3<f64> {
+    let v = unit(rng);
+    Vector3::new(v.x, v.y, v.z.abs())
+}
+
+/// Angle between two unit vectors (robust).
+pub fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    a.cross(b).norm().atan2(a.dot(b))
+}
