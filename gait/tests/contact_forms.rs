@@ -314,6 +314,34 @@ fn theory_2_example_from_the_origin() {
 }
 
 #[test]
+fn theory_2_example_by_montanas_general_form() {
+    // The same example driven through eq. (3) (ChartIntegrator, pure
+    // rolling about the contact frame's x axis): u stays 0 on both bodies
+    // and v_o = −(r/R) v_f throughout.
+    let g = geom();
+    let start = ChartContact {
+        finger: ChartPoint::new(ChartId::Primary, 0.0, 0.0),
+        object: ChartPoint::new(ChartId::Primary, 0.0, 0.0),
+        psi: 0.0,
+    };
+    for wx in [-2.0, -0.3, 0.7, 2.5] {
+        let mut ci = ChartIntegrator::new(g, start);
+        for i in 0..1000 {
+            ci.step(i as f64 * 1e-3, 1e-3, |_| ContactTwist {
+                linear: Vector3::zeros(),
+                angular: Vector3::new(wx, 0.0, 0.0),
+            });
+            let c = &ci.state;
+            assert!(c.finger.u.abs() < 1e-15 && c.object.u.abs() < 1e-15);
+            let ratio = g.fingertip_radius / g.object_radius;
+            assert!((c.object.v + ratio * c.finger.v).abs() < 1e-13);
+            assert!(c.psi.abs() < 1e-15);
+        }
+        assert!(ci.state.finger.v.abs() > 0.1);
+    }
+}
+
+#[test]
 fn eq_4_follows_from_eq_3() {
     let g = geom();
     let mut rng = common::rng(50);

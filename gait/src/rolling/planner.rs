@@ -16,8 +16,11 @@
 //!    roll (turn right when τ > 0): the roll is unwound for free, without
 //!    spin, so every path after the first may change the roll by up to
 //!    2(γ − margin); finish with a longitude roll from the pole that reaches
-//!    the target (up to (π/2)(r/R) away: the fingertip contact may end on
-//!    its equator, the closed hemisphere's boundary).
+//!    the target (at most (π/2)(r/R) away). The fewest paths are used, and
+//!    they and the closing roll all use the same fraction of their reach,
+//!    so the slack is shared between the roll margin and the fingertip
+//!    hemisphere margin (the closing roll ends on the fingertip equator
+//!    only when the target needs every bit of reach).
 //!
 //! Spin is used only when a final roll is requested ([`RollGoal::final_roll`]),
 //! at the last pole visit (the closing longitude roll does not change the
@@ -32,11 +35,10 @@
 //! force closure (I1), the workspace cone (I2; see
 //! [`RollingPath::max_angle_from`]) and fingertip collisions (I4).
 
-use super::fig2::{Turn, fig2_leg_angle, fig2_reach};
+use super::fig2::{Turn, fig2_leg_angle, fig2_reach, fig2_roll_for};
 use super::path::{MAX_SEGMENTS, PathError, RollingPath};
 use crate::contact::{ContactGeometry, RelativeContact};
 use crate::sphere::rotation::{angle_between, any_perpendicular, rotate, tangent_towards};
-use core::f64::consts::PI;
 use nalgebra::Vector3;
 
 /// Roll limits for one rolling finger.
@@ -130,6 +132,51 @@ fn within_limits(path: &RollingPath, bound: f64) -> bool {
     m.min_hemisphere >= -HEMISPHERE_TOL && m.max_abs_roll <= bound + ROLL_TOL
 }
 
+/// Object-contact distance covered by `count` Fig. 2 paths, each using the
+/// fraction `scale` of its largest step (turning against τ, so the budget
+/// is usable + |τ|), plus the closing longitude roll scaled alike.
+fn covered(geom: &ContactGeometry, mut tau: f64, usable: f64, count: usize, scale: f64) -> f64 {
+    let mut total = scale * fig2_leg_angle(geom);
+    for _ in 0..count {
+        let step = scale * fig2_reach(geom, usable + tau.abs());
+        total += step;
+        let change = fig2_roll_for(geom, step).unwrap_or(0.0);
+        tau -= if tau > 0.0 { change } else { -change };
+    }
+    total
+}
+
+/// The fewest Fig. 2 paths that reach `distance`, within `room` segments.
+fn fig2_count(
+    geom: &ContactGeometry,
+    tau: f64,
+    usable: f64,
+    distance: f64,
+    room: usize,
+) -> Result<usize, RollPlanError> {
+    (1..=room / 3)
+        .find(|&n| covered(geom, tau, usable, n, 1.0) * (1.0 - 1e-12) >= distance)
+        .ok_or(RollPlanError::CapacityExceeded)
+}
+
+/// The common fraction of their reach used by the Fig. 2 paths and the
+/// closing roll to cover exactly `distance`: the slack is shared between
+/// the roll margin and the fingertip-hemisphere margin instead of ending
+/// on the fingertip equator. Bisection (covered() is continuous in the
+/// fraction, 0 at 0 and ≥ distance at 1).
+fn share(geom: &ContactGeometry, tau: f64, usable: f64, distance: f64, count: usize) -> f64 {
+    let (mut lo, mut hi) = (0.0, 1.0 - 1e-12);
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if covered(geom, tau, usable, count, mid) < distance {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
 /// Plans a rolling path from `start` to `goal` (module docs).
 pub fn plan_roll(
     geom: &ContactGeometry,
@@ -187,23 +234,23 @@ pub fn plan_roll(
         any_perpendicular(&p)
     };
     let tail = 1 + usize::from(goal.final_roll.is_some());
-    let mut covered = 0.0;
-    let mut remaining = distance - leg;
-    while remaining > 1e-12 {
-        if path.len() + 3 + tail > MAX_SEGMENTS {
-            return Err(RollPlanError::CapacityExceeded);
-        }
+    if distance > leg {
         let tau = path.end().roll;
-        // Turning against τ allows |Δτ| up to usable + |τ| (ends at ∓usable).
-        let reach = fig2_reach(geom, usable + tau.abs()).min(PI);
-        if reach < 1e-9 {
-            return Err(RollPlanError::CapacityExceeded);
+        let count = fig2_count(
+            geom,
+            tau,
+            usable,
+            distance,
+            MAX_SEGMENTS - path.len() - tail,
+        )?;
+        let scale = share(geom, tau, usable, distance, count);
+        let mut covered = 0.0;
+        for _ in 0..count {
+            let tau = path.end().roll;
+            covered += scale * fig2_reach(geom, usable + tau.abs());
+            let turn = if tau > 0.0 { Turn::Right } else { Turn::Left };
+            path.push_fig2_to(&rotate(&gc_axis, covered, &p), turn)?;
         }
-        let step = remaining.min(reach * (1.0 - 1e-12));
-        covered += step;
-        remaining -= step;
-        let turn = if tau > 0.0 { Turn::Right } else { Turn::Left };
-        path.push_fig2_to(&rotate(&gc_axis, covered, &p), turn)?;
     }
     // 3. Requested roll by a spin at the pole, then the closing longitude.
     if let Some(wanted) = goal.final_roll {

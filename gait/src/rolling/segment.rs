@@ -49,8 +49,8 @@ pub struct Waypoint {
 pub struct PathSample {
     /// Path parameter s (clamped to the path) \[rad\].
     pub s: f64,
-    /// Index of the segment s lies in (the last one at the end; 0 for an
-    /// empty path).
+    /// Index of the segment s lies in (at a boundary: the earlier one;
+    /// 0 for an empty path).
     pub segment: usize,
     /// Kind of that segment (Roll for an empty path).
     pub kind: SegmentKind,
