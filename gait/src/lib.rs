@@ -11,7 +11,10 @@
 //! configuration file, in keys ending in `_deg`).
 
 pub mod config;
+pub mod contact;
 pub mod planner;
+pub mod rolling;
+pub mod sphere;
 pub mod state;
 
 pub use config::{ConfigError, HandConfig};

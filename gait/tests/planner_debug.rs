@@ -1,4 +1,4 @@
-mod common;
+mod planning;
 use gait::planner::Planner;
 use gait::HandConfig;
 use rand::SeedableRng;
@@ -11,8 +11,8 @@ fn debug_failures() {
     let planner = Planner::new(&cfg).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     for i in 0..2000 {
-        let start = common::random_two_finger_state(&mut rng, &cfg);
-        let goal = common::haar(&mut rng);
+        let start = planning::random_two_finger_state(&mut rng, &cfg);
+        let goal = planning::haar(&mut rng);
         if planner.plan(&start, &goal).is_ok() { continue; }
         let (pair, free) = gait::planner::search::split(&start).unwrap();
         let t1 = planner.theory1(&start, pair, free);
@@ -41,8 +41,8 @@ fn debug_budget() {
         let mut rng = ChaCha8Rng::seed_from_u64(2);
         let mut fails = 0;
         for _ in 0..2000 {
-            let start = common::random_two_finger_state(&mut rng, &cfg);
-            let goal = common::haar(&mut rng);
+            let start = planning::random_two_finger_state(&mut rng, &cfg);
+            let goal = planning::haar(&mut rng);
             if planner.plan(&start, &goal).is_err() { fails += 1; }
         }
         println!("budget {budget}: fails {fails}");
@@ -57,8 +57,8 @@ fn debug_one() {
     let mut rng = ChaCha8Rng::seed_from_u64(2);
     let want: usize = std::env::var("GOAL").unwrap().parse().unwrap();
     for i in 0..=want {
-        let start = common::random_two_finger_state(&mut rng, &cfg);
-        let goal = common::haar(&mut rng);
+        let start = planning::random_two_finger_state(&mut rng, &cfg);
+        let goal = planning::haar(&mut rng);
         if i != want { continue; }
         unsafe { std::env::set_var("GAIT_DEBUG", "1") };
         let r = planner.plan(&start, &goal);

@@ -1,9 +1,9 @@
 //! Seeded sweeps of Haar-random goals: every plan is checked state by state
 //! by an independent checker and must end exactly at the goal.
 
-mod common;
+mod planning;
 
-use common::verify::Checker;
+use planning::verify::Checker;
 use gait::planner::Planner;
 use gait::{HandConfig, HandState};
 use rand::SeedableRng;
@@ -18,11 +18,11 @@ fn sweep(n: usize, seed: u64, random_start: bool) {
     let (mut durations, mut gaits, mut fails, mut escapes) = (Vec::new(), Vec::new(), 0, 0);
     for i in 0..n {
         let start = if random_start {
-            common::random_two_finger_state(&mut rng, &cfg)
+            planning::random_two_finger_state(&mut rng, &cfg)
         } else {
             start
         };
-        let goal = common::haar(&mut rng);
+        let goal = planning::haar(&mut rng);
         match planner.plan(&start, &goal) {
             Ok(plan) => {
                 let v = checker.check_plan(&plan, 50);

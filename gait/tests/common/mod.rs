@@ -1,33 +1,16 @@
-//! Shared helpers of the integration tests.
+//! Seeded random helpers shared by the kinematics tests.
 #![allow(dead_code)]
 
-pub mod verify;
+use nalgebra::{UnitQuaternion, Vector3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
-use nalgebra::{Quaternion, UnitQuaternion};
-use rand::Rng;
-
-/// A Haar-random rotation (uniform on SO(3)): a normalised 4-D Gaussian.
-pub fn haar(rng: &mut impl Rng) -> UnitQuaternion<f64> {
-    loop {
-        let mut g = || {
-            // Box–Muller.
-            let u1: f64 = rng.random_range(1e-300..1.0);
-            let u2: f64 = rng.random();
-            (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-        };
-        let q = Quaternion::new(g(), g(), g(), g());
-        if q.norm() > 1e-6 {
-            return UnitQuaternion::new_normalize(q);
-        }
-    }
+pub fn rng(seed: u64) -> ChaCha8Rng {
+    ChaCha8Rng::seed_from_u64(seed)
 }
 
-use gait::planner::geometry::{Geometry, rotation, swing};
-use gait::{FingerMode, FingerState, HandConfig, HandState};
-use nalgebra::Vector3;
-
-/// A uniformly random unit vector.
-pub fn unit(rng: &mut impl Rng) -> Vector3<f64> {
+/// Uniform on S².
+pub fn unit(rng: &mut ChaCha8Rng) -> Vector3<f64> {
     loop {
         let v = Vector3::new(
             rng.random_range(-1.0..1.0),
@@ -41,66 +24,40 @@ pub fn unit(rng: &mut impl Rng) -> Vector3<f64> {
     }
 }
 
-/// A random unit vector within `angle` of `axis`.
-pub fn in_cap(rng: &mut impl Rng, axis: &Vector3<f64>, angle: f64) -> Vector3<f64> {
-    loop {
-        let u = unit(rng);
-        if u.dot(axis) >= angle.cos() {
-            return u;
-        }
-    }
+/// Haar-random rotation.
+pub fn rotation(rng: &mut ChaCha8Rng) -> UnitQuaternion<f64> {
+    let axis = unit(rng);
+    let angle = rng.random_range(0.0..std::f64::consts::PI);
+    UnitQuaternion::from_scaled_axis(axis * angle)
 }
 
-/// A random valid two-finger state (SPEC §1.3): a force-closure pair with
-/// margin, contacts anywhere in the cones, fingertip contacts anywhere in a
-/// cap around the pole (as rolling leaves them), rolls anywhere within the
-/// limit, the free finger anywhere in its free-space shell; random object
-/// orientation.
-pub fn random_two_finger_state(rng: &mut impl Rng, cfg: &HandConfig) -> HandState {
-    let g = Geometry::new(cfg);
-    let m = &cfg.model;
-    loop {
-        let pair_first: usize = rng.random_range(0..3);
-        let pair = [pair_first, (pair_first + 1 + rng.random_range(0..2)) % 3];
-        let free = (0..3).find(|k| !pair.contains(k)).unwrap();
-        let mut fingers = [FingerState {
-            mode: FingerMode::Free,
-            center: Vector3::zeros(),
-            orientation: nalgebra::UnitQuaternion::identity(),
-            roll: 0.0,
-        }; 3];
-        for &k in &pair {
-            let n = in_cap(rng, &g.base[k], g.cone_half_angle);
-            let mc = in_cap(rng, &Vector3::z(), 70f64.to_radians());
-            let q0 = swing(&mc, &(-n));
-            fingers[k] = FingerState {
-                mode: FingerMode::Grasping,
-                center: n * g.contact_radius,
-                orientation: rotation(&n, rng.random_range(0.0..std::f64::consts::TAU)) * q0,
-                roll: rng.random_range(-g.roll_limit..g.roll_limit),
-            };
-        }
-        let u = in_cap(rng, &g.base[free], g.cone_half_angle);
-        let rho = g.contact_radius + rng.random_range(0.05..1.0) * m.free_space_height;
-        fingers[free] = FingerState {
-            mode: FingerMode::Free,
-            center: u * rho,
-            orientation: haar(rng),
-            roll: rng.random_range(-g.roll_limit..g.roll_limit),
-        };
-        let s = HandState {
-            object: haar(rng),
-            fingers,
-        };
-        let (a, b) = (s.fingers[pair[0]].contact_normal(), s.fingers[pair[1]].contact_normal());
-        if !g.is_fc_pair(&a, &b) {
-            continue;
-        }
-        let clear = (0..3).all(|i| {
-            (i + 1..3).all(|j| (s.fingers[i].center - s.fingers[j].center).norm() >= g.min_center_distance + 1e-6)
-        });
-        if clear {
-            return s;
-        }
-    }
+/// A fingertip orientation (relative to the object) that touches the
+/// object contact `n` with the fingertip contact `m` (both unit), with a
+/// random twist about the contact normal.
+pub fn touching(rng: &mut ChaCha8Rng, n: &Vector3<f64>, m: &Vector3<f64>) -> UnitQuaternion<f64> {
+    // q m = −n: align, then twist about n.
+    let align = UnitQuaternion::rotation_between(m, &(-n))
+        .unwrap_or_else(|| UnitQuaternion::from_scaled_axis(any_perp(m) * std::f64::consts::PI));
+    let twist = UnitQuaternion::from_scaled_axis(n * rng.random_range(-3.0..3.0));
+    twist * align
+}
+
+fn any_perp(m: &Vector3<f64>) -> Vector3<f64> {
+    let e = if m.x.abs() < 0.9 {
+        Vector3::x()
+    } else {
+        Vector3::y()
+    };
+    m.cross(&e).normalize()
+}
+
+/// A random point of the closed upper hemisphere (z ≥ 0).
+pub fn hemisphere_point(rng: &mut ChaCha8Rng) -> Vector3<f64> {
+    let v = unit(rng);
+    Vector3::new(v.x, v.y, v.z.abs())
+}
+
+/// Angle between two unit vectors (robust).
+pub fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
+    a.cross(b).norm().atan2(a.dot(b))
 }

@@ -1,0 +1,106 @@
+//! Shared helpers of the integration tests.
+#![allow(dead_code)]
+
+pub mod verify;
+
+use nalgebra::{Quaternion, UnitQuaternion};
+use rand::Rng;
+
+/// A Haar-random rotation (uniform on SO(3)): a normalised 4-D Gaussian.
+pub fn haar(rng: &mut impl Rng) -> UnitQuaternion<f64> {
+    loop {
+        let mut g = || {
+            // Box–Muller.
+            let u1: f64 = rng.random_range(1e-300..1.0);
+            let u2: f64 = rng.random();
+            (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+        };
+        let q = Quaternion::new(g(), g(), g(), g());
+        if q.norm() > 1e-6 {
+            return UnitQuaternion::new_normalize(q);
+        }
+    }
+}
+
+use gait::planner::geometry::{Geometry, rotation, swing};
+use gait::{FingerMode, FingerState, HandConfig, HandState};
+use nalgebra::Vector3;
+
+/// A uniformly random unit vector.
+pub fn unit(rng: &mut impl Rng) -> Vector3<f64> {
+    loop {
+        let v = Vector3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
+        let n = v.norm();
+        if n > 0.1 && n <= 1.0 {
+            return v / n;
+        }
+    }
+}
+
+/// A random unit vector within `angle` of `axis`.
+pub fn in_cap(rng: &mut impl Rng, axis: &Vector3<f64>, angle: f64) -> Vector3<f64> {
+    loop {
+        let u = unit(rng);
+        if u.dot(axis) >= angle.cos() {
+            return u;
+        }
+    }
+}
+
+/// A random valid two-finger state (SPEC §1.3): a force-closure pair with
+/// margin, contacts anywhere in the cones, fingertip contacts anywhere in a
+/// cap around the pole (as rolling leaves them), rolls anywhere within the
+/// limit, the free finger anywhere in its free-space shell; random object
+/// orientation.
+pub fn random_two_finger_state(rng: &mut impl Rng, cfg: &HandConfig) -> HandState {
+    let g = Geometry::new(cfg);
+    let m = &cfg.model;
+    loop {
+        let pair_first: usize = rng.random_range(0..3);
+        let pair = [pair_first, (pair_first + 1 + rng.random_range(0..2)) % 3];
+        let free = (0..3).find(|k| !pair.contains(k)).unwrap();
+        let mut fingers = [FingerState {
+            mode: FingerMode::Free,
+            center: Vector3::zeros(),
+            orientation: nalgebra::UnitQuaternion::identity(),
+            roll: 0.0,
+        }; 3];
+        for &k in &pair {
+            let n = in_cap(rng, &g.base[k], g.cone_half_angle);
+            let mc = in_cap(rng, &Vector3::z(), 70f64.to_radians());
+            let q0 = swing(&mc, &(-n));
+            fingers[k] = FingerState {
+                mode: FingerMode::Grasping,
+                center: n * g.contact_radius,
+                orientation: rotation(&n, rng.random_range(0.0..std::f64::consts::TAU)) * q0,
+                roll: rng.random_range(-g.roll_limit..g.roll_limit),
+            };
+        }
+        let u = in_cap(rng, &g.base[free], g.cone_half_angle);
+        let rho = g.contact_radius + rng.random_range(0.05..1.0) * m.free_space_height;
+        fingers[free] = FingerState {
+            mode: FingerMode::Free,
+            center: u * rho,
+            orientation: haar(rng),
+            roll: rng.random_range(-g.roll_limit..g.roll_limit),
+        };
+        let s = HandState {
+            object: haar(rng),
+            fingers,
+        };
+        let (a, b) = (s.fingers[pair[0]].contact_normal(), s.fingers[pair[1]].contact_normal());
+        if !g.is_fc_pair(&a, &b) {
+            continue;
+        }
+        let clear = (0..3).all(|i| {
+            (i + 1..3).all(|j| (s.fingers[i].center - s.fingers[j].center).norm() >= g.min_center_distance + 1e-6)
+        });
+        if clear {
+            return s;
+        }
+    }
+}
