@@ -183,6 +183,9 @@ pub struct PlannerConfig {
     /// Extra pair separation [deg] beyond the force-closure boundary (with
     /// its margin) that the roll from a three-finger start aims for.
     pub start_roll_extra_deg: f64,
+    /// Weight of the search's time-to-go estimate: 1 is plain A* (shortest
+    /// plans), larger is greedier (fewer nodes, slightly longer plans).
+    pub heuristic_weight: f64,
 }
 
 impl Default for PlannerConfig {
@@ -194,6 +197,7 @@ impl Default for PlannerConfig {
             max_expansions: 3000,
             escape_axes: 64,
             start_roll_extra_deg: 1.0,
+            heuristic_weight: 1.3,
         }
     }
 }
@@ -432,7 +436,13 @@ impl HandConfig {
             20.0,
             "in (0.5°, 20°]",
         )?;
-        in_range("planner.branching", f64::from(p.branching), 0.0, 16.0, "in [1, 16]")?;
+        in_range(
+            "planner.branching",
+            f64::from(p.branching),
+            0.0,
+            16.0,
+            "in [1, 16]",
+        )?;
         in_range(
             "planner.max_expansions",
             f64::from(p.max_expansions),
@@ -440,13 +450,27 @@ impl HandConfig {
             1e6,
             "in [1, 1000000]",
         )?;
-        in_range("planner.escape_axes", f64::from(p.escape_axes), 3.0, 4096.0, "in [4, 4096]")?;
+        in_range(
+            "planner.escape_axes",
+            f64::from(p.escape_axes),
+            3.0,
+            4096.0,
+            "in [4, 4096]",
+        )?;
         in_closed(
             "planner.start_roll_extra_deg",
             p.start_roll_extra_deg,
             0.0,
             20.0,
             "in [0°, 20°]",
+        )?;
+
+        in_closed(
+            "planner.heuristic_weight",
+            p.heuristic_weight,
+            1.0,
+            10.0,
+            "in [1, 10]",
         )?;
 
         let lim = &self.limits;

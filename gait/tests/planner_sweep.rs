@@ -3,9 +3,9 @@
 
 mod planning;
 
-use planning::verify::Checker;
 use gait::planner::Planner;
 use gait::{HandConfig, HandState};
+use planning::verify::Checker;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -56,10 +56,10 @@ fn sweep(n: usize, seed: u64, random_start: bool) {
 
 #[test]
 fn paper_start_random_goals() {
-    sweep(2000, 1, false);
+    sweep(10000, 1, false);
 }
 
 #[test]
 fn random_states_random_goals() {
-    sweep(2000, 2, true);
+    sweep(10000, 2, true);
 }

@@ -68,6 +68,22 @@ impl<'a> Builder<'a> {
         }
     }
 
+    /// A rolling path of one finger, one step per segment (the rates jump
+    /// at segment ends, so the executor comes to rest there).
+    pub fn roll_path(&mut self, finger: usize, path: &crate::rolling::RollingPath) {
+        for (seg, from) in path.segments().iter().zip(path.waypoints()) {
+            self.push(
+                StepKind::Roll,
+                Motion::RollSegment {
+                    finger,
+                    segment: *seg,
+                    from: *from,
+                    geom: *path.geometry(),
+                },
+            );
+        }
+    }
+
     /// Radial ascent of a grasping finger to the transfer height.
     pub fn lift(&mut self, finger: usize) {
         let dir = self.hand.fingers[finger].contact_normal();
@@ -87,30 +103,62 @@ impl<'a> Builder<'a> {
     }
 
     /// Brings a free finger to the transfer height if it is elsewhere in
-    /// its shell.
-    fn to_transfer_height(&mut self, finger: usize) {
+    /// its shell. Going down can bring it closer to a neighbour: then it
+    /// first travels at its height to over its cone centre.
+    fn raise_to_transfer_height(&mut self, finger: usize) -> Result<(), Blocked> {
         let p = self.hand.fingers[finger].center;
         let rho = p.norm();
-        if (rho - self.g.transfer_radius).abs() > 1e-12 {
-            self.push(
-                StepKind::Transfer,
-                Motion::Free(FreeMove {
-                    finger,
-                    path: FreePath::Radial {
-                        dir: p / rho,
-                        from: rho,
-                        to: self.g.transfer_radius,
-                    },
-                    turn: Reorientation::NONE,
-                    contact_at_end: false,
-                }),
-            );
+        if (rho - self.g.transfer_radius).abs() <= 1e-12 {
+            return Ok(());
         }
+        let (others, n) = other_centers(&self.hand, finger);
+        let radial = |dir: Vector3<f64>| FreePath::Radial {
+            dir,
+            from: rho,
+            to: self.g.transfer_radius,
+        };
+        let mut path = radial(p / rho);
+        if !path_clear(self.g, &path, &others[..n]) {
+            let arc = FreePath::arc(&(p / rho), &self.g.base[finger], rho);
+            if !path_clear(self.g, &arc, &others[..n]) {
+                return Err(Blocked { finger });
+            }
+            self.free_step(StepKind::Transfer, finger, arc, Reorientation::NONE, false);
+            path = radial(self.g.base[finger]);
+            if !path_clear(self.g, &path, &others[..n]) {
+                return Err(Blocked { finger });
+            }
+        }
+        self.free_step(StepKind::Transfer, finger, path, Reorientation::NONE, false);
+        Ok(())
+    }
+
+    fn free_step(
+        &mut self,
+        kind: StepKind,
+        finger: usize,
+        path: FreePath,
+        turn: Reorientation,
+        contact_at_end: bool,
+    ) {
+        self.push(
+            kind,
+            Motion::Free(FreeMove {
+                finger,
+                path,
+                turn,
+                contact_at_end,
+            }),
+        );
     }
 
     /// The arcs (one, or two via the cone centre) that take a hovering
     /// finger to above `target` clear of the other fingertips.
-    fn route(&self, finger: usize, target: &Vector3<f64>) -> Result<([Option<FreePath>; 2], bool), Blocked> {
+    fn route(
+        &self,
+        finger: usize,
+        target: &Vector3<f64>,
+    ) -> Result<([Option<FreePath>; 2], bool), Blocked> {
         let from = self.hand.fingers[finger].center.normalize();
         if angle_between(&from, target) < 1e-12 {
             return Ok(([None, None], true));
@@ -132,15 +180,24 @@ impl<'a> Builder<'a> {
 
     /// Place: travel above `contact`, turn to pole-down with roll `roll`,
     /// descend and touch.
-    pub fn place(&mut self, finger: usize, contact: &Vector3<f64>, roll: f64) -> Result<(), Blocked> {
-        self.to_transfer_height(finger);
+    pub fn place(
+        &mut self,
+        finger: usize,
+        contact: &Vector3<f64>,
+        roll: f64,
+    ) -> Result<(), Blocked> {
+        self.raise_to_transfer_height(finger)?;
         let f = self.hand.fingers[finger];
         let mut turn = Reorientation::towards(&f.orientation, &(-contact), roll - f.roll);
         let (arcs, _) = self.route(finger, contact)?;
         let n_arcs = arcs.iter().flatten().count();
         for (i, arc) in arcs.iter().flatten().enumerate() {
             // The whole turn happens on the last arc.
-            let this_turn = if i + 1 == n_arcs { turn } else { Reorientation::NONE };
+            let this_turn = if i + 1 == n_arcs {
+                turn
+            } else {
+                Reorientation::NONE
+            };
             if i + 1 == n_arcs {
                 turn = Reorientation::NONE;
             }
@@ -226,7 +283,7 @@ impl<'a> Builder<'a> {
         }
         if !sweep_clear(self.g, &self.hand, z, axis, angle, None) {
             // Park over the cone centre first: no other fingertip can reach it.
-            self.to_transfer_height(z);
+            self.raise_to_transfer_height(z)?;
             let from = self.hand.fingers[z].center.normalize();
             let path = FreePath::arc(&from, &self.g.base[z], self.g.transfer_radius);
             let (others, n) = other_centers(&self.hand, z);

@@ -232,7 +232,12 @@ pub fn fresh_range(g: &Geometry, k: usize, axis: &Vector3<f64>, c: &Vector3<f64>
 
 /// First rotation angle about `axis` at which a contact `c` (at R + r) comes
 /// too close to a fixed hovering fingertip in direction `u` (at R + r + h).
-pub fn hover_collision(g: &Geometry, axis: &Vector3<f64>, c: &Vector3<f64>, u: &Vector3<f64>) -> f64 {
+pub fn hover_collision(
+    g: &Geometry,
+    axis: &Vector3<f64>,
+    c: &Vector3<f64>,
+    u: &Vector3<f64>,
+) -> f64 {
     Sinusoid::new(axis, c, u).first_above(g.cos_sep_hover)
 }
 

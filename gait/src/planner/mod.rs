@@ -15,6 +15,7 @@
 pub mod candidates;
 pub mod collision;
 pub mod convert;
+pub mod escape;
 pub mod geometry;
 pub mod plan;
 pub mod search;
@@ -29,10 +30,13 @@ use crate::config::{ConfigError, HandConfig};
 use crate::state::{FingerMode, HandState};
 use candidates::Candidates;
 use convert::Builder;
-use geometry::{BOUNDARY_EPS, Geometry, cone_exit, roll_exit, rotation};
+use geometry::{Geometry, rotation};
 use search::{Problem, Root, split};
 use start::{Start, starts};
 use timing::{Timing, rest_to_rest};
+
+/// Heuristic weight of the retry when the first search runs out of budget.
+const GREEDY_WEIGHT: f64 = 3.0;
 
 /// Why no plan was returned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -97,9 +101,9 @@ pub struct Plan {
 impl Plan {
     /// The state after the last step (the start if there are none).
     pub fn end_state(&self) -> HandState {
-        self.steps.last().map_or(self.start, |s| {
-            s.eval(&s.dofs().length, &[0.0; 3]).state
-        })
+        self.steps
+            .last()
+            .map_or(self.start, |s| s.eval(&s.dofs().length, &[0.0; 3]).state)
     }
 }
 
@@ -213,26 +217,34 @@ impl Planner {
                 tag: i,
             })
             .collect();
-        let problem = self.problem(axis, total);
-        if let Some(found) = problem.solve(&roots) {
+        // A greedier retry finds long plans the first budget misses.
+        for weight in [self.config.planner.heuristic_weight, GREEDY_WEIGHT] {
+            let mut problem = self.problem(axis, total);
+            problem.heuristic_weight = weight;
+            let Some(found) = problem.solve(&roots) else {
+                summary.expansions += self.config.planner.max_expansions;
+                continue;
+            };
             summary.expansions += found.expansions as u32;
             let s = &starts[found.tag];
             if let Ok(plan) = self.build(start, &goal, s, None, &axis, &found.segments, summary) {
                 return Ok(plan);
             }
         }
-        summary.expansions += self.config.planner.max_expansions;
-        // 2. Escape: rotate about another axis first (Theory 1, SPEC §4.3).
+        // 2. Escape: rotate about another axis first, or roll a grasping
+        //    finger, to a state from which gaits work (Theory 1, SPEC §4.3).
         summary.escaped = true;
         let mut last_err = PlanError::SearchExhausted;
+        let axes = fibonacci_sphere(self.config.planner.escape_axes as usize);
         for s in &starts {
-            let esc = self.escapes(&s.hand);
-            if std::env::var("GAIT_DEBUG").is_ok() {
-                eprintln!("escapes: {:?}", esc.iter().map(|e| e.1.to_degrees()).collect::<Vec<_>>());
-            }
-            for (e_axis, e_angle) in esc {
-                let mut h = s.hand;
-                search::rotate_hand(&mut h, &e_axis, e_angle);
+            let rotations = escape::rotation_escapes(&self.geom, &self.cand, &s.hand, &axes, 8);
+            let rolls = escape::roll_escapes(&self.geom, &self.cand, &self.config, &s.hand, 2);
+            let tries = rotations
+                .into_iter()
+                .map(Escape::Rotate)
+                .chain(rolls.into_iter().map(|(f, p)| Escape::Roll(f, Box::new(p))));
+            for esc in tries {
+                let h = esc.apply(&s.hand);
                 let (axis2, total2) = rotation_to(&h.object, &goal);
                 let root = Root {
                     hand: h,
@@ -240,9 +252,6 @@ impl Planner {
                     tag: 0,
                 };
                 let Some(found) = self.problem(axis2, total2).solve(&[root]) else {
-                    if std::env::var("GAIT_DEBUG").is_ok() {
-                        eprintln!("escape {:.1} deg: search failed", e_angle.to_degrees());
-                    }
                     continue;
                 };
                 summary.expansions += found.expansions as u32;
@@ -250,7 +259,7 @@ impl Planner {
                     start,
                     &goal,
                     s,
-                    Some((e_axis, e_angle)),
+                    Some(&esc),
                     &axis2,
                     &found.segments,
                     summary,
@@ -271,45 +280,9 @@ impl Planner {
             axis,
             total,
             branching: self.config.planner.branching as usize,
+            heuristic_weight: self.config.planner.heuristic_weight,
             max_expansions: self.config.planner.max_expansions as usize,
         }
-    }
-
-    /// Escape rotations from a two-finger state, smallest first: for each of
-    /// a set of axes, the least rotation (within the pair's range) after
-    /// which the free finger has a force-closure placement (Theory 1).
-    fn escapes(&self, hand: &HandState) -> Vec<(Vector3<f64>, f64)> {
-        let Some((pair, free)) = split(hand) else {
-            return Vec::new();
-        };
-        let n = self.config.planner.escape_axes as usize;
-        let step = 3f64.to_radians();
-        let mut found = Vec::new();
-        for e in fibonacci_sphere(n) {
-            let mut range = f64::INFINITY;
-            for &k in &pair {
-                let f = &hand.fingers[k];
-                range = range
-                    .min(cone_exit(&self.geom, k, &e, &f.contact_normal()))
-                    .min(roll_exit(&self.geom, &e, &f.pole_axis(), f.roll));
-            }
-            let range = (range - BOUNDARY_EPS).min(std::f64::consts::PI);
-            let mut t = step;
-            while t <= range {
-                let mut h = *hand;
-                search::rotate_hand(&mut h, &e, t);
-                // (The free finger parks over its cone centre if it is in
-                // the way: the builder does that.)
-                if self.theory1(&h, pair, free) {
-                    found.push((e, t));
-                    break;
-                }
-                t += step;
-            }
-        }
-        found.sort_by(|a, b| a.1.total_cmp(&b.1));
-        found.truncate(8);
-        found
     }
 
     /// Paper Theory 1: some placement of the free finger is force-closure
@@ -324,7 +297,7 @@ impl Planner {
         start: &HandState,
         goal: &UnitQuaternion<f64>,
         s: &Start,
-        escape: Option<(Vector3<f64>, f64)>,
+        escape: Option<&Escape>,
         axis: &Vector3<f64>,
         segments: &[search::Segment],
         mut summary: PlanSummary,
@@ -334,9 +307,13 @@ impl Planner {
         for a in &s.actions {
             b.prefix(a).map_err(blocked)?;
         }
-        if let Some((e_axis, e_angle)) = escape {
-            let next = segments.first().and_then(first_place);
-            b.rotate(&e_axis, e_angle, next).map_err(blocked)?;
+        match escape {
+            Some(Escape::Rotate((e_axis, e_angle))) => {
+                let next = segments.first().and_then(first_place);
+                b.rotate(e_axis, *e_angle, next).map_err(blocked)?;
+            }
+            Some(Escape::Roll(finger, path)) => b.roll_path(*finger, path),
+            None => {}
         }
         for (i, seg) in segments.iter().enumerate() {
             for gait in &seg.gaits {
@@ -369,6 +346,29 @@ impl Planner {
             steps: b.steps,
             summary,
         })
+    }
+}
+
+/// What a plan does first when gaits are impossible (module [`escape`]).
+#[derive(Debug, Clone)]
+enum Escape {
+    /// Rotate the object about (axis, angle).
+    Rotate((Vector3<f64>, f64)),
+    /// Roll a finger along a path.
+    Roll(usize, Box<crate::rolling::RollingPath>),
+}
+
+impl Escape {
+    fn apply(&self, hand: &HandState) -> HandState {
+        let mut h = *hand;
+        match self {
+            Escape::Rotate((axis, angle)) => search::rotate_hand(&mut h, axis, *angle),
+            Escape::Roll(finger, path) => {
+                let end = path.eval(path.length());
+                h.fingers[*finger] = end.finger_state(&hand.object, path.geometry());
+            }
+        }
+        h
     }
 }
 
@@ -418,6 +418,10 @@ pub fn fibonacci_sphere(n: usize) -> Vec<Vector3<f64>> {
 
 /// Convenience: the orientation reached by rotating `from` about a hand-frame
 /// axis by an angle (for relative goals).
-pub fn relative_goal(from: &UnitQuaternion<f64>, axis: &Vector3<f64>, angle: f64) -> UnitQuaternion<f64> {
+pub fn relative_goal(
+    from: &UnitQuaternion<f64>,
+    axis: &Vector3<f64>,
+    angle: f64,
+) -> UnitQuaternion<f64> {
     rotation(&axis.normalize(), angle) * from
 }

@@ -10,6 +10,8 @@
 use nalgebra::{UnitQuaternion, Vector3};
 
 use super::geometry::{rotation, swing};
+use crate::contact::ContactGeometry;
+use crate::rolling::{RollSegment, Waypoint};
 use crate::state::{FingerMode, HandState};
 
 /// Most path parameters a step has (a rotation plus a concurrent free-finger
@@ -60,7 +62,10 @@ impl Reorientation {
                 swing_angle: angle,
                 twist,
             },
-            None => Self { twist, ..Self::NONE },
+            None => Self {
+                twist,
+                ..Self::NONE
+            },
         }
     }
 
@@ -199,6 +204,19 @@ pub enum Motion {
     },
     /// One finger moves in free space (transfer, lift or place).
     Free(FreeMove),
+    /// One finger follows one segment of a rolling path (SPEC §2.4) on the
+    /// still object; the parameter is the fingertip rotation relative to
+    /// the object.
+    RollSegment {
+        /// Which finger.
+        finger: usize,
+        /// The segment (object frame).
+        segment: RollSegment,
+        /// The path state where the segment starts.
+        from: Waypoint,
+        /// Radii.
+        geom: ContactGeometry,
+    },
 }
 
 /// What a step does, for people and for gait counting.
@@ -279,6 +297,10 @@ impl Step {
                 d.length[0] = f.path.length();
                 d.kind[0] = LimitKind::Fingertip;
             }
+            Motion::RollSegment { segment, .. } => {
+                d.length[0] = segment.length;
+                d.kind[0] = LimitKind::Rolling;
+            }
         }
         d
     }
@@ -326,10 +348,24 @@ impl Step {
                     f.roll += contact_angle * ratio * r.axis.dot(&pole0);
                     let w_f = r.axis * (sign * ds[i]);
                     sp.finger_rate[r.finger] = w_f;
-                    sp.finger_velocity[r.finger] = (r.axis * (sign * ds[i] / ratio)).cross(&f.center);
+                    sp.finger_velocity[r.finger] =
+                        (r.axis * (sign * ds[i] / ratio)).cross(&f.center);
                 }
             }
             Motion::Free(m) => apply_free(m, s[0], ds[0], &mut sp),
+            Motion::RollSegment {
+                finger,
+                segment,
+                from,
+                geom,
+            } => {
+                let q_o = self.start.object;
+                let sample = segment.eval(geom, from, s[0].clamp(0.0, segment.length));
+                sp.state.fingers[*finger] = sample.finger_state(&q_o, geom);
+                sp.finger_rate[*finger] = q_o * sample.omega * ds[0];
+                sp.finger_velocity[*finger] =
+                    q_o * sample.d_contact * (geom.center_distance() * ds[0]);
+            }
         }
         sp
     }
@@ -337,7 +373,11 @@ impl Step {
 
 fn apply_free(m: &FreeMove, s: f64, ds: f64, sp: &mut Setpoint) {
     let len = m.path.length();
-    let lambda = if len > 0.0 { (s / len).clamp(0.0, 1.0) } else { 1.0 };
+    let lambda = if len > 0.0 {
+        (s / len).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
     let dlambda = if len > 0.0 { ds / len } else { 0.0 };
     let f = &mut sp.state.fingers[m.finger];
     let q0 = f.orientation;

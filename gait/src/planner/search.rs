@@ -80,6 +80,8 @@ pub struct Problem<'a> {
     pub branching: usize,
     /// Expansion budget.
     pub max_expansions: usize,
+    /// Weight of the time-to-go estimate (1 = A*; more is greedier).
+    pub heuristic_weight: f64,
 }
 
 /// A starting point of the search: a pair grasps, one finger is free.
@@ -178,7 +180,31 @@ impl<'a> Problem<'a> {
                 preset[k].push(tau);
             }
         }
-        Fresh { range, preset, best }
+        // The longest segment any force-closure pair of fresh placements
+        // allows: a tighter bound for the time-to-go than the best single
+        // contact.
+        let mut best_pair: f64 = 0.0;
+        for a in 0..3 {
+            for b in a + 1..3 {
+                for (i, partners) in self.cand.partners[a][b].iter().enumerate() {
+                    let ra = range[a][i];
+                    if ra <= best_pair {
+                        continue;
+                    }
+                    let rb = partners
+                        .iter()
+                        .map(|&j| range[b][j as usize])
+                        .fold(0.0, f64::max);
+                    best_pair = best_pair.max(ra.min(rb));
+                }
+            }
+        }
+        let best = if best_pair > 0.0 { best_pair } else { best };
+        Fresh {
+            range,
+            preset,
+            best,
+        }
     }
 
     /// How far the grasping pair of `hand` can rotate about the axis.
@@ -197,14 +223,13 @@ impl<'a> Problem<'a> {
     /// Paper Theory 1: some placement of the free finger is force-closure
     /// with one of the grasping fingers (and clear of both).
     pub fn theory1(&self, hand: &HandState, pair: [usize; 2], free: usize) -> bool {
-        let ca = hand.fingers[pair[0]].contact_normal();
-        let cb = hand.fingers[pair[1]].contact_normal();
-        let sep = self.geom.cos_sep_contact - BOUNDARY_EPS;
-        self.cand.points[free].iter().any(|c| {
-            c.dot(&ca) <= sep
-                && c.dot(&cb) <= sep
-                && (self.geom.is_fc_pair(c, &ca) || self.geom.is_fc_pair(c, &cb))
-        })
+        super::escape::theory1(
+            self.geom,
+            self.cand,
+            free,
+            &hand.fingers[pair[0]].contact_normal(),
+            &hand.fingers[pair[1]].contact_normal(),
+        )
     }
 
     /// Optimistic time to go: the rest of the rotation in one move, plus a
@@ -231,8 +256,8 @@ impl<'a> Problem<'a> {
         let mut seq = 0;
         let mut push = |nodes: &mut Vec<Node>, open: &mut BinaryHeap<Open>, node: Node| {
             let range = self.pair_range(&node.hand, node.pair);
-            let w: f64 = std::env::var("GAIT_W").ok().and_then(|x| x.parse().ok()).unwrap_or(1.0);
-            let f = node.g + w * self.heuristic(&fresh, self.total - node.done, range);
+            let f = node.g
+                + self.heuristic_weight * self.heuristic(&fresh, self.total - node.done, range);
             nodes.push(node);
             open.push(Open {
                 f,
@@ -274,10 +299,6 @@ impl<'a> Problem<'a> {
             }
             children.clear();
             self.expand(&node, idx, &fresh, &mut children);
-            if std::env::var("GAIT_DEBUG").is_ok() {
-                let t1 = self.theory1(&node.hand, node.pair, node.free);
-                eprintln!("expand #{expansions} {:?} done {:.1}/{:.1} g {:.2} pair {:?} free {} t1 {t1} range {:.2} -> {} children", match node.edge { Edge::Rotate(_) => "R", Edge::Root => "0", _ => "S"}, node.done.to_degrees(), self.total.to_degrees(), node.g, node.pair, node.free, self.pair_range(&node.hand, node.pair).to_degrees(), children.len());
-            }
             for child in children.drain(..) {
                 push(&mut nodes, &mut open, child);
             }
@@ -382,10 +403,10 @@ impl<'a> Problem<'a> {
                 chosen.push(i);
             }
             // Also the quickest placement: a good temporary holder.
-            if let Some(&(_, i)) = zs
-                .iter()
-                .min_by(|a, b| self.travel(&z_from, z, a.1).total_cmp(&self.travel(&z_from, z, b.1)))
-                && !chosen.contains(&i)
+            if let Some(&(_, i)) = zs.iter().min_by(|a, b| {
+                self.travel(&z_from, z, a.1)
+                    .total_cmp(&self.travel(&z_from, z, b.1))
+            }) && !chosen.contains(&i)
             {
                 chosen.push(i);
             }
@@ -445,7 +466,8 @@ impl<'a> Problem<'a> {
         let mut hand = node.hand;
         let from = hover_dir(&hand, finger);
         // Travelled during the previous rotation, if there was one.
-        let travel = (self.timing.transfer(angle_between(&from, &contact)) - node.prev_rotation).max(0.0);
+        let travel =
+            (self.timing.transfer(angle_between(&from, &contact)) - node.prev_rotation).max(0.0);
         place_finger(self.geom, &mut hand, finger, &contact, roll);
         lift_finger(self.geom, &mut hand, lift);
         let Some((pair, free)) = split(&hand) else {
@@ -549,7 +571,13 @@ pub fn hover_dir(hand: &HandState, finger: usize) -> Vector3<f64> {
 /// Puts a free finger down at `contact` with its pole, swinging and
 /// twisting its orientation (SPEC §1.1: swing leaves τ alone, the twist
 /// about the pole changes τ to `roll`).
-pub fn place_finger(g: &Geometry, hand: &mut HandState, finger: usize, contact: &Vector3<f64>, roll: f64) {
+pub fn place_finger(
+    g: &Geometry,
+    hand: &mut HandState,
+    finger: usize,
+    contact: &Vector3<f64>,
+    roll: f64,
+) {
     let f = &mut hand.fingers[finger];
     let pole = -contact;
     let turn = super::plan::Reorientation::towards(&f.orientation, &pole, roll - f.roll);

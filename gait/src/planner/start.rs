@@ -87,7 +87,13 @@ fn others(k: usize) -> (usize, usize) {
 
 /// Rolls the two fingers other than `lose` apart to a force-closure angle
 /// (plus `extra`), then lifts `lose`. `None` if an invariant would break.
-fn roll_apart(g: &Geometry, timing: &Timing, hand: &HandState, lose: usize, extra: f64) -> Option<Start> {
+fn roll_apart(
+    g: &Geometry,
+    timing: &Timing,
+    hand: &HandState,
+    lose: usize,
+    extra: f64,
+) -> Option<Start> {
     let (i, j) = others(lose);
     let ci = hand.fingers[i].contact_normal();
     let cj = hand.fingers[j].contact_normal();
@@ -130,10 +136,11 @@ fn roll_apart(g: &Geometry, timing: &Timing, hand: &HandState, lose: usize, extr
             return None;
         }
     }
-    let mut after = step
-        .eval(&dofs.length, &[0.0; 3])
-        .state;
-    if !g.is_fc_pair(&after.fingers[i].contact_normal(), &after.fingers[j].contact_normal()) {
+    let mut after = step.eval(&dofs.length, &[0.0; 3]).state;
+    if !g.is_fc_pair(
+        &after.fingers[i].contact_normal(),
+        &after.fingers[j].contact_normal(),
+    ) {
         return None;
     }
     let roll_time = timing.roll(dofs.length[0].max(dofs.length[1]));

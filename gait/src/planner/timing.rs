@@ -92,10 +92,18 @@ mod tests {
 
     #[test]
     fn hand_computed_cases() {
-        let obj = MotionLimit { velocity: 1.0, acceleration: 4.0, jerk: 40.0 };
+        let obj = MotionLimit {
+            velocity: 1.0,
+            acceleration: 4.0,
+            jerk: 40.0,
+        };
         // Cruise phase: 2 (v/a + a/j) + (d − v (v/a + a/j)) / v.
         assert!((rest_to_rest(3.0, &obj) - 3.35).abs() < 1e-12);
-        let tip = MotionLimit { velocity: 0.5, acceleration: 4.0, jerk: 40.0 };
+        let tip = MotionLimit {
+            velocity: 0.5,
+            acceleration: 4.0,
+            jerk: 40.0,
+        };
         // Neither limit reached: 4 (d / 2j)^(1/3).
         assert!((rest_to_rest(0.03, &tip) - 4.0 * (0.03f64 / 80.0).cbrt()).abs() < 1e-12);
         // Acceleration limit reached, velocity not: d = vp (vp/a + a/j), vp = 0.45.
@@ -104,7 +112,11 @@ mod tests {
 
     #[test]
     fn continuous_and_monotone() {
-        let lim = MotionLimit { velocity: 1.0, acceleration: 4.0, jerk: 40.0 };
+        let lim = MotionLimit {
+            velocity: 1.0,
+            acceleration: 4.0,
+            jerk: 40.0,
+        };
         let mut prev = 0.0;
         for i in 1..5000 {
             let t = rest_to_rest(i as f64 * 1e-3, &lim);

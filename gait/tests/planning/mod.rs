@@ -92,12 +92,17 @@ pub fn random_two_finger_state(rng: &mut impl Rng, cfg: &HandConfig) -> HandStat
             object: haar(rng),
             fingers,
         };
-        let (a, b) = (s.fingers[pair[0]].contact_normal(), s.fingers[pair[1]].contact_normal());
+        let (a, b) = (
+            s.fingers[pair[0]].contact_normal(),
+            s.fingers[pair[1]].contact_normal(),
+        );
         if !g.is_fc_pair(&a, &b) {
             continue;
         }
         let clear = (0..3).all(|i| {
-            (i + 1..3).all(|j| (s.fingers[i].center - s.fingers[j].center).norm() >= g.min_center_distance + 1e-6)
+            (i + 1..3).all(|j| {
+                (s.fingers[i].center - s.fingers[j].center).norm() >= g.min_center_distance + 1e-6
+            })
         });
         if clear {
             return s;

@@ -55,7 +55,14 @@ impl Checker {
 
     /// Every violated invariant of one state.
     pub fn check(&self, s: &HandState, step: usize, out: &mut Vec<Violation>) {
-        let mut v = |what, finger, value| out.push(Violation { step, what, finger, value });
+        let mut v = |what, finger, value| {
+            out.push(Violation {
+                step,
+                what,
+                finger,
+                value,
+            })
+        };
         let rc = self.r_obj + self.r_tip;
         let mut grasp = Vec::new();
         for (k, f) in s.fingers.iter().enumerate() {
@@ -114,8 +121,10 @@ impl Checker {
     }
 
     fn fact4(&self, p: &[Vector3<f64>]) -> bool {
-        let acute = |a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>| (b - a).dot(&(c - a)) > 0.0;
-        if !(acute(&p[0], &p[1], &p[2]) && acute(&p[1], &p[2], &p[0]) && acute(&p[2], &p[0], &p[1])) {
+        let acute =
+            |a: &Vector3<f64>, b: &Vector3<f64>, c: &Vector3<f64>| (b - a).dot(&(c - a)) > 0.0;
+        if !(acute(&p[0], &p[1], &p[2]) && acute(&p[1], &p[2], &p[0]) && acute(&p[2], &p[0], &p[1]))
+        {
             return false;
         }
         let n = (p[1] - p[0]).cross(&(p[2] - p[0]));

@@ -1,0 +1,161 @@
+//! Ways out of two-finger states from which no gait helps (SPEC §4.3).
+//!
+//! About 5 % of valid two-finger states fail the paper's Theory 1: no
+//! placement of the free finger is force-closure with either grasping finger,
+//! so no gait exists. The plan must first change the pair's contacts (in the
+//! hand frame) without gaits:
+//! - rotate the object about some other axis (the pair carried along) until
+//!   a placement opens up ([`rotation_escapes`]);
+//! - or roll one grasping finger on the still object to a better contact,
+//!   keeping the pair force-closure at every instant ([`roll_escapes`]).
+
+use nalgebra::Vector3;
+
+use super::candidates::Candidates;
+use super::geometry::{BOUNDARY_EPS, Geometry, cone_exit, roll_exit};
+use super::search::{rotate_hand, split};
+use crate::HandConfig;
+use crate::contact::{ContactGeometry, ContactState};
+use crate::rolling::{RollGoal, RollLimits, RollingPath, plan_roll};
+use crate::state::HandState;
+
+/// Paper Theory 1 for a pair of contact normals: some candidate placement
+/// of the free finger is force-closure with one of them and clear of both.
+pub fn theory1(
+    g: &Geometry,
+    cand: &Candidates,
+    free: usize,
+    ca: &Vector3<f64>,
+    cb: &Vector3<f64>,
+) -> bool {
+    let sep = g.cos_sep_contact - BOUNDARY_EPS;
+    cand.points[free].iter().any(|c| {
+        c.dot(ca) <= sep && c.dot(cb) <= sep && (g.is_fc_pair(c, ca) || g.is_fc_pair(c, cb))
+    })
+}
+
+/// Rotations (axis, angle) after which a gait is possible, smallest first:
+/// for each of `axes`, the least rotation within the pair's range (3°
+/// steps) after which Theory 1 holds. At most `keep` are returned.
+pub fn rotation_escapes(
+    g: &Geometry,
+    cand: &Candidates,
+    hand: &HandState,
+    axes: &[Vector3<f64>],
+    keep: usize,
+) -> Vec<(Vector3<f64>, f64)> {
+    let Some((pair, free)) = split(hand) else {
+        return Vec::new();
+    };
+    let step = 3f64.to_radians();
+    let mut found = Vec::new();
+    for e in axes {
+        let mut range = f64::INFINITY;
+        for &k in &pair {
+            let f = &hand.fingers[k];
+            range = range
+                .min(cone_exit(g, k, e, &f.contact_normal()))
+                .min(roll_exit(g, e, &f.pole_axis(), f.roll));
+        }
+        let range = (range - BOUNDARY_EPS).min(std::f64::consts::PI);
+        let mut t = step;
+        while t <= range {
+            let mut h = *hand;
+            rotate_hand(&mut h, e, t);
+            let (ca, cb) = (
+                h.fingers[pair[0]].contact_normal(),
+                h.fingers[pair[1]].contact_normal(),
+            );
+            // (The free finger parks over its cone centre if it is in the
+            // way: the plan builder does that.)
+            if theory1(g, cand, free, &ca, &cb) {
+                found.push((*e, t));
+                break;
+            }
+            t += step;
+        }
+    }
+    found.sort_by(|a, b| a.1.total_cmp(&b.1));
+    found.truncate(keep);
+    found
+}
+
+/// Samples per rolling-path segment at which the pair and clearance are
+/// checked (the path itself guarantees hemisphere and roll limits).
+const PATH_SAMPLES: usize = 64;
+
+/// Rolling paths of one grasping finger, on the still object, to a contact
+/// where Theory 1 holds; nearest targets first, at most `keep`.
+pub fn roll_escapes(
+    g: &Geometry,
+    cand: &Candidates,
+    config: &HandConfig,
+    hand: &HandState,
+    keep: usize,
+) -> Vec<(usize, RollingPath)> {
+    let Some((pair, free)) = split(hand) else {
+        return Vec::new();
+    };
+    let cg = ContactGeometry::from_config(config);
+    let limits = RollLimits::from_config(config, false);
+    let mut out = Vec::new();
+    for (xi, &x) in pair.iter().enumerate() {
+        let y = pair[1 - xi];
+        let cx = hand.fingers[x].contact_normal();
+        let cy = hand.fingers[y].contact_normal();
+        let Ok(contact) = ContactState::from_finger(&hand.fingers[x], hand.object, &cg) else {
+            continue;
+        };
+        let rel = contact.relative();
+        let sep = g.cos_sep_contact - BOUNDARY_EPS;
+        let mut targets: Vec<(f64, Vector3<f64>)> = cand.points[x]
+            .iter()
+            .filter(|t| g.is_fc_pair(t, &cy) && t.dot(&cy) <= sep)
+            .filter(|t| theory1(g, cand, free, t, &cy))
+            .map(|t| (-t.dot(&cx), *t))
+            .collect();
+        targets.sort_by(|a, b| a.0.total_cmp(&b.0));
+        for (_, t) in targets.iter().take(12) {
+            let goal = RollGoal {
+                target: hand.object.inverse() * t,
+                final_roll: None,
+            };
+            let Ok(path) = plan_roll(&cg, &rel, &goal, &limits) else {
+                continue;
+            };
+            if path_ok(g, hand, x, y, free, &path) {
+                out.push((x, path));
+                break;
+            }
+        }
+        if out.len() >= keep {
+            break;
+        }
+    }
+    out
+}
+
+/// Whether the rolling contact of finger `x` stays in its cone,
+/// force-closure with `y` and clear of the other fingertips.
+fn path_ok(
+    g: &Geometry,
+    hand: &HandState,
+    x: usize,
+    y: usize,
+    free: usize,
+    path: &RollingPath,
+) -> bool {
+    let q_o = hand.object;
+    let cy = hand.fingers[y].contact_normal();
+    let others = [hand.fingers[y].center, hand.fingers[free].center];
+    let n = PATH_SAMPLES * path.len().max(1);
+    (0..=n).all(|i| {
+        let s = path.length() * i as f64 / n as f64;
+        let c = q_o * path.eval(s).contact;
+        g.in_cone(x, &c)
+            && g.is_fc_pair(&c, &cy)
+            && others
+                .iter()
+                .all(|o| (c * g.contact_radius - o).norm() >= g.min_center_distance)
+    })
+}
