@@ -35,8 +35,9 @@ pub fn theory1(
 }
 
 /// Rotations (axis, angle) after which a gait is possible, smallest first:
-/// for each of `axes`, the least rotation within the pair's range (3°
-/// steps) after which Theory 1 holds. At most `keep` are returned.
+/// for each of `axes`, the least rotation within the pair's range (5°
+/// steps, at most 90°) after which Theory 1 holds. At most `keep` are
+/// returned.
 pub fn rotation_escapes(
     g: &Geometry,
     cand: &Candidates,
@@ -47,7 +48,7 @@ pub fn rotation_escapes(
     let Some((pair, free)) = split(hand) else {
         return Vec::new();
     };
-    let step = 3f64.to_radians();
+    let step = 5f64.to_radians();
     let mut found = Vec::new();
     for e in axes {
         let mut range = f64::INFINITY;
@@ -57,7 +58,7 @@ pub fn rotation_escapes(
                 .min(cone_exit(g, k, e, &f.contact_normal()))
                 .min(roll_exit(g, e, &f.pole_axis(), f.roll));
         }
-        let range = (range - BOUNDARY_EPS).min(std::f64::consts::PI);
+        let range = (range - BOUNDARY_EPS).min(std::f64::consts::FRAC_PI_2);
         let mut t = step;
         while t <= range {
             let mut h = *hand;

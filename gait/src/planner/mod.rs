@@ -251,7 +251,12 @@ impl Planner {
                     cost: 0.0,
                     tag: 0,
                 };
-                let Some(found) = self.problem(axis2, total2).solve(&[root]) else {
+                // Escapes are the rare, hard cases: a smaller budget each
+                // keeps the worst case bounded.
+                let mut problem = self.problem(axis2, total2);
+                problem.max_expansions = (problem.max_expansions / 2).max(1);
+                let Some(found) = problem.solve(&[root]) else {
+                    summary.expansions += problem.max_expansions as u32;
                     continue;
                 };
                 summary.expansions += found.expansions as u32;

@@ -403,10 +403,11 @@ impl<'a> Problem<'a> {
                 chosen.push(i);
             }
             // Also the quickest placement: a good temporary holder.
-            if let Some(&(_, i)) = zs.iter().min_by(|a, b| {
-                self.travel(&z_from, z, a.1)
-                    .total_cmp(&self.travel(&z_from, z, b.1))
-            }) && !chosen.contains(&i)
+            let pts = &self.cand.points[z];
+            if let Some(&(_, i)) = zs
+                .iter()
+                .max_by(|a, b| pts[a.1].dot(&z_from).total_cmp(&pts[b.1].dot(&z_from)))
+                && !chosen.contains(&i)
             {
                 chosen.push(i);
             }
@@ -416,11 +417,6 @@ impl<'a> Problem<'a> {
                 self.substitute_child(node, idx, z, contact, roll, lose, out);
             }
         }
-    }
-
-    fn travel(&self, from: &Vector3<f64>, finger: usize, i: usize) -> f64 {
-        self.timing
-            .transfer(angle_between(from, &self.cand.points[finger][i]))
     }
 
     /// Every placement of `finger` force-closure with `partner` and clear of
@@ -443,12 +439,12 @@ impl<'a> Problem<'a> {
                 self.geom.is_fc_pair(c, partner) && others.iter().all(|o| c.dot(o) <= sep)
             })
             .map(|(i, c)| {
-                let travel = self.timing.transfer(angle_between(from, c));
+                let travel = self.timing.transfer_cos(from.dot(c));
                 // Rotation beyond what is left is worth nothing.
                 (-fresh.range[finger][i].min(rem) * RANGE_WEIGHT + travel, i)
             })
             .collect();
-        out.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        out.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         out
     }
 

@@ -50,20 +50,40 @@ pub struct Timing {
     /// Duration of a vertical lift or descent over the transfer height.
     pub vertical: f64,
     transfer_radius: f64,
+    /// `transfer` tabulated over the cosine of the angle, for ranking.
+    by_cos: [f64; COS_TABLE + 1],
 }
+
+/// Intervals of the transfer-time table over cos ∈ [−1, 1].
+const COS_TABLE: usize = 1024;
 
 impl Timing {
     /// From the configuration.
     pub fn new(config: &HandConfig) -> Self {
         let l = &config.limits;
         let r = config.model.object_radius + config.model.fingertip_radius;
+        let transfer_radius = r + config.planner.transfer_height;
+        let by_cos = std::array::from_fn(|i| {
+            let c = -1.0 + 2.0 * i as f64 / COS_TABLE as f64;
+            rest_to_rest(c.clamp(-1.0, 1.0).acos() * transfer_radius, &l.fingertip)
+        });
         Self {
             object: l.object,
             fingertip: l.fingertip,
             rolling: l.rolling,
             vertical: rest_to_rest(config.planner.transfer_height, &l.fingertip),
-            transfer_radius: r + config.planner.transfer_height,
+            transfer_radius,
+            by_cos,
         }
+    }
+
+    /// [`Timing::transfer`] from the cosine of the angle, interpolated in a
+    /// table (within a few ms; used to rank candidates, not to cost plans).
+    pub fn transfer_cos(&self, cos: f64) -> f64 {
+        let x = (cos.clamp(-1.0, 1.0) + 1.0) * 0.5 * COS_TABLE as f64;
+        let i = (x as usize).min(COS_TABLE - 1);
+        let f = x - i as f64;
+        self.by_cos[i] * (1.0 - f) + self.by_cos[i + 1] * f
     }
 
     /// Rotating the object by `angle` rad.
@@ -108,6 +128,20 @@ mod tests {
         assert!((rest_to_rest(0.03, &tip) - 4.0 * (0.03f64 / 80.0).cbrt()).abs() < 1e-12);
         // Acceleration limit reached, velocity not: d = vp (vp/a + a/j), vp = 0.45.
         assert!((rest_to_rest(0.095625, &tip) - 2.0 * (0.1125 + 0.1)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn table_matches_the_closed_form() {
+        let t = Timing::new(&HandConfig::default());
+        for i in 0..=1000 {
+            let angle = std::f64::consts::PI * i as f64 / 1000.0;
+            let exact = t.transfer(angle);
+            // The table is coarse near cos = ±1 where acos is steep.
+            assert!(
+                (t.transfer_cos(angle.cos()) - exact).abs() < 0.03,
+                "{angle}"
+            );
+        }
     }
 
     #[test]

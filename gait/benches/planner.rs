@@ -1,0 +1,87 @@
+//! Planning time and plan quality over Haar-random goals (SPEC §11).
+//!
+//! `cargo bench -p gait --bench planner [-- N]` prints, for goals from the
+//! paper's start and from random valid two-finger states: planning time
+//! p50 / p99 / max, gaits per goal, and execution time per goal.
+
+#[path = "../tests/planning/mod.rs"]
+#[allow(dead_code)]
+mod planning;
+
+use std::time::Instant;
+
+use gait::planner::Planner;
+use gait::{HandConfig, HandState};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+fn pct(sorted: &[f64], p: f64) -> f64 {
+    sorted[((sorted.len() as f64 * p).ceil() as usize).clamp(1, sorted.len()) - 1]
+}
+
+fn run(label: &str, n: usize, random_start: bool) {
+    let mut cfg = HandConfig::default();
+    if let Ok(b) = std::env::var("GAIT_BUDGET") {
+        cfg.planner.max_expansions = b.parse().unwrap();
+    }
+    let planner = Planner::new(&cfg).unwrap();
+    let paper = HandState::paper_start(&cfg);
+    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let (mut times, mut dur, mut gaits) = (Vec::new(), Vec::new(), Vec::new());
+    let mut fails = 0;
+    for _ in 0..n {
+        let start = if random_start {
+            planning::random_two_finger_state(&mut rng, &cfg)
+        } else {
+            paper
+        };
+        let goal = planning::haar(&mut rng);
+        let t0 = Instant::now();
+        let r = planner.plan(&start, &goal);
+        times.push(t0.elapsed().as_secs_f64() * 1e3);
+        match r {
+            Ok(p) => {
+                dur.push(p.summary.duration);
+                gaits.push(f64::from(p.summary.gaits));
+            }
+            Err(_) => fails += 1,
+        }
+    }
+    for v in [&mut times, &mut dur, &mut gaits] {
+        v.sort_by(f64::total_cmp);
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+    println!(
+        "{label:<22} n={n} fails={fails} | plan ms p50 {:.3} p99 {:.3} max {:.3} | exec s mean {:.2} p95 {:.2} max {:.2} | gaits mean {:.2} p95 {} max {}",
+        pct(&times, 0.5),
+        pct(&times, 0.99),
+        times[times.len() - 1],
+        mean(&dur),
+        pct(&dur, 0.95),
+        dur[dur.len() - 1],
+        mean(&gaits),
+        pct(&gaits, 0.95),
+        gaits[gaits.len() - 1],
+    );
+}
+
+fn main() {
+    let n = std::env::args()
+        .skip(1)
+        .find_map(|a| a.parse().ok())
+        .unwrap_or(2000);
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_owned())
+        })
+        .unwrap_or_default();
+    println!(
+        "planner benchmark on {cpu} ({} threads available), release build",
+        std::thread::available_parallelism().map_or(0, |n| n.get())
+    );
+    run("from the paper start", n, false);
+    run("from random states", n, true);
+}
