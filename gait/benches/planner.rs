@@ -5,7 +5,6 @@
 //! p50 / p99 / max, gaits per goal, and execution time per goal.
 
 #[path = "../tests/planning/mod.rs"]
-#[allow(dead_code)]
 mod planning;
 
 use std::time::Instant;
