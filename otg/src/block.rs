@@ -1,0 +1,151 @@
+//! The set of feasible durations of one DoF: at least its time-optimal
+//! duration `t_min`, minus up to two *blocked intervals* (durations that no
+//! profile achieves when the target velocity or acceleration is non-zero).
+//! Time synchronisation picks the earliest duration feasible for every DoF
+//! (Berscheid & Kröger 2021, §IV-B).
+
+use crate::profile::Profile;
+
+/// A blocked interval `(left, right)` of durations; `profile` achieves `right`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interval {
+    /// Left end [s] (feasible).
+    pub left: f64,
+    /// Right end [s] (feasible).
+    pub right: f64,
+    /// The extremal profile of duration `right`.
+    pub profile: Profile,
+}
+
+impl Interval {
+    fn between(a: &Profile, b: &Profile) -> Self {
+        let (da, db) = (a.duration(), b.duration());
+        if da < db {
+            Self {
+                left: da,
+                right: db,
+                profile: *b,
+            }
+        } else {
+            Self {
+                left: db,
+                right: da,
+                profile: *a,
+            }
+        }
+    }
+}
+
+/// Feasible durations of one DoF.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Block {
+    /// The time-optimal profile.
+    pub p_min: Profile,
+    /// Its duration [s] (including the brake).
+    pub t_min: f64,
+    /// First blocked interval.
+    pub a: Option<Interval>,
+    /// Second blocked interval.
+    pub b: Option<Interval>,
+}
+
+impl Default for Block {
+    fn default() -> Self {
+        Self {
+            p_min: Profile::default(),
+            t_min: 0.0,
+            a: None,
+            b: None,
+        }
+    }
+}
+
+impl Block {
+    pub(crate) fn set_min(&mut self, p: &Profile) {
+        self.p_min = *p;
+        self.t_min = p.duration();
+        self.a = None;
+        self.b = None;
+    }
+
+    /// Builds the block from the valid extremal profiles found in Step 1;
+    /// `false` if their number cannot be interpreted (numerical trouble).
+    pub(crate) fn build(&mut self, valid: &mut [Profile], mut n: usize) -> bool {
+        let total = |p: &Profile| p.t_sum[6];
+        match n {
+            0 => return false,
+            1 => {
+                self.set_min(&valid[0]);
+                return true;
+            }
+            2 => {
+                let (i_min, i_other) =
+                    if (total(&valid[0]) - total(&valid[1])).abs() < 8.0 * f64::EPSILON {
+                        self.set_min(&valid[0]);
+                        return true;
+                    } else if total(&valid[0]) < total(&valid[1]) {
+                        (0, 1)
+                    } else {
+                        (1, 0)
+                    };
+                self.set_min(&valid[i_min]);
+                self.a = Some(Interval::between(&valid[i_min], &valid[i_other]));
+                return true;
+            }
+            4 => {
+                // Duplicate solutions from both directions (numerical): drop one.
+                let close = |i: usize, k: usize, tol: f64| {
+                    (total(&valid[i]) - total(&valid[k])).abs() < tol * f64::EPSILON
+                        && valid[i].direction != valid[k].direction
+                };
+                let drop = if close(0, 1, 32.0) {
+                    1
+                } else if close(2, 3, 256.0) || close(0, 3, 256.0) {
+                    3
+                } else {
+                    return false;
+                };
+                for i in drop..n - 1 {
+                    valid[i] = valid[i + 1];
+                }
+                n -= 1;
+            }
+            _ if n.is_multiple_of(2) => return false,
+            _ => {}
+        }
+
+        let mut i_min = 0;
+        for i in 1..n {
+            if total(&valid[i]) < total(&valid[i_min]) {
+                i_min = i;
+            }
+        }
+        self.set_min(&valid[i_min]);
+        let at = |k: usize| &valid[(i_min + k) % n];
+        match n {
+            3 => {
+                self.a = Some(Interval::between(at(1), at(2)));
+                true
+            }
+            5 => {
+                if at(1).direction == at(2).direction {
+                    self.a = Some(Interval::between(at(1), at(2)));
+                    self.b = Some(Interval::between(at(3), at(4)));
+                } else {
+                    self.a = Some(Interval::between(at(1), at(4)));
+                    self.b = Some(Interval::between(at(2), at(3)));
+                }
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Whether duration `t` is infeasible for this DoF.
+    #[inline]
+    pub fn is_blocked(&self, t: f64) -> bool {
+        t < self.t_min
+            || self.a.is_some_and(|i| i.left < t && t < i.right)
+            || self.b.is_some_and(|i| i.left < t && t < i.right)
+    }
+}

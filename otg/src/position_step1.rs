@@ -1,0 +1,746 @@
+//! Step 1, third-order position interface: the time-optimal profile of one
+//! DoF and its blocked duration intervals (Berscheid & Kröger 2021, §IV-A).
+//!
+//! Every candidate shape (which of the acceleration and velocity limits are
+//! reached, and the jerk direction) has a closed-form or polynomial
+//! condition; each real solution is integrated and checked. With a zero
+//! target velocity and acceleration the first valid profile is optimal;
+//! otherwise all are collected to find blocked intervals.
+
+use crate::block::Block;
+use crate::profile::{ControlSigns as S, Profile, ReachedLimits as L};
+use crate::roots::{self, EPS, for_roots};
+
+/// Limits as seen by one direction of motion (swapped for "down").
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Lim {
+    pub v_max: f64,
+    pub v_min: f64,
+    pub a_max: f64,
+    pub a_min: f64,
+    pub j: f64,
+}
+
+impl Lim {
+    /// The same limits seen from the opposite direction.
+    #[inline]
+    pub(crate) fn flip(self) -> Self {
+        Self {
+            v_max: self.v_min,
+            v_min: self.v_max,
+            a_max: self.a_min,
+            a_min: self.a_max,
+            j: -self.j,
+        }
+    }
+}
+
+/// Up to five valid extremal profiles (plus a spare for numerical duplicates).
+pub(crate) struct Valid {
+    pub list: [Profile; 7],
+    pub n: usize,
+}
+
+impl Valid {
+    pub(crate) fn new(boundary: &Profile) -> Self {
+        let mut list = [Profile::default(); 7];
+        list[0] = *boundary;
+        Self { list, n: 0 }
+    }
+
+    /// The profile being filled.
+    #[inline]
+    pub(crate) fn cur(&mut self) -> &mut Profile {
+        &mut self.list[self.n]
+    }
+
+    /// Accepts the current profile; the next candidate keeps its boundary.
+    #[inline]
+    pub(crate) fn accept(&mut self) {
+        if self.n < 6 {
+            self.n += 1;
+            let (done, next) = self.list.split_at_mut(self.n);
+            next[0].set_boundary_from(&done[self.n - 1]);
+        }
+    }
+}
+
+/// Boundary values and their powers, shared by all candidate shapes.
+#[derive(Clone, Copy)]
+pub(crate) struct Step1 {
+    pd: f64,
+    v0: f64,
+    a0: f64,
+    vf: f64,
+    af: f64,
+    v0_2: f64,
+    vf_2: f64,
+    a0_2: f64,
+    a0_3: f64,
+    a0_4: f64,
+    af_2: f64,
+    af_3: f64,
+    af_4: f64,
+    jj: f64,
+}
+
+impl Step1 {
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(p0: f64, v0: f64, a0: f64, pf: f64, vf: f64, af: f64, j_max: f64) -> Self {
+        let (a0_2, af_2) = (a0 * a0, af * af);
+        Self {
+            pd: pf - p0,
+            v0,
+            a0,
+            vf,
+            af,
+            v0_2: v0 * v0,
+            vf_2: vf * vf,
+            a0_2,
+            a0_3: a0 * a0_2,
+            a0_4: a0_2 * a0_2,
+            af_2,
+            af_3: af * af_2,
+            af_4: af_2 * af_2,
+            jj: j_max * j_max,
+        }
+    }
+
+    #[inline]
+    fn chk(p: &mut Profile, s: S, l: L, pin: bool, m: &Lim) -> bool {
+        p.check(s, l, pin, m.j, m.v_max, m.v_min, m.a_max, m.a_min)
+    }
+
+    /// Shapes with a velocity plateau (ACC0_ACC1_VEL, ACC1_VEL, ACC0_VEL, VEL).
+    fn all_vel(&self, out: &mut Valid, m: &Lim) {
+        let Self {
+            pd,
+            v0,
+            a0,
+            vf,
+            af,
+            v0_2,
+            vf_2,
+            a0_2,
+            a0_3,
+            a0_4,
+            af_2,
+            af_3,
+            af_4,
+            jj,
+        } = *self;
+        let (vmax, amax, amin, j) = (m.v_max, m.a_max, m.a_min, m.j);
+
+        let p = out.cur();
+        p.t[0] = (-a0 + amax) / j;
+        p.t[1] = (a0_2 / 2.0 - amax * amax - j * (v0 - vmax)) / (amax * j);
+        p.t[2] = amax / j;
+        p.t[3] = (3.0 * (a0_4 * amin - af_4 * amax)
+            + 8.0 * amax * amin * (af_3 - a0_3 + 3.0 * j * (a0 * v0 - af * vf))
+            + 6.0 * a0_2 * amin * (amax * amax - 2.0 * j * v0)
+            - 6.0 * af_2 * amax * (amin * amin - 2.0 * j * vf)
+            - 12.0
+                * j
+                * (amax * amin * (amax * (v0 + vmax) - amin * (vf + vmax) - 2.0 * j * pd)
+                    + (amin - amax) * j * vmax * vmax
+                    + j * (amax * vf_2 - amin * v0_2)))
+            / (24.0 * amax * amin * jj * vmax);
+        p.t[4] = -amin / j;
+        p.t[5] = -(af_2 / 2.0 - amin * amin - j * (vf - vmax)) / (amin * j);
+        p.t[6] = p.t[4] + af / j;
+        if Self::chk(p, S::Uddu, L::Acc0Acc1Vel, false, m) {
+            out.accept();
+            return;
+        }
+
+        // ACC1_VEL (phases 4..6 as above)
+        let t_acc0 = (a0_2 / (2.0 * jj) + (vmax - v0) / j).sqrt();
+        let p = out.cur();
+        p.t[0] = t_acc0 - a0 / j;
+        p.t[1] = 0.0;
+        p.t[2] = t_acc0;
+        p.t[3] = -(3.0 * af_4 - 8.0 * amin * (af_3 - a0_3) - 24.0 * amin * j * (a0 * v0 - af * vf)
+            + 6.0 * af_2 * (amin * amin - 2.0 * j * vf)
+            - 12.0
+                * j
+                * (2.0 * amin * j * pd
+                    + amin * amin * (vf + vmax)
+                    + j * (vmax * vmax - vf_2)
+                    + amin * t_acc0 * (a0_2 - 2.0 * j * (v0 + vmax))))
+            / (24.0 * amin * jj * vmax);
+        if Self::chk(p, S::Uddu, L::Acc1Vel, false, m) {
+            out.accept();
+            return;
+        }
+
+        // ACC0_VEL
+        let t_acc1 = (af_2 / (2.0 * jj) + (vmax - vf) / j).sqrt();
+        let p = out.cur();
+        p.t[0] = (-a0 + amax) / j;
+        p.t[1] = (a0_2 / 2.0 - amax * amax - j * (v0 - vmax)) / (amax * j);
+        p.t[2] = amax / j;
+        p.t[3] = (3.0 * a0_4
+            + 8.0 * amax * (af_3 - a0_3)
+            + 24.0 * amax * j * (a0 * v0 - af * vf)
+            + 6.0 * a0_2 * (amax * amax - 2.0 * j * v0)
+            - 12.0
+                * j
+                * (-2.0 * amax * j * pd
+                    + amax * amax * (v0 + vmax)
+                    + j * (vmax * vmax - v0_2)
+                    + amax * t_acc1 * (-af_2 + 2.0 * (vf + vmax) * j)))
+            / (24.0 * amax * jj * vmax);
+        p.t[4] = t_acc1;
+        p.t[5] = 0.0;
+        p.t[6] = t_acc1 + af / j;
+        if Self::chk(p, S::Uddu, L::Acc0Vel, false, m) {
+            out.accept();
+            return;
+        }
+
+        // VEL
+        let p = out.cur();
+        p.t[0] = t_acc0 - a0 / j;
+        p.t[1] = 0.0;
+        p.t[2] = t_acc0;
+        p.t[3] = (af_3 - a0_3) / (3.0 * jj * vmax)
+            + (a0 * v0 - af * vf + (af_2 * t_acc1 + a0_2 * t_acc0) / 2.0) / (j * vmax)
+            - (v0 / vmax + 1.0) * t_acc0
+            - (vf / vmax + 1.0) * t_acc1
+            + pd / vmax;
+        if Self::chk(p, S::Uddu, L::Vel, false, m) {
+            out.accept();
+        }
+    }
+
+    /// Both acceleration plateaus, no velocity plateau (two solutions).
+    fn acc0_acc1(&self, out: &mut Valid, m: &Lim, first_only: bool) {
+        let Self {
+            pd,
+            v0,
+            a0,
+            vf,
+            af,
+            v0_2,
+            vf_2,
+            a0_2,
+            a0_3,
+            a0_4,
+            af_2,
+            af_3,
+            af_4,
+            jj,
+        } = *self;
+        let (amax, amin, j) = (m.a_max, m.a_min, m.j);
+
+        let h1 = (3.0 * (af_4 * amax - a0_4 * amin)
+            + amax
+                * amin
+                * (8.0 * (a0_3 - af_3) + 3.0 * amax * amin * (amax - amin) + 6.0 * amin * af_2
+                    - 6.0 * amax * a0_2)
+            + 12.0
+                * j
+                * (amax * amin * ((amax - 2.0 * a0) * v0 - (amin - 2.0 * af) * vf)
+                    + amin * a0_2 * v0
+                    - amax * af_2 * vf))
+            / (3.0 * (amax - amin) * jj)
+            + 4.0 * (amax * vf_2 - amin * v0_2 - 2.0 * amin * amax * pd) / (amax - amin);
+        if h1 < 0.0 {
+            return;
+        }
+        let h1 = h1.sqrt() / 2.0;
+        let h2 = a0_2 / (2.0 * amax * j) + (amin - 2.0 * amax) / (2.0 * j) - v0 / amax;
+        let h3 = -af_2 / (2.0 * amin * j) - (amax - 2.0 * amin) / (2.0 * j) + vf / amin;
+
+        for sign in [-1.0, 1.0] {
+            // sign = -1: shorter first plateau ("solution 2"), then "solution 1".
+            if h2 > -sign * h1 / amax && h3 > sign * h1 / amin {
+                let p = out.cur();
+                p.t[0] = (-a0 + amax) / j;
+                p.t[1] = h2 + sign * h1 / amax;
+                p.t[2] = amax / j;
+                p.t[3] = 0.0;
+                p.t[4] = -amin / j;
+                p.t[5] = h3 - sign * h1 / amin;
+                p.t[6] = p.t[4] + af / j;
+                if Self::chk(p, S::Uddu, L::Acc0Acc1, true, m) {
+                    out.accept();
+                    if first_only {
+                        return;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Shapes without a velocity plateau: NONE, ACC0, ACC1 (quartics).
+    fn none_acc0_acc1(&self, out: &mut Valid, m: &Lim, first_only: bool) {
+        let Self {
+            pd,
+            v0,
+            a0,
+            vf,
+            af,
+            v0_2,
+            vf_2,
+            a0_2,
+            a0_3,
+            a0_4,
+            af_2,
+            af_3,
+            af_4,
+            jj,
+        } = *self;
+        let (amax, amin, j) = (m.a_max, m.a_min, m.j);
+
+        // NONE: t7 == 0 (UDDU and UDUD coincide); prone to numerical issues.
+        let h2_none = (a0_2 - af_2) / (2.0 * j) + (vf - v0);
+        let h2_h2 = h2_none * h2_none;
+        let t_min_none = (a0 - af) / j;
+        let t_max_none = (amax - amin) / j;
+        let poly_none = [
+            0.0,
+            -2.0 * (a0_2 + af_2 - 2.0 * j * (v0 + vf)) / jj,
+            4.0 * (a0_3 - af_3 + 3.0 * j * (af * vf - a0 * v0)) / (3.0 * j * jj) - 4.0 * pd / j,
+            -h2_h2 / jj,
+        ];
+
+        // ACC0
+        let h3_acc0 = (a0_2 - af_2) / (2.0 * amax * j) + (vf - v0) / amax;
+        let t_min_acc0 = (amax - af) / j;
+        let t_max_acc0 = (amax - amin) / j;
+        let h0_acc0 = 3.0 * (af_4 - a0_4)
+            + 8.0 * (a0_3 - af_3) * amax
+            + 24.0 * amax * j * (af * vf - a0 * v0)
+            - 6.0 * a0_2 * (amax * amax - 2.0 * j * v0)
+            + 6.0 * af_2 * (amax * amax - 2.0 * j * vf)
+            + 12.0 * j * (j * (vf_2 - v0_2 - 2.0 * amax * pd) - amax * amax * (vf - v0));
+        let h2_acc0 = -af_2 + amax * amax + 2.0 * j * vf;
+        let poly_acc0 = [
+            -2.0 * amax / j,
+            h2_acc0 / jj,
+            0.0,
+            h0_acc0 / (12.0 * jj * jj),
+        ];
+
+        // ACC1
+        let h3_acc1 = -(a0_2 + af_2) / (2.0 * j * amin) + amin / j + (vf - v0) / amin;
+        let t_min_acc1 = (amin - a0) / j;
+        let t_max_acc1 = (amax - a0) / j;
+        let h0_acc1 = (a0_4 - af_4) / 4.0
+            + 2.0 * (af_3 - a0_3) * amin / 3.0
+            + (a0_2 - af_2) * amin * amin / 2.0
+            + j * (af_2 * vf
+                + a0_2 * v0
+                + 2.0 * amin * (j * pd - a0 * v0 - af * vf)
+                + amin * amin * (v0 + vf)
+                + j * (v0_2 - vf_2));
+        let h2_acc1 = a0_2 - a0 * amin + 2.0 * j * v0;
+        let poly_acc1 = [
+            2.0 * (2.0 * a0 - amin) / j,
+            (5.0 * a0_2 + amin * (amin - 6.0 * a0) + 2.0 * j * v0) / jj,
+            2.0 * (a0 - amin) * h2_acc1 / (jj * j),
+            h0_acc1 / (jj * jj),
+        ];
+
+        let roots_none = roots::quartic(&poly_none);
+        let roots_acc0 = roots::quartic(&poly_acc0);
+        let roots_acc1 = roots::quartic(&poly_acc1);
+
+        for_roots!(roots_none, |t| {
+            if t < t_min_none || t > t_max_none {
+                continue;
+            }
+            // One Newton step on the position equation.
+            if t > EPS {
+                let h1 = j * t * t;
+                let orig = -h2_h2 / (4.0 * j * t)
+                    + h2_none * (af / j + t)
+                    + (4.0 * a0_3 + 2.0 * af_3 - 6.0 * a0_2 * (af + 2.0 * j * t)
+                        + 12.0 * (af - a0) * j * v0
+                        + 3.0 * jj * (-4.0 * pd + (h1 + 8.0 * v0) * t))
+                        / (12.0 * jj);
+                let deriv = h2_none + 2.0 * v0 - a0_2 / j + h2_h2 / (4.0 * h1) + (3.0 * h1) / 4.0;
+                t -= orig / deriv;
+            }
+            let h0 = h2_none / (2.0 * j * t);
+            let p = out.cur();
+            p.t = [
+                h0 + t / 2.0 - a0 / j,
+                0.0,
+                t,
+                0.0,
+                0.0,
+                0.0,
+                -h0 + t / 2.0 + af / j,
+            ];
+            if Self::chk(p, S::Uddu, L::None, false, m) {
+                out.accept();
+                if first_only {
+                    return;
+                }
+            }
+        });
+
+        for_roots!(roots_acc0, |t| {
+            if t < t_min_acc0 || t > t_max_acc0 {
+                continue;
+            }
+            if t > EPS {
+                let h1 = j * t;
+                let orig = h0_acc0 / (12.0 * jj * t) + t * (h2_acc0 + h1 * (h1 - 2.0 * amax));
+                let deriv = 2.0 * (h2_acc0 + h1 * (2.0 * h1 - 3.0 * amax));
+                t -= orig / deriv;
+            }
+            let p = out.cur();
+            p.t = [
+                (-a0 + amax) / j,
+                h3_acc0 - 2.0 * t + j / amax * t * t,
+                t,
+                0.0,
+                0.0,
+                0.0,
+                (af - amax) / j + t,
+            ];
+            if Self::chk(p, S::Uddu, L::Acc0, false, m) {
+                out.accept();
+                if first_only {
+                    return;
+                }
+            }
+        });
+
+        for_roots!(roots_acc1, |t| {
+            if t < t_min_acc1 || t > t_max_acc1 {
+                continue;
+            }
+            // Up to three Newton steps on the position equation.
+            if t > EPS {
+                let h5 = a0_3 + 2.0 * j * a0 * v0;
+                let residual = |t: f64| {
+                    let h1 = j * t;
+                    -(h0_acc1 / 2.0
+                        + h1 * (h5
+                            + a0 * (amin - 2.0 * h1) * (amin - h1)
+                            + a0_2 * (5.0 * h1 / 2.0 - 2.0 * amin)
+                            + amin * amin * h1 / 2.0
+                            + j * (h1 / 2.0 - amin) * (h1 * t + 2.0 * v0)))
+                        / j
+                };
+                let slope = |t: f64| {
+                    let h1 = j * t;
+                    (amin - a0 - h1) * (h2_acc1 + h1 * (4.0 * a0 - amin + 2.0 * h1))
+                };
+                t -= (residual(t) / slope(t)).min(t);
+                let r = residual(t);
+                if r.abs() > 1e-9 {
+                    t -= r / slope(t);
+                    let r = residual(t);
+                    if r.abs() > 1e-9 {
+                        t -= r / slope(t);
+                    }
+                }
+            }
+            let p = out.cur();
+            p.t = [
+                t,
+                0.0,
+                (a0 - amin) / j + t,
+                0.0,
+                0.0,
+                h3_acc1 - (2.0 * a0 + j * t) * t / amin,
+                (af - amin) / j,
+            ];
+            if Self::chk(p, S::Uddu, L::Acc1, true, m) {
+                out.accept();
+                if first_only {
+                    return;
+                }
+            }
+        });
+    }
+
+    /// Fallbacks for numerically degenerate cases (ACC1_VEL with t0 = 0).
+    fn acc1_vel_two_step(&self, out: &mut Valid, m: &Lim) {
+        let Self {
+            pd,
+            v0,
+            a0,
+            vf,
+            af,
+            vf_2,
+            a0_2,
+            a0_3,
+            af_2,
+            af_3,
+            af_4,
+            jj,
+            ..
+        } = *self;
+        let (vmax, amin, j) = (m.v_max, m.a_min, m.j);
+        let p = out.cur();
+        p.t[0] = 0.0;
+        p.t[1] = 0.0;
+        p.t[2] = a0 / j;
+        p.t[3] = -(3.0 * af_4 - 8.0 * amin * (af_3 - a0_3) - 24.0 * amin * j * (a0 * v0 - af * vf)
+            + 6.0 * af_2 * (amin * amin - 2.0 * j * vf)
+            - 12.0
+                * j
+                * (2.0 * amin * j * pd
+                    + amin * amin * (vf + vmax)
+                    + j * (vmax * vmax - vf_2)
+                    + amin * a0 * (a0_2 - 2.0 * j * (v0 + vmax)) / j))
+            / (24.0 * amin * jj * vmax);
+        p.t[4] = -amin / j;
+        p.t[5] = -(af_2 / 2.0 - amin * amin + j * (vmax - vf)) / (amin * j);
+        p.t[6] = p.t[4] + af / j;
+        if Self::chk(p, S::Uddu, L::Acc1Vel, false, m) {
+            out.accept();
+        }
+    }
+
+    /// Fallbacks for ACC0 shapes with fewer phases.
+    fn acc0_two_step(&self, out: &mut Valid, m: &Lim) {
+        let Self {
+            pd,
+            v0,
+            a0,
+            vf,
+            af,
+            v0_2,
+            vf_2,
+            a0_2,
+            a0_3,
+            a0_4,
+            af_2,
+            af_3,
+            af_4,
+            jj,
+        } = *self;
+        let (amax, amin, j) = (m.a_max, m.a_min, m.j);
+
+        let p = out.cur();
+        p.t = [
+            0.0,
+            (af_2 - a0_2 + 2.0 * j * (vf - v0)) / (2.0 * a0 * j),
+            (a0 - af) / j,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ];
+        if Self::chk(p, S::Uddu, L::Acc0, false, m) {
+            out.accept();
+            return;
+        }
+
+        let p = out.cur();
+        p.t = [
+            (-a0 + amax) / j,
+            (a0_2 + af_2 - 2.0 * amax * amax + 2.0 * j * (vf - v0)) / (2.0 * amax * j),
+            (-af + amax) / j,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ];
+        if Self::chk(p, S::Uddu, L::Acc0, false, m) {
+            out.accept();
+            return;
+        }
+
+        let h0 = 3.0 * (af_2 - a0_2 + 2.0 * j * (v0 + vf));
+        let h2 = a0_3 + 2.0 * af_3 + 6.0 * jj * pd + 6.0 * (af - a0) * j * vf - 3.0 * a0 * af_2;
+        let h1 = (2.0
+            * (2.0 * h2 * h2
+                + h0 * (a0_4 - 6.0 * a0_2 * (af_2 + 2.0 * j * vf)
+                    + 8.0 * a0 * (af_3 + 3.0 * jj * pd + 3.0 * af * j * vf)
+                    - 3.0 * (af_4 + 4.0 * af_2 * j * vf + 4.0 * jj * (vf_2 - v0_2)))))
+            .sqrt()
+            * j.abs()
+            / j;
+        let p = out.cur();
+        p.t = [
+            (4.0 * af_3 + 2.0 * a0_3 - 6.0 * a0 * af_2
+                + 12.0 * jj * pd
+                + 12.0 * (af - a0) * j * vf
+                + h1)
+                / (2.0 * j * h0),
+            -h1 / (j * h0),
+            (-4.0 * a0_3 - 2.0 * af_3 + 6.0 * a0_2 * af + 12.0 * jj * pd
+                - 12.0 * (af - a0) * j * v0
+                + h1)
+                / (2.0 * j * h0),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ];
+        if Self::chk(p, S::Uddu, L::Acc0, false, m) {
+            out.accept();
+            return;
+        }
+
+        let t = (amax - amin) / j;
+        let p = out.cur();
+        p.t = [
+            (-a0 + amax) / j,
+            (a0_2 - af_2) / (2.0 * amax * j) + (vf - v0 + j * t * t) / amax - 2.0 * t,
+            t,
+            0.0,
+            0.0,
+            0.0,
+            (af - amin) / j,
+        ];
+        if Self::chk(p, S::Uddu, L::Acc0, false, m) {
+            out.accept();
+        }
+    }
+
+    /// Fallbacks for VEL shapes with fewer phases.
+    fn vel_two_step(&self, out: &mut Valid, m: &Lim) {
+        let Self {
+            pd,
+            v0,
+            a0,
+            vf,
+            af,
+
+            a0_3,
+            af_2,
+            af_3,
+            jj,
+            ..
+        } = *self;
+        let (vmax, j) = (m.v_max, m.j);
+        let h1 = (af_2 / (2.0 * jj) + (vmax - vf) / j).sqrt();
+
+        let p = out.cur();
+        p.t = [
+            -a0 / j,
+            0.0,
+            0.0,
+            (af_3 - a0_3) / (3.0 * jj * vmax)
+                + (a0 * v0 - af * vf + (af_2 * h1) / 2.0) / (j * vmax)
+                - (vf / vmax + 1.0) * h1
+                + pd / vmax,
+            h1,
+            0.0,
+            h1 + af / j,
+        ];
+        if Self::chk(p, S::Uddu, L::Vel, false, m) {
+            out.accept();
+            return;
+        }
+
+        let p = out.cur();
+        p.t = [
+            0.0,
+            0.0,
+            a0 / j,
+            (af_3 - a0_3) / (3.0 * jj * vmax)
+                + (a0 * v0 - af * vf + (af_2 * h1 + a0_3 / j) / 2.0) / (j * vmax)
+                - (v0 / vmax + 1.0) * a0 / j
+                - (vf / vmax + 1.0) * h1
+                + pd / vmax,
+            h1,
+            0.0,
+            h1 + af / j,
+        ];
+        if Self::chk(p, S::Uddu, L::Vel, false, m) {
+            out.accept();
+        }
+    }
+
+    /// Fallbacks for NONE shapes with one or two jerk phases.
+    fn none_two_step(&self, out: &mut Valid, m: &Lim) {
+        let Self {
+            v0,
+            a0,
+            vf,
+            af,
+            a0_2,
+            af_2,
+            ..
+        } = *self;
+        let j = m.j;
+        let h0 = ((a0_2 + af_2) / 2.0 + j * (vf - v0)).sqrt() * j.abs() / j;
+        let p = out.cur();
+        p.t = [(h0 - a0) / j, 0.0, (h0 - af) / j, 0.0, 0.0, 0.0, 0.0];
+        if Self::chk(p, S::Uddu, L::None, false, m) {
+            out.accept();
+            return;
+        }
+        let p = out.cur();
+        p.t = [(af - a0) / j, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        if Self::chk(p, S::Uddu, L::None, false, m) {
+            out.accept();
+        }
+    }
+
+    /// Computes the block (time-optimal profile and blocked intervals) for
+    /// the boundary values stored in `input`; `false` if none was found.
+    pub(crate) fn block(&self, input: &Profile, lim: &Lim, block: &mut Block) -> bool {
+        let mut out = Valid::new(input);
+        let up = *lim;
+        let down = lim.flip();
+        let done = |o: &Valid| o.n > 0;
+
+        if self.vf.abs() < EPS && self.af.abs() < EPS {
+            // At rest at the target: no blocked intervals, the first valid
+            // profile in the likely direction is optimal.
+            let (fwd, bwd) = if self.pd >= 0.0 {
+                (up, down)
+            } else {
+                (down, up)
+            };
+            if self.v0.abs() < EPS && self.a0.abs() < EPS && self.pd.abs() < EPS {
+                self.none_acc0_acc1(&mut out, &fwd, true);
+            } else {
+                'search: {
+                    for m in [&fwd, &bwd] {
+                        self.all_vel(&mut out, m);
+                        if done(&out) {
+                            break 'search;
+                        }
+                        self.none_acc0_acc1(&mut out, m, true);
+                        if done(&out) {
+                            break 'search;
+                        }
+                        self.acc0_acc1(&mut out, m, true);
+                        if done(&out) {
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        } else {
+            self.none_acc0_acc1(&mut out, &up, false);
+            self.none_acc0_acc1(&mut out, &down, false);
+            self.acc0_acc1(&mut out, &up, false);
+            self.acc0_acc1(&mut out, &down, false);
+            self.all_vel(&mut out, &up);
+            self.all_vel(&mut out, &down);
+        }
+
+        if out.n == 0 {
+            type Fallback = fn(&Step1, &mut Valid, &Lim);
+            let fallbacks: [Fallback; 4] = [
+                Step1::none_two_step,
+                Step1::acc0_two_step,
+                Step1::vel_two_step,
+                Step1::acc1_vel_two_step,
+            ];
+            'fallback: for f in fallbacks {
+                for m in [&up, &down] {
+                    f(self, &mut out, m);
+                    if out.n > 0 {
+                        break 'fallback;
+                    }
+                }
+            }
+        }
+        let n = out.n;
+        block.build(&mut out.list, n)
+    }
+}

@@ -1,0 +1,407 @@
+//! Real roots of low-order polynomials, allocation-free.
+//!
+//! The time-optimal profile conditions (SPEC.md §5) reduce to polynomials of
+//! degree ≤ 6 in one phase duration. Cubics and quartics are solved in closed
+//! form (Cardano; Ferrari through the resolvent cubic), higher orders by a
+//! safeguarded Newton iteration between bracketing points. Only non-negative
+//! roots are ever of interest (they are durations), so the sets keep those.
+
+use core::f64::consts::PI;
+
+/// `f64::EPSILON`, the threshold Ruckig uses for "numerically zero".
+pub(crate) const EPS: f64 = f64::EPSILON;
+
+/// Tolerance of the safeguarded Newton iteration.
+pub(crate) const NEWTON_TOL: f64 = 1e-14;
+
+const COS_120: f64 = -0.5;
+const SIN_120: f64 = 0.866_025_403_784_438_6;
+
+/// A small stack set of non-negative roots, handed out in ascending order.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Roots<const M: usize> {
+    data: [f64; M],
+    len: usize,
+}
+
+impl<const M: usize> Roots<M> {
+    fn new() -> Self {
+        Self {
+            data: [0.0; M],
+            len: 0,
+        }
+    }
+
+    /// Keeps `x` if it is a non-negative number (NaN is dropped).
+    fn push(&mut self, x: f64) {
+        if x >= 0.0 && self.len < M {
+            self.data[self.len] = x;
+            self.len += 1;
+        }
+    }
+
+    /// The roots in ascending order.
+    pub(crate) fn sorted(mut self) -> ([f64; M], usize) {
+        let s = &mut self.data[..self.len];
+        // Insertion sort: at most four elements.
+        for i in 1..s.len() {
+            let mut k = i;
+            while k > 0 && s[k - 1] > s[k] {
+                s.swap(k - 1, k);
+                k -= 1;
+            }
+        }
+        (self.data, self.len)
+    }
+}
+
+/// Iterates the sorted non-negative roots of a set.
+macro_rules! for_roots {
+    ($set:expr, |$t:ident| $body:block) => {{
+        let (vals, n) = $set.sorted();
+        for &root in &vals[..n] {
+            #[allow(unused_mut)]
+            let mut $t = root;
+            $body
+        }
+    }};
+}
+pub(crate) use for_roots;
+
+/// Non-negative real roots of `a x³ + b x² + c x + d = 0` (Cardano, with the
+/// trigonometric form for three real roots).
+pub(crate) fn cubic(mut a: f64, mut b: f64, mut c: f64, mut d: f64) -> Roots<3> {
+    let mut roots = Roots::new();
+    if d.abs() < EPS {
+        // x = 0 is a root; deflate to a quadratic.
+        roots.push(0.0);
+        d = c;
+        c = b;
+        b = a;
+        a = 0.0;
+    }
+    if a.abs() < EPS {
+        if b.abs() < EPS {
+            if c.abs() > EPS {
+                roots.push(-d / c);
+            }
+        } else {
+            let disc = c * c - 4.0 * b * d;
+            if disc >= 0.0 {
+                let inv2b = 1.0 / (2.0 * b);
+                let y = disc.sqrt();
+                roots.push((-c + y) * inv2b);
+                roots.push((-c - y) * inv2b);
+            }
+        }
+        return roots;
+    }
+
+    let inva = 1.0 / a;
+    let invaa = inva * inva;
+    let bb = b * b;
+    let shift = b * inva / 3.0;
+    let p = (a * c - bb / 3.0) * invaa;
+    let half_q = (2.0 * bb * b - 9.0 * a * b * c + 27.0 * a * a * d) / 54.0 * invaa * inva;
+    let disc = p * p * p / 27.0 + half_q * half_q;
+
+    if disc > EPS {
+        // One real root.
+        let y = disc.sqrt();
+        let u = -half_q + y;
+        let v = -half_q - y;
+        let w = (if u.abs() > v.abs() { u } else { v }).cbrt();
+        roots.push(w - p / (3.0 * w) - shift);
+    } else if disc < -EPS {
+        // Three real roots: cube root of a complex number in polar form.
+        let x = -half_q;
+        let y = (-disc).sqrt();
+        let (theta, r) = if x.abs() > EPS {
+            let th = if x > 0.0 {
+                (y / x).atan()
+            } else {
+                (y / x).atan() + PI
+            };
+            (th, (x * x - disc).sqrt())
+        } else {
+            (PI / 2.0, y)
+        };
+        let theta = theta / 3.0;
+        let r = 2.0 * r.cbrt();
+        let ux = theta.cos() * r;
+        let uyi = theta.sin() * r;
+        roots.push(ux - shift);
+        roots.push(ux * COS_120 - uyi * SIN_120 - shift);
+        roots.push(ux * COS_120 + uyi * SIN_120 - shift);
+    } else {
+        // Double root.
+        let w = 2.0 * (-half_q).cbrt();
+        roots.push(w - shift);
+        roots.push(w * COS_120 - shift);
+    }
+    roots
+}
+
+/// Real roots of the resolvent cubic `x³ + a x² + b x + c`; returns how many
+/// of `x` are meaningful (3, 2 or 1).
+fn resolvent(x: &mut [f64; 3], a: f64, b: f64, c: f64) -> usize {
+    let a = a / 3.0;
+    let a2 = a * a;
+    let mut q = a2 - b / 3.0;
+    let r = (a * (2.0 * a2 - b) + c) / 2.0;
+    let r2 = r * r;
+    let q3 = q * q * q;
+
+    if r2 < q3 {
+        let qs = q.sqrt();
+        let t = (r / (q * qs)).clamp(-1.0, 1.0);
+        q = -2.0 * qs;
+        let theta = t.acos() / 3.0;
+        let ux = theta.cos() * q;
+        let uyi = theta.sin() * q;
+        x[0] = ux - a;
+        x[1] = ux * COS_120 - uyi * SIN_120 - a;
+        x[2] = ux * COS_120 + uyi * SIN_120 - a;
+        3
+    } else {
+        let mut big_a = -(r.abs() + (r2 - q3).sqrt()).cbrt();
+        if r < 0.0 {
+            big_a = -big_a;
+        }
+        let big_b = if big_a == 0.0 { 0.0 } else { q / big_a };
+        x[0] = (big_a + big_b) - a;
+        x[1] = -(big_a + big_b) / 2.0 - a;
+        x[2] = 3.0_f64.sqrt() * (big_a - big_b) / 2.0;
+        if x[2].abs() < EPS {
+            x[2] = x[1];
+            2
+        } else {
+            1
+        }
+    }
+}
+
+/// Non-negative real roots of the monic quartic `x⁴ + a x³ + b x² + c x + d`
+/// (Ferrari: factor into two quadratics through the resolvent cubic).
+pub(crate) fn quartic_monic(a: f64, b: f64, c: f64, d: f64) -> Roots<4> {
+    let mut roots = Roots::new();
+    if d.abs() < EPS {
+        if c.abs() < EPS {
+            roots.push(0.0);
+            let disc = a * a - 4.0 * b;
+            if disc.abs() < EPS {
+                roots.push(-a / 2.0);
+            } else if disc > 0.0 {
+                let s = disc.sqrt();
+                roots.push((-a - s) / 2.0);
+                roots.push((-a + s) / 2.0);
+            }
+            return roots;
+        }
+        if a.abs() < EPS && b.abs() < EPS {
+            roots.push(0.0);
+            roots.push(-c.cbrt());
+            return roots;
+        }
+    }
+
+    let mut x3 = [0.0; 3];
+    let n = resolvent(
+        &mut x3,
+        -b,
+        a * c - 4.0 * d,
+        -a * a * d - c * c + 4.0 * b * d,
+    );
+    let mut y = x3[0];
+    if n != 1 {
+        // The resolvent root of largest magnitude is the best conditioned.
+        if x3[1].abs() > y.abs() {
+            y = x3[1];
+        }
+        if x3[2].abs() > y.abs() {
+            y = x3[2];
+        }
+    }
+
+    let (q1, q2, p1, p2);
+    let disc = y * y - 4.0 * d;
+    if disc.abs() < EPS {
+        q1 = y / 2.0;
+        q2 = q1;
+        let disc2 = a * a - 4.0 * (b - y);
+        if disc2.abs() < EPS {
+            p1 = a / 2.0;
+            p2 = p1;
+        } else {
+            let s = disc2.sqrt();
+            p1 = (a + s) / 2.0;
+            p2 = (a - s) / 2.0;
+        }
+    } else {
+        let s = disc.sqrt();
+        q1 = (y + s) / 2.0;
+        q2 = (y - s) / 2.0;
+        p1 = (a * q1 - c) / (q1 - q2);
+        p2 = (c - a * q2) / (q1 - q2);
+    }
+
+    const EPS_Q: f64 = 16.0 * EPS;
+    for (p, q) in [(p1, q1), (p2, q2)] {
+        let disc = p * p - 4.0 * q;
+        if disc.abs() < EPS_Q {
+            roots.push(-p / 2.0);
+        } else if disc > 0.0 {
+            let s = disc.sqrt();
+            roots.push((-p - s) / 2.0);
+            roots.push((-p + s) / 2.0);
+        }
+    }
+    roots
+}
+
+/// Quartic from `[a, b, c, d]` as in [`quartic_monic`].
+#[inline]
+pub(crate) fn quartic(c: &[f64; 4]) -> Roots<4> {
+    quartic_monic(c[0], c[1], c[2], c[3])
+}
+
+/// Horner evaluation of `p[0] x^(M-1) + … + p[M-1]`.
+#[inline]
+pub(crate) fn eval<const M: usize>(p: &[f64; M], x: f64) -> f64 {
+    if x.abs() < EPS {
+        return p[M - 1];
+    }
+    if x == 1.0 {
+        return p.iter().rev().sum();
+    }
+    // Summed from the constant term, as Ruckig does, for identical rounding.
+    let mut acc = 0.0;
+    let mut xn = 1.0;
+    for &c in p.iter().rev() {
+        acc += c * xn;
+        xn *= x;
+    }
+    acc
+}
+
+/// Derivative coefficients of a polynomial of `M` coefficients (`D = M - 1`).
+#[inline]
+pub(crate) fn derivative<const M: usize, const D: usize>(p: &[f64; M]) -> [f64; D] {
+    let mut d = [0.0; D];
+    for (i, di) in d.iter_mut().enumerate() {
+        *di = (D - i) as f64 * p[i];
+    }
+    d
+}
+
+/// Derivative of a monic polynomial, scaled to be monic again.
+#[inline]
+pub(crate) fn monic_derivative<const M: usize, const D: usize>(p: &[f64; M]) -> [f64; D] {
+    let mut d = [0.0; D];
+    d[0] = 1.0;
+    for i in 1..D {
+        d[i] = (D - i) as f64 * p[i] / D as f64;
+    }
+    d
+}
+
+/// One root of `p` inside `[lo, hi]` where `p(lo)·p(hi) < 0`: Newton steps
+/// guarded by bisection (never leaves the bracket).
+pub(crate) fn shrink_interval<const M: usize, const D: usize>(
+    p: &[f64; M],
+    mut lo: f64,
+    mut hi: f64,
+) -> f64 {
+    let f_lo = eval(p, lo);
+    let f_hi = eval(p, hi);
+    if f_lo == 0.0 {
+        return lo;
+    }
+    if f_hi == 0.0 {
+        return hi;
+    }
+    if f_lo > 0.0 {
+        core::mem::swap(&mut lo, &mut hi);
+    }
+    let dp: [f64; D] = derivative(p);
+    let mut x = (lo + hi) / 2.0;
+    let mut dx_old = (hi - lo).abs();
+    let mut dx = dx_old;
+    let mut f = eval(p, x);
+    let mut df = eval(&dp, x);
+    for _ in 0..128 {
+        let newton_leaves = ((x - hi) * df - f) * ((x - lo) * df - f) > 0.0;
+        if newton_leaves || (2.0 * f).abs() > (dx_old * df).abs() {
+            dx_old = dx;
+            dx = (hi - lo) / 2.0;
+            x = lo + dx;
+            if lo == x {
+                break;
+            }
+        } else {
+            dx_old = dx;
+            dx = f / df;
+            let before = x;
+            x -= dx;
+            if before == x {
+                break;
+            }
+        }
+        if dx.abs() < NEWTON_TOL {
+            break;
+        }
+        f = eval(p, x);
+        df = eval(&dp, x);
+        if f < 0.0 {
+            lo = x;
+        } else {
+            hi = x;
+        }
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn collect<const M: usize>(r: Roots<M>) -> Vec<f64> {
+        let (v, n) = r.sorted();
+        v[..n].to_vec()
+    }
+
+    #[test]
+    fn cubic_three_roots() {
+        // (x-1)(x-2)(x-3)
+        let r = collect(cubic(1.0, -6.0, 11.0, -6.0));
+        assert_eq!(r.len(), 3);
+        for (x, e) in r.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((x - e).abs() < 1e-12, "{r:?}");
+        }
+    }
+
+    #[test]
+    fn quartic_four_roots() {
+        // (x-0.5)(x-1)(x-2)(x-4) = x^4 - 7.5x^3 + 17.5x^2 - 15x + 4
+        let r = collect(quartic_monic(-7.5, 17.5, -15.0, 4.0));
+        assert_eq!(r.len(), 4, "{r:?}");
+        for (x, e) in r.iter().zip([0.5, 1.0, 2.0, 4.0]) {
+            assert!((x - e).abs() < 1e-9, "{r:?}");
+        }
+    }
+
+    #[test]
+    fn negative_roots_are_dropped() {
+        // (x+1)(x-2)
+        let r = collect(cubic(0.0, 1.0, -1.0, -2.0));
+        assert_eq!(r, vec![2.0]);
+    }
+
+    #[test]
+    fn shrink_interval_finds_bracketed_root() {
+        // x^5 - 2 on [1, 2]
+        let p = [1.0, 0.0, 0.0, 0.0, 0.0, -2.0];
+        let x = shrink_interval::<6, 5>(&p, 1.0, 2.0);
+        assert!((x - 2f64.powf(0.2)).abs() < 1e-13);
+    }
+}
