@@ -11,6 +11,8 @@
 //! configuration file, in keys ending in `_deg`).
 
 pub mod config;
+pub mod grasp;
+pub mod hand;
 pub mod state;
 
 pub use config::{ConfigError, HandConfig};
