@@ -70,6 +70,15 @@ pub struct ModelConfig {
     pub workspace_margin_deg: f64,
     /// Margin kept inside the roll limit [deg].
     pub roll_margin_deg: f64,
+    /// How far a grasping fingertip centre may be from the contact sphere
+    /// |p| = R + r before the contact counts as broken (SPEC §1.3 I5,
+    /// object centre fixed) [m].
+    pub contact_tolerance: f64,
+    /// Largest per-step difference |R Δ_o − r Δ_f| between the arcs
+    /// travelled by the two contact points of a grasping finger, and
+    /// (divided by r) the largest spin about the normal per step in a
+    /// two-finger grasp, before the step counts as slipping (SPEC §1.3 I5) [m].
+    pub slip_tolerance: f64,
 }
 
 impl Default for ModelConfig {
@@ -87,6 +96,8 @@ impl Default for ModelConfig {
             fc_margin_deg: 2.0,
             workspace_margin_deg: 1.0,
             roll_margin_deg: 1.0,
+            contact_tolerance: 1e-4,
+            slip_tolerance: 1e-4,
         }
     }
 }
@@ -365,6 +376,20 @@ impl HandConfig {
             0.0,
             m.roll_limit_deg,
             "in [0°, model.roll_limit_deg)",
+        )?;
+        in_range(
+            "model.contact_tolerance",
+            m.contact_tolerance,
+            0.0,
+            m.fingertip_radius,
+            "> 0 m and at most model.fingertip_radius",
+        )?;
+        in_range(
+            "model.slip_tolerance",
+            m.slip_tolerance,
+            0.0,
+            m.fingertip_radius,
+            "> 0 m and at most model.fingertip_radius",
         )?;
         if m.workspace_margin_deg >= m.workspace_half_angle_deg {
             return Err(ConfigError::Inconsistent {

@@ -12,6 +12,8 @@
 
 pub mod config;
 pub mod contact;
+pub mod grasp;
+pub mod hand;
 pub mod planner;
 pub mod rolling;
 pub mod sphere;

@@ -7,35 +7,10 @@
 
 use crate::config::{HandConfig, MotionLimit};
 
-/// Duration of the time-optimal rest-to-rest motion over `distance` (≥ 0)
-/// under velocity, acceleration and jerk limits (seven-phase profile with
-/// phases possibly of zero length).
+/// Duration of the time-optimal rest-to-rest motion over `distance` under
+/// one motion limit (the trajectory generator's closed form, SPEC §5).
 pub fn rest_to_rest(distance: f64, lim: &MotionLimit) -> f64 {
-    let d = distance.abs();
-    if d <= 0.0 {
-        return 0.0;
-    }
-    let (v, a, j) = (lim.velocity, lim.acceleration, lim.jerk);
-    // Reaching the velocity limit: with a constant-acceleration phase if
-    // v ≥ a²/j, else the acceleration peaks at √(v j).
-    let (t_acc, d_acc) = if v * j >= a * a {
-        let t = v / a + a / j;
-        (t, 0.5 * v * t)
-    } else {
-        let t = 2.0 * (v / j).sqrt();
-        (t, 0.5 * v * t)
-    };
-    if d >= 2.0 * d_acc {
-        return 2.0 * t_acc + (d - 2.0 * d_acc) / v;
-    }
-    // Velocity limit not reached. Peak velocity vp with full acceleration
-    // a: d = vp (vp/a + a/j).
-    let vp = 0.5 * a * (-(a / j) + ((a / j) * (a / j) + 4.0 * d / a).sqrt());
-    if vp * j >= a * a {
-        return 2.0 * (vp / a + a / j);
-    }
-    // Neither limit reached: four jerk phases of equal length, d = 2 j t³.
-    4.0 * (d / (2.0 * j)).cbrt()
+    otg::rest_to_rest_duration(distance, lim.velocity, lim.acceleration, lim.jerk)
 }
 
 /// The durations the planner needs, for one configuration.
@@ -50,12 +25,13 @@ pub struct Timing {
     /// Duration of a vertical lift or descent over the transfer height.
     pub vertical: f64,
     transfer_radius: f64,
-    /// `transfer` tabulated over the cosine of the angle, for ranking.
-    by_cos: [f64; COS_TABLE + 1],
+    /// `transfer` tabulated over u = sin(angle/2) = √((1 − cos)/2), in
+    /// which it is smooth (the cosine itself is flat near 0 and π).
+    by_half_sine: [f64; TABLE + 1],
 }
 
-/// Intervals of the transfer-time table over cos ∈ [−1, 1].
-const COS_TABLE: usize = 1024;
+/// Intervals of the transfer-time table over u ∈ [0, 1].
+const TABLE: usize = 1024;
 
 impl Timing {
     /// From the configuration.
@@ -63,9 +39,9 @@ impl Timing {
         let l = &config.limits;
         let r = config.model.object_radius + config.model.fingertip_radius;
         let transfer_radius = r + config.planner.transfer_height;
-        let by_cos = std::array::from_fn(|i| {
-            let c = -1.0 + 2.0 * i as f64 / COS_TABLE as f64;
-            rest_to_rest(c.clamp(-1.0, 1.0).acos() * transfer_radius, &l.fingertip)
+        let by_half_sine = std::array::from_fn(|i| {
+            let u = i as f64 / TABLE as f64;
+            rest_to_rest(2.0 * u.asin() * transfer_radius, &l.fingertip)
         });
         Self {
             object: l.object,
@@ -73,17 +49,17 @@ impl Timing {
             rolling: l.rolling,
             vertical: rest_to_rest(config.planner.transfer_height, &l.fingertip),
             transfer_radius,
-            by_cos,
+            by_half_sine,
         }
     }
 
     /// [`Timing::transfer`] from the cosine of the angle, interpolated in a
     /// table (within a few ms; used to rank candidates, not to cost plans).
     pub fn transfer_cos(&self, cos: f64) -> f64 {
-        let x = (cos.clamp(-1.0, 1.0) + 1.0) * 0.5 * COS_TABLE as f64;
-        let i = (x as usize).min(COS_TABLE - 1);
+        let x = (0.5 * (1.0 - cos.clamp(-1.0, 1.0))).sqrt() * TABLE as f64;
+        let i = (x as usize).min(TABLE - 1);
         let f = x - i as f64;
-        self.by_cos[i] * (1.0 - f) + self.by_cos[i + 1] * f
+        self.by_half_sine[i] * (1.0 - f) + self.by_half_sine[i + 1] * f
     }
 
     /// Rotating the object by `angle` rad.

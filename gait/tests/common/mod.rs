@@ -1,7 +1,7 @@
-//! Seeded random helpers shared by the kinematics tests.
+//! Seeded random helpers shared by the kinematics and grasp tests.
 #![allow(dead_code)]
 
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::{Rotation3, Unit, UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -60,4 +60,21 @@ pub fn hemisphere_point(rng: &mut ChaCha8Rng) -> Vector3<f64> {
 /// Angle between two unit vectors (robust).
 pub fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     a.cross(b).norm().atan2(a.dot(b))
+}
+
+/// A unit vector perpendicular to `n`, uniform on that circle.
+pub fn perpendicular(rng: &mut ChaCha8Rng, n: &Vector3<f64>) -> Vector3<f64> {
+    loop {
+        let v = unit(rng);
+        let p = v - n * n.dot(&v);
+        if p.norm() > 0.1 {
+            return p.normalize();
+        }
+    }
+}
+
+/// `n` turned by `angle` towards a random perpendicular direction.
+pub fn at_angle(rng: &mut ChaCha8Rng, n: &Vector3<f64>, angle: f64) -> Vector3<f64> {
+    let axis = Unit::new_normalize(n.cross(&perpendicular(rng, n)));
+    Rotation3::from_axis_angle(&axis, angle) * n
 }

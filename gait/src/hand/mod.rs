@@ -1,0 +1,27 @@
+//! The hand model and its invariants (SPEC.md §1.1, §1.3).
+//!
+//! - [`HandModel`]: the geometry of one validated [`crate::HandConfig`] —
+//!   workspace cones W_k, the free-space shell, the fingertip hemisphere,
+//!   the roll limit γ, fingertip collision, contact consistency and the
+//!   force-closure closed forms with margin — as signed slacks in natural
+//!   units, with [`Bound`] choosing the limit or the limit minus its margin.
+//! - [`InvariantChecker`]: one call, [`InvariantChecker::check`], evaluates
+//!   I1–I4 and the state part of I5 for a [`crate::HandState`] and returns
+//!   an [`InvariantReport`] saying, per invariant, which finger or pair
+//!   passes or fails and by how much; [`InvariantChecker::check_slip`] does
+//!   the no-slip part of I5 between consecutive states.
+//!
+//! Everything here is allocation-free and deterministic. The only costly
+//! path, the conic test for three fingers when the closed forms do not
+//! decide, is owned and cached by the checker (`&mut self`).
+
+mod check;
+mod model;
+mod report;
+
+pub use check::{InvariantChecker, StateError, validate_state};
+pub use model::{Bound, HandModel, SLACK_TOLERANCE};
+pub use report::{
+    Check, FcMethod, FingerReport, ForceClosureCheck, Invariant, InvariantReport, PAIRS, SlipCheck,
+    SlipReport, Subject, Unit, Violation,
+};
