@@ -2,7 +2,7 @@
 //! [`gait::HandConfig`] (`[model]`, `[load]`, `[limits]`) plus `[control]`.
 //! Every key is validated at start; errors name the key.
 
-use gait::config::{LimitsConfig, LoadConfig, ModelConfig, PlannerConfig};
+use gait::config::{FeedbackConfig, LimitsConfig, LoadConfig, ModelConfig, PlannerConfig};
 use gait::{ConfigError, HandConfig};
 use serde::{Deserialize, Serialize};
 
@@ -35,6 +35,8 @@ pub struct DaemonConfig {
     pub limits: LimitsConfig,
     /// `[planner]`: planner tuning.
     pub planner: PlannerConfig,
+    /// `[feedback]`: fault detection.
+    pub feedback: FeedbackConfig,
     /// `[control]`: loop rate.
     pub control: ControlConfig,
 }
@@ -76,6 +78,7 @@ impl DaemonConfig {
             load: self.load,
             limits: self.limits,
             planner: self.planner,
+            feedback: self.feedback,
         }
     }
 

@@ -213,6 +213,42 @@ impl Default for PlannerConfig {
     }
 }
 
+/// Feedback and fault detection of the controller (SPEC §6.3; TOML section
+/// `[feedback]`). The defaults suit the embedded kinematic hand, which
+/// follows setpoints exactly; a physical plant needs looser tolerances.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FeedbackConfig {
+    /// Largest measured-vs-commanded object orientation error before a
+    /// fault [deg].
+    pub object_tolerance_deg: f64,
+    /// Largest measured-vs-commanded fingertip position error before a
+    /// fault [m].
+    pub finger_tolerance: f64,
+    /// Largest drift of a grasping contact point over the object surface
+    /// (slip) before a fault [m].
+    pub contact_tolerance: f64,
+    /// A fingertip that moves less than this fraction of its commanded
+    /// motion in one tick (while commanded to move) is stuck; 0 disables
+    /// the check.
+    pub stall_ratio: f64,
+    /// Gain of the object orientation error fed back into the commanded
+    /// object angular velocity [1/s].
+    pub orientation_gain: f64,
+}
+
+impl Default for FeedbackConfig {
+    fn default() -> Self {
+        Self {
+            object_tolerance_deg: 0.5,
+            finger_tolerance: 0.002,
+            contact_tolerance: 0.002,
+            stall_ratio: 0.1,
+            orientation_gain: 10.0,
+        }
+    }
+}
+
 /// Everything the model, planner and controller need (SPEC §1.1, §3.3, §5).
 ///
 /// Deserialises from TOML with sections `[model]`, `[load]`, `[limits]`;
@@ -228,6 +264,8 @@ pub struct HandConfig {
     pub limits: LimitsConfig,
     /// Planner tuning.
     pub planner: PlannerConfig,
+    /// Feedback and fault detection.
+    pub feedback: FeedbackConfig,
 }
 
 fn finite(key: &'static str, value: f64) -> Result<f64, ConfigError> {
@@ -496,6 +534,43 @@ impl HandConfig {
             1.0,
             10.0,
             "in [1, 10]",
+        )?;
+
+        let fb = &self.feedback;
+        in_range(
+            "feedback.object_tolerance_deg",
+            fb.object_tolerance_deg,
+            0.0,
+            90.0,
+            "in (0°, 90°]",
+        )?;
+        in_range(
+            "feedback.finger_tolerance",
+            fb.finger_tolerance,
+            0.0,
+            1.0,
+            "in (0, 1] m",
+        )?;
+        in_range(
+            "feedback.contact_tolerance",
+            fb.contact_tolerance,
+            0.0,
+            1.0,
+            "in (0, 1] m",
+        )?;
+        in_closed(
+            "feedback.stall_ratio",
+            fb.stall_ratio,
+            0.0,
+            1.0,
+            "in [0, 1]",
+        )?;
+        in_closed(
+            "feedback.orientation_gain",
+            fb.orientation_gain,
+            0.0,
+            1000.0,
+            "in [0, 1000] 1/s",
         )?;
 
         let lim = &self.limits;

@@ -12,10 +12,12 @@
 
 pub mod config;
 pub mod contact;
+pub mod executor;
 pub mod grasp;
 pub mod hand;
 pub mod planner;
 pub mod rolling;
+pub mod sim;
 pub mod sphere;
 pub mod state;
 

@@ -26,6 +26,7 @@ pub struct Blocked {
 /// Builds the step list, tracking the exact state after each step.
 pub struct Builder<'a> {
     g: &'a Geometry,
+    limits: crate::config::LimitsConfig,
     /// Steps so far.
     pub steps: Vec<Step>,
     /// State after the last step.
@@ -34,20 +35,23 @@ pub struct Builder<'a> {
 
 impl<'a> Builder<'a> {
     /// Starts at `hand`.
-    pub fn new(g: &'a Geometry, hand: HandState) -> Self {
+    pub fn new(g: &'a Geometry, limits: crate::config::LimitsConfig, hand: HandState) -> Self {
         Self {
             g,
+            limits,
             steps: Vec::with_capacity(32),
             hand,
         }
     }
 
     fn push(&mut self, kind: StepKind, motion: Motion) {
-        let step = Step {
+        let mut step = Step {
             kind,
             start: self.hand,
             motion,
+            duration: 0.0,
         };
+        step.duration = step.planned_duration(&self.limits);
         let d = step.dofs();
         self.hand = step.eval(&d.length, &[0.0; 3]).state;
         self.steps.push(step);

@@ -24,7 +24,9 @@ pub mod timing;
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-pub use plan::{FreeMove, FreePath, LimitKind, Motion, Setpoint, Step, StepDofs, StepKind};
+pub use plan::{
+    FreeMove, FreePath, LimitKind, MAX_DOFS, Motion, Setpoint, Step, StepDofs, StepKind,
+};
 
 use crate::config::{ConfigError, HandConfig};
 use crate::state::{FingerMode, HandState};
@@ -33,7 +35,7 @@ use convert::Builder;
 use geometry::{Geometry, rotation};
 use search::{Problem, Root, split};
 use start::{Start, starts};
-use timing::{Timing, rest_to_rest};
+use timing::Timing;
 
 /// Heuristic weight of the retry when the first search runs out of budget.
 const GREEDY_WEIGHT: f64 = 3.0;
@@ -145,22 +147,6 @@ impl Planner {
         &self.config
     }
 
-    /// Execution time of one step at the configured limits.
-    pub fn step_duration(&self, step: &Step) -> f64 {
-        let d = step.dofs();
-        let l = &self.config.limits;
-        (0..d.count)
-            .map(|i| {
-                let lim = match d.kind[i] {
-                    LimitKind::Object => &l.object,
-                    LimitKind::Fingertip => &l.fingertip,
-                    LimitKind::Rolling => &l.rolling,
-                };
-                rest_to_rest(d.length[i], lim)
-            })
-            .fold(0.0, f64::max)
-    }
-
     /// Plans from `start` to the object orientation `goal`.
     pub fn plan(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Result<Plan, PlanError> {
         let gq = goal.quaternion();
@@ -171,11 +157,49 @@ impl Planner {
         if !state_finite(start) {
             return Err(PlanError::NonFiniteState);
         }
+        let (axis, total) = rotation_to(&start.object, &goal);
+        self.plan_about(start, &goal, axis, total)
+    }
+
+    /// Plans a rotation of the object by `angle` (any size, e.g. a full
+    /// turn) about the hand-frame `axis`: the object turns that far, not
+    /// just to the orientation it ends at. (If gaits are impossible from the
+    /// start, the escape motion comes first and the rest of the turn is then
+    /// the shortest one to the same end orientation.)
+    pub fn plan_rotation(
+        &self,
+        start: &HandState,
+        axis: &Vector3<f64>,
+        angle: f64,
+    ) -> Result<Plan, PlanError> {
+        let n = axis.norm();
+        if !(n.is_finite() && n > 1e-9 && angle.is_finite()) {
+            return Err(PlanError::InvalidGoal);
+        }
+        if !state_finite(start) {
+            return Err(PlanError::NonFiniteState);
+        }
+        let (axis, angle) = if angle < 0.0 {
+            (-axis / n, -angle)
+        } else {
+            (axis / n, angle)
+        };
+        let goal = rotation(&axis, angle) * start.object;
+        self.plan_about(start, &goal, axis, angle)
+    }
+
+    fn plan_about(
+        &self,
+        start: &HandState,
+        goal: &UnitQuaternion<f64>,
+        axis: Vector3<f64>,
+        total: f64,
+    ) -> Result<Plan, PlanError> {
+        let goal = *goal;
         let n_grasp = start.grasping().1;
         if n_grasp < 2 {
             return Err(PlanError::NoGrasp);
         }
-        let (axis, total) = rotation_to(&start.object, &goal);
         let mut summary = PlanSummary {
             goal_angle: total,
             ..PlanSummary::default()
@@ -308,7 +332,7 @@ impl Planner {
         mut summary: PlanSummary,
     ) -> Result<Plan, PlanError> {
         let blocked = |b: convert::Blocked| PlanError::Blocked { finger: b.finger };
-        let mut b = Builder::new(&self.geom, *start);
+        let mut b = Builder::new(&self.geom, self.config.limits, *start);
         for a in &s.actions {
             b.prefix(a).map_err(blocked)?;
         }
@@ -343,7 +367,7 @@ impl Planner {
                 StepKind::Roll => summary.rolls += 1,
                 StepKind::Transfer => {}
             }
-            summary.duration += self.step_duration(st);
+            summary.duration += st.duration;
         }
         Ok(Plan {
             start: *start,

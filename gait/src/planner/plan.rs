@@ -243,6 +243,8 @@ pub struct Step {
     pub start: HandState,
     /// The motion.
     pub motion: Motion,
+    /// Planned duration at the configured limits, rest to rest [s].
+    pub duration: f64,
 }
 
 /// Path parameters of a step: their count, lengths and limit kinds.
@@ -270,6 +272,22 @@ pub struct Setpoint {
 }
 
 impl Step {
+    /// Rest-to-rest duration at `limits`, all parameters synchronised (the
+    /// slowest parameter sets it).
+    pub fn planned_duration(&self, limits: &crate::config::LimitsConfig) -> f64 {
+        let d = self.dofs();
+        (0..d.count)
+            .map(|i| {
+                let lim = match d.kind[i] {
+                    LimitKind::Object => &limits.object,
+                    LimitKind::Fingertip => &limits.fingertip,
+                    LimitKind::Rolling => &limits.rolling,
+                };
+                super::timing::rest_to_rest(d.length[i], lim)
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// The step's path parameters.
     pub fn dofs(&self) -> StepDofs {
         let mut d = StepDofs {
@@ -385,7 +403,8 @@ fn apply_free(m: &FreeMove, s: f64, ds: f64, sp: &mut Setpoint) {
     f.center = p;
     f.orientation = m.turn.at(&q0, lambda);
     f.roll += lambda * m.turn.twist;
-    f.mode = if m.contact_at_end && lambda >= 1.0 {
+    // (The last bits of a generator sample must not decide contact.)
+    f.mode = if m.contact_at_end && lambda >= 1.0 - 1e-12 {
         FingerMode::Grasping
     } else {
         FingerMode::Free

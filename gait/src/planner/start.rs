@@ -126,6 +126,7 @@ fn roll_apart(
         kind: StepKind::Roll,
         start: *hand,
         motion: Motion::Roll { rolls, ratio },
+        duration: 0.0,
     };
     let dofs = step.dofs();
     for sample in 0..=ROLL_SAMPLES {

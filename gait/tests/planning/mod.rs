@@ -109,3 +109,4 @@ pub fn random_two_finger_state(rng: &mut impl Rng, cfg: &HandConfig) -> HandStat
         }
     }
 }
+pub mod run;

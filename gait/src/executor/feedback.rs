@@ -1,0 +1,93 @@
+//! Measured against commanded state (SPEC §6.3): fault detection and the
+//! orientation correction fed into the commanded rotation.
+//!
+//! The measurement read at a tick reflects the setpoint written at the
+//! previous tick, so it is compared with that setpoint.
+
+use nalgebra::Vector3;
+
+use super::lifecycle::FaultKind;
+use crate::config::FeedbackConfig;
+use crate::sim::Measurement;
+use crate::state::{FingerMode, HandState};
+
+/// Finger code for "no particular finger".
+pub const NO_FINGER: u8 = 255;
+
+/// Derived thresholds.
+#[derive(Debug, Clone, Copy)]
+pub struct Feedback {
+    object_tol: f64,
+    finger_tol: f64,
+    contact_tol: f64,
+    stall_ratio: f64,
+    gain: f64,
+    object_radius: f64,
+}
+
+/// Motion below which a fingertip is not checked for stalling [m/tick].
+const STALL_MIN_MOTION: f64 = 1e-6;
+
+impl Feedback {
+    /// From the configuration.
+    pub fn new(c: &FeedbackConfig, object_radius: f64) -> Self {
+        Self {
+            object_tol: c.object_tolerance_deg.to_radians(),
+            finger_tol: c.finger_tolerance,
+            contact_tol: c.contact_tolerance,
+            stall_ratio: c.stall_ratio,
+            gain: c.orientation_gain,
+            object_radius,
+        }
+    }
+
+    /// Checks `m` against the commanded state `cmd` (and the one before it,
+    /// `prev_cmd`, with the previous measurement `prev_m` for the stall
+    /// check). Returns the angular-velocity correction for the object, or
+    /// the fault.
+    pub fn check(
+        &self,
+        m: Option<&Measurement>,
+        cmd: &HandState,
+        prev_cmd: &HandState,
+        prev_m: Option<&Measurement>,
+    ) -> Result<Vector3<f64>, (FaultKind, u8)> {
+        let Some(m) = m else {
+            return Err((FaultKind::MissingMeasurement, NO_FINGER));
+        };
+        if !m.is_finite() {
+            return Err((FaultKind::BadMeasurement, NO_FINGER));
+        }
+        // Slip: a grasping contact moved over the object surface.
+        for (k, f) in cmd.fingers.iter().enumerate() {
+            if f.mode != FingerMode::Grasping {
+                continue;
+            }
+            let planned = cmd.object.inverse() * f.center.normalize();
+            let measured = m.object.inverse() * m.fingers[k].center.normalize();
+            if (planned - measured).norm() * self.object_radius > self.contact_tol {
+                return Err((FaultKind::ContactDrift, k as u8));
+            }
+        }
+        for (k, f) in cmd.fingers.iter().enumerate() {
+            let mf = &m.fingers[k];
+            if (mf.center - f.center).norm() > self.finger_tol {
+                return Err((FaultKind::FingerTracking, k as u8));
+            }
+            if self.stall_ratio > 0.0
+                && let Some(pm) = prev_m
+            {
+                let commanded = (f.center - prev_cmd.fingers[k].center).norm();
+                let moved = (mf.center - pm.fingers[k].center).norm();
+                if commanded > STALL_MIN_MOTION && moved < self.stall_ratio * commanded {
+                    return Err((FaultKind::FingerTracking, k as u8));
+                }
+            }
+        }
+        let err = (cmd.object * m.object.inverse()).scaled_axis();
+        if err.norm() > self.object_tol {
+            return Err((FaultKind::ObjectTracking, NO_FINGER));
+        }
+        Ok(err * self.gain)
+    }
+}

@@ -1,0 +1,208 @@
+//! Goal lifecycle (SPEC §6.4), reason codes and the event queue.
+//!
+//! ```text
+//!            ┌────────── Rejected(reason)
+//!  command ──┤
+//!            └─ Accepted ─> Planning ─> Executing ─> Succeeded
+//!                              │            ├──────> Aborted(reason)
+//!                              │            ├──────> Canceled   (cancel / hold)
+//!                              └────────────┴──────> Preempted  (a newer goal)
+//! ```
+//! Every terminal state carries a reason code. Codes are stable integers
+//! (they cross process boundaries in `shm_schema`).
+
+/// Where a goal is in its life.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum GoalState {
+    /// Received and valid; waiting for the motion to come to rest.
+    Accepted = 1,
+    /// A plan is being computed off the control thread.
+    Planning = 2,
+    /// The plan is being executed.
+    Executing = 3,
+    /// Reached: the object is at the goal orientation.
+    Succeeded = 4,
+    /// Given up (see the reason).
+    Aborted = 5,
+    /// Stopped by a cancel or hold command.
+    Canceled = 6,
+    /// Replaced by a newer goal.
+    Preempted = 7,
+    /// Refused on arrival (see the reason).
+    Rejected = 8,
+}
+
+impl GoalState {
+    /// Whether the goal is over.
+    pub fn is_terminal(self) -> bool {
+        matches!(
+            self,
+            Self::Succeeded | Self::Aborted | Self::Canceled | Self::Preempted | Self::Rejected
+        )
+    }
+}
+
+/// Why a goal ended as it did, or why a command was refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u16)]
+pub enum Reason {
+    /// Nothing to report (Succeeded, or still running).
+    None = 0,
+    /// The target orientation is not a finite, non-zero quaternion.
+    InvalidTarget = 1,
+    /// The hand is in safe hold: reset first.
+    FaultActive = 2,
+    /// The planner found no plan (see the plan error code).
+    NoPlan = 3,
+    /// The start state breaks an invariant, so no plan can start from it.
+    InvalidStart = 4,
+    /// A fault stopped the motion (see the fault code).
+    Fault = 5,
+    /// A cancel command.
+    CancelCommand = 6,
+    /// A hold command.
+    HoldCommand = 7,
+    /// A newer goal.
+    NewerGoal = 8,
+    /// The plan arrived for a goal that is no longer active.
+    Stale = 9,
+    /// The goal id was used before.
+    DuplicateId = 10,
+}
+
+/// What the plant or the checks reported (SPEC §6.3, §6.4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u16)]
+pub enum FaultKind {
+    /// The plant sent no measurement this tick.
+    MissingMeasurement = 1,
+    /// A measurement holds a non-finite number.
+    BadMeasurement = 2,
+    /// The measured object orientation left the planned one.
+    ObjectTracking = 3,
+    /// A measured fingertip left its commanded pose.
+    FingerTracking = 4,
+    /// A contact point drifted on the object (slip).
+    ContactDrift = 5,
+    /// A commanded state broke an invariant of SPEC §1.3.
+    Invariant = 6,
+    /// The trajectory generator refused an input.
+    Trajectory = 7,
+}
+
+/// What happened, for clients (SPEC §7.3 events).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Event {
+    /// A goal changed state.
+    Goal {
+        /// Goal id.
+        id: u64,
+        /// New state.
+        state: GoalState,
+        /// Reason (for terminal states).
+        reason: Reason,
+    },
+    /// A plan step started.
+    Step {
+        /// Goal id.
+        id: u64,
+        /// Index in the plan.
+        index: u32,
+        /// Its kind.
+        kind: crate::planner::StepKind,
+        /// The finger it concerns (Place/Lift/Transfer/Roll), or 255.
+        finger: u8,
+    },
+    /// A fault was detected; the hand is in safe hold.
+    Fault {
+        /// What.
+        kind: FaultKind,
+        /// Finger concerned, or 255.
+        finger: u8,
+    },
+    /// The fault was cleared by a reset.
+    FaultCleared,
+}
+
+/// Capacity of the event queue between two drains.
+pub const EVENT_CAPACITY: usize = 32;
+
+/// Fixed-capacity FIFO of events (no allocation). When full, the oldest
+/// event is dropped and counted.
+#[derive(Debug, Clone)]
+pub struct EventQueue {
+    buf: [Option<Event>; EVENT_CAPACITY],
+    head: usize,
+    len: usize,
+    /// Events dropped because the queue was full.
+    pub dropped: u64,
+}
+
+impl Default for EventQueue {
+    fn default() -> Self {
+        Self {
+            buf: [None; EVENT_CAPACITY],
+            head: 0,
+            len: 0,
+            dropped: 0,
+        }
+    }
+}
+
+impl EventQueue {
+    /// Appends an event.
+    pub fn push(&mut self, e: Event) {
+        if self.len == EVENT_CAPACITY {
+            self.head = (self.head + 1) % EVENT_CAPACITY;
+            self.len -= 1;
+            self.dropped += 1;
+        }
+        self.buf[(self.head + self.len) % EVENT_CAPACITY] = Some(e);
+        self.len += 1;
+    }
+
+    /// Removes the oldest event.
+    pub fn pop(&mut self) -> Option<Event> {
+        if self.len == 0 {
+            return None;
+        }
+        let e = self.buf[self.head].take();
+        self.head = (self.head + 1) % EVENT_CAPACITY;
+        self.len -= 1;
+        e
+    }
+
+    /// Number of queued events.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether no event is queued.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn queue_is_fifo_and_drops_oldest() {
+        let mut q = EventQueue::default();
+        for i in 0..(EVENT_CAPACITY as u64 + 3) {
+            q.push(Event::Goal {
+                id: i,
+                state: GoalState::Accepted,
+                reason: Reason::None,
+            });
+        }
+        assert_eq!(q.dropped, 3);
+        assert_eq!(q.len(), EVENT_CAPACITY);
+        match q.pop() {
+            Some(Event::Goal { id, .. }) => assert_eq!(id, 3),
+            e => panic!("{e:?}"),
+        }
+    }
+}

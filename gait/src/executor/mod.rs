@@ -1,0 +1,791 @@
+//! The per-tick controller (SPEC §6): advances a plan with the trajectory
+//! generator, produces setpoints, checks every invariant, runs the goal
+//! lifecycle and the gait state machine. Allocation-free per tick.
+//!
+//! # Gait state machine ([`Phase`])
+//! ```text
+//!   Holding ──goal──> Planning ──plan──> Moving ──last step──> Holding
+//!      ^                 │  ^              │ goal/cancel/hold
+//!      │                 │  └─── goal ─────┤
+//!      │              no plan              v
+//!      └────────────── (abort) ◄──────── Stopping ──at rest──> Planning (newer goal)
+//!                                          │                   or Holding (cancel/hold)
+//!   any ──fault──> SafeHold (a jerk-limited stop, then still) ──reset──> Holding
+//! ```
+//! A finger in flight finishes its placement or lift before a stop takes
+//! effect; a stop elsewhere brakes along the current step's path, which is
+//! valid everywhere (SPEC §6.4).
+//!
+//! # Planning off the control thread
+//! The executor never plans. When it needs a plan it leaves a
+//! [`PlanRequest`] ([`Executor::take_plan_request`]); whoever owns the
+//! planner answers with [`Executor::deliver_plan`]. The executor keeps the
+//! plan it is given and hands back the one it replaces, so that no plan is
+//! ever freed on the control thread.
+
+pub mod feedback;
+pub mod lifecycle;
+pub mod runner;
+
+use nalgebra::{UnitQuaternion, Vector3};
+
+use crate::HandConfig;
+use crate::config::{ConfigError, LimitsConfig};
+use crate::hand::InvariantChecker;
+use crate::planner::{Motion, Plan, PlanError, Setpoint, Step, StepKind};
+use crate::sim::Measurement;
+use crate::state::HandState;
+use feedback::{Feedback, NO_FINGER};
+pub use lifecycle::{Event, EventQueue, FaultKind, GoalState, Reason};
+use runner::StepRunner;
+
+/// Where a goal wants the object.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GoalTarget {
+    /// An absolute orientation (object → hand).
+    Orientation(UnitQuaternion<f64>),
+    /// A rotation about a hand-frame axis by an angle of any size (a full
+    /// turn is a full turn), from the orientation the object has when
+    /// planning starts.
+    Rotation {
+        /// Axis (hand frame, any length > 0).
+        axis: Vector3<f64>,
+        /// Angle [rad].
+        angle: f64,
+    },
+}
+
+impl GoalTarget {
+    /// The orientation reached from `from`.
+    pub fn resolve(&self, from: &UnitQuaternion<f64>) -> UnitQuaternion<f64> {
+        match *self {
+            Self::Orientation(q) => q,
+            Self::Rotation { axis, angle } => {
+                UnitQuaternion::from_scaled_axis(axis.normalize() * angle) * from
+            }
+        }
+    }
+
+    fn is_valid(&self) -> bool {
+        match self {
+            Self::Orientation(q) => {
+                let q = q.quaternion();
+                q.coords.iter().all(|x| x.is_finite()) && (q.norm() - 1.0).abs() < 1e-6
+            }
+            Self::Rotation { axis, angle } => {
+                axis.iter().all(|x| x.is_finite()) && axis.norm() > 1e-9 && angle.is_finite()
+            }
+        }
+    }
+
+    /// Plans it from `start`.
+    pub fn plan(
+        &self,
+        planner: &crate::planner::Planner,
+        start: &HandState,
+    ) -> Result<Plan, PlanError> {
+        match self {
+            Self::Orientation(q) => planner.plan(start, q),
+            Self::Rotation { axis, angle } => planner.plan_rotation(start, axis, *angle),
+        }
+    }
+}
+
+/// A command to the executor (SPEC §6.4, §7.3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Command {
+    /// Reorient the object.
+    Goal {
+        /// Goal id, unique.
+        id: u64,
+        /// Where to.
+        target: GoalTarget,
+        /// Fraction of the configured motion limits to use, in (0, 1].
+        speed: f64,
+    },
+    /// Stop the active goal smoothly, then hold.
+    Cancel,
+    /// Stop any motion smoothly and hold the grasp.
+    Hold,
+    /// Clear a fault (only if the measured state is valid).
+    Reset,
+}
+
+/// The answer to a command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Answer {
+    /// Taken.
+    Accepted,
+    /// Refused, with the reason.
+    Rejected(Reason),
+}
+
+/// What the executor asks the planner for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanRequest {
+    /// Goal the plan is for.
+    pub goal: u64,
+    /// State to plan from (at rest).
+    pub start: HandState,
+    /// Where to.
+    pub target: GoalTarget,
+}
+
+/// The gait state machine's coarse state (module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum Phase {
+    /// At rest, grasp held, no goal running.
+    Holding = 0,
+    /// At rest, waiting for a plan.
+    Planning = 1,
+    /// Executing a plan step.
+    Moving = 2,
+    /// Braking to rest (a newer goal, cancel or hold).
+    Stopping = 3,
+    /// Fault: brakes to rest, then holds until reset.
+    SafeHold = 4,
+}
+
+/// What to do once a stop comes to rest.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum AfterStop {
+    /// Plan the pending goal.
+    Replan,
+    /// Hold; the active goal ends with this reason.
+    Hold(Reason),
+    /// Stay in safe hold.
+    Fault,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct ActiveGoal {
+    id: u64,
+    target: GoalTarget,
+    /// The orientation the goal ends at (resolved when planning starts).
+    end: UnitQuaternion<f64>,
+    speed: f64,
+    state: GoalState,
+}
+
+/// Everything a status message needs after a tick (SPEC §7.3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TickReport {
+    /// Tick counter.
+    pub tick: u64,
+    /// The setpoint just computed.
+    pub setpoint: Setpoint,
+    /// Coarse phase.
+    pub phase: Phase,
+    /// Kind of the running step (if moving).
+    pub step_kind: Option<StepKind>,
+    /// Active or last goal: id, state, reason.
+    pub goal: Option<(u64, GoalState, Reason)>,
+    /// Angle between the object and the goal [rad].
+    pub remaining_angle: f64,
+    /// Gaits (Place/Lift steps) done and planned for the goal.
+    pub gaits: (u32, u32),
+    /// Estimated time to the goal [s].
+    pub eta: f64,
+    /// Normal force per finger [N].
+    pub grip: [f64; 3],
+    /// Force-closure flag and margin of the commanded grasp.
+    pub force_closure: (bool, f64),
+    /// Workspace slack per finger [rad] (negative: outside).
+    pub workspace_slack: [f64; 3],
+    /// Active fault, if any.
+    pub fault: Option<(FaultKind, u8)>,
+}
+
+/// The executor (module docs).
+#[derive(Debug)]
+pub struct Executor {
+    limits: LimitsConfig,
+    checker: InvariantChecker,
+    feedback: Feedback,
+    runner: StepRunner,
+    plan: Option<Box<Plan>>,
+    step: usize,
+    /// Planned durations left after the current step.
+    time_after_step: f64,
+    phase: Phase,
+    after_stop: AfterStop,
+    /// A stop is wanted but the current step (a placement or lift) finishes
+    /// first.
+    stop_after_step: bool,
+    goal: Option<ActiveGoal>,
+    last_goal: Option<(u64, GoalState, Reason)>,
+    pending: Option<ActiveGoal>,
+    request: Option<PlanRequest>,
+    recent_ids: [u64; 16],
+    recent_len: usize,
+    gaits_done: u32,
+    gaits_planned: u32,
+    setpoint: Setpoint,
+    prev_setpoint: Setpoint,
+    prev_measurement: Option<Measurement>,
+    fault: Option<(FaultKind, u8)>,
+    /// In safe hold: still braking along the interrupted step.
+    braking: bool,
+    events: EventQueue,
+    report: TickReport,
+    tick: u64,
+}
+
+fn rest(state: HandState) -> Setpoint {
+    Setpoint {
+        state,
+        object_rate: Vector3::zeros(),
+        finger_velocity: [Vector3::zeros(); 3],
+        finger_rate: [Vector3::zeros(); 3],
+    }
+}
+
+/// Which finger a step concerns, for events (255: none in particular).
+fn step_finger(step: &Step) -> u8 {
+    match &step.motion {
+        Motion::Free(m) => m.finger as u8,
+        Motion::RollSegment { finger, .. } => *finger as u8,
+        Motion::Roll { rolls, .. } => rolls[0].map_or(NO_FINGER, |r| r.finger as u8),
+        Motion::Rotate { .. } => NO_FINGER,
+    }
+}
+
+impl Executor {
+    /// An executor holding `start` still, ticking every `dt` seconds.
+    pub fn new(config: &HandConfig, dt: f64, start: HandState) -> Result<Self, ConfigError> {
+        config.validate()?;
+        let runner = StepRunner::new(dt).map_err(|_| ConfigError::OutOfRange {
+            key: "control.tick_hz",
+            value: 1.0 / dt,
+            expected: "a finite positive rate",
+        })?;
+        let sp = rest(start);
+        Ok(Self {
+            limits: config.limits,
+            checker: InvariantChecker::new(config)?,
+            feedback: Feedback::new(&config.feedback, config.model.object_radius),
+            runner,
+            plan: None,
+            step: 0,
+            time_after_step: 0.0,
+            phase: Phase::Holding,
+            after_stop: AfterStop::Hold(Reason::None),
+            stop_after_step: false,
+            goal: None,
+            last_goal: None,
+            pending: None,
+            request: None,
+            recent_ids: [0; 16],
+            recent_len: 0,
+            gaits_done: 0,
+            gaits_planned: 0,
+            setpoint: sp,
+            prev_setpoint: sp,
+            prev_measurement: None,
+            fault: None,
+            braking: false,
+            events: EventQueue::default(),
+            report: TickReport {
+                tick: 0,
+                setpoint: sp,
+                phase: Phase::Holding,
+                step_kind: None,
+                goal: None,
+                remaining_angle: 0.0,
+                gaits: (0, 0),
+                eta: 0.0,
+                grip: [0.0; 3],
+                force_closure: (false, 0.0),
+                workspace_slack: [0.0; 3],
+                fault: None,
+            },
+            tick: 0,
+        })
+    }
+
+    /// The coarse phase.
+    pub fn phase(&self) -> Phase {
+        self.phase
+    }
+
+    /// The last setpoint.
+    pub fn setpoint(&self) -> &Setpoint {
+        &self.setpoint
+    }
+
+    /// The last tick's report.
+    pub fn report(&self) -> &TickReport {
+        &self.report
+    }
+
+    /// The plan being executed, if any.
+    pub fn plan(&self) -> Option<&Plan> {
+        self.plan.as_deref()
+    }
+
+    /// Index of the running step.
+    pub fn step_index(&self) -> usize {
+        self.step
+    }
+
+    /// Next queued event.
+    pub fn pop_event(&mut self) -> Option<Event> {
+        self.events.pop()
+    }
+
+    /// Events lost because nobody drained the queue.
+    pub fn events_dropped(&self) -> u64 {
+        self.events.dropped
+    }
+
+    /// The plan request left for the planner, if any.
+    pub fn take_plan_request(&mut self) -> Option<PlanRequest> {
+        self.request.take()
+    }
+
+    fn goal_event(&mut self, id: u64, state: GoalState, reason: Reason) {
+        self.events.push(Event::Goal { id, state, reason });
+        if state.is_terminal() {
+            self.last_goal = Some((id, state, reason));
+        }
+    }
+
+    fn set_goal_state(&mut self, state: GoalState) {
+        if let Some(g) = self.goal.as_mut() {
+            g.state = state;
+            let id = g.id;
+            self.goal_event(id, state, Reason::None);
+        }
+    }
+
+    /// Ends the active goal.
+    fn end_goal(&mut self, state: GoalState, reason: Reason) {
+        if let Some(g) = self.goal.take() {
+            self.goal_event(g.id, state, reason);
+        }
+    }
+
+    fn remember_id(&mut self, id: u64) -> bool {
+        if self.recent_ids[..self.recent_len].contains(&id) {
+            return false;
+        }
+        if self.recent_len < self.recent_ids.len() {
+            self.recent_len += 1;
+        } else {
+            self.recent_ids.rotate_left(1);
+        }
+        self.recent_ids[self.recent_len - 1] = id;
+        true
+    }
+
+    /// Takes a command (SPEC §6.4). Never blocks, never allocates.
+    pub fn command(&mut self, cmd: Command) -> Answer {
+        match cmd {
+            Command::Goal { id, target, speed } => self.new_goal(id, target, speed),
+            Command::Cancel => {
+                if self.goal.is_none() && self.pending.is_none() {
+                    return Answer::Rejected(Reason::None);
+                }
+                self.request_stop(AfterStop::Hold(Reason::CancelCommand));
+                Answer::Accepted
+            }
+            Command::Hold => {
+                if self.phase != Phase::SafeHold {
+                    self.request_stop(AfterStop::Hold(Reason::HoldCommand));
+                }
+                Answer::Accepted
+            }
+            Command::Reset => self.reset(),
+        }
+    }
+
+    fn new_goal(&mut self, id: u64, target: GoalTarget, speed: f64) -> Answer {
+        if !(target.is_valid() && speed.is_finite() && speed > 0.0 && speed <= 1.0) {
+            return Answer::Rejected(Reason::InvalidTarget);
+        }
+        if self.phase == Phase::SafeHold {
+            return Answer::Rejected(Reason::FaultActive);
+        }
+        if !self.remember_id(id) {
+            return Answer::Rejected(Reason::DuplicateId);
+        }
+        let goal = ActiveGoal {
+            id,
+            target,
+            end: target.resolve(&self.setpoint.state.object),
+            speed,
+            state: GoalState::Accepted,
+        };
+        self.goal_event(id, GoalState::Accepted, Reason::None);
+        if let Some(p) = self.pending.take() {
+            self.goal_event(p.id, GoalState::Preempted, Reason::NewerGoal);
+        }
+        match self.phase {
+            Phase::Holding | Phase::Planning => {
+                if self.phase == Phase::Planning {
+                    // The plan in the making is for the old goal: it is
+                    // dropped as stale when it arrives.
+                    self.end_goal(GoalState::Preempted, Reason::NewerGoal);
+                }
+                self.goal = Some(goal);
+                self.begin_planning();
+            }
+            Phase::Moving | Phase::Stopping => {
+                self.end_goal(GoalState::Preempted, Reason::NewerGoal);
+                self.pending = Some(goal);
+                self.request_stop(AfterStop::Replan);
+            }
+            Phase::SafeHold => {}
+        }
+        Answer::Accepted
+    }
+
+    fn begin_planning(&mut self) {
+        self.phase = Phase::Planning;
+        self.set_goal_state(GoalState::Planning);
+        let from = self.setpoint.state.object;
+        if let Some(g) = self.goal.as_mut() {
+            g.end = g.target.resolve(&from);
+        }
+        if let Some(g) = self.goal {
+            self.request = Some(PlanRequest {
+                goal: g.id,
+                start: self.setpoint.state,
+                target: g.target,
+            });
+        }
+    }
+
+    /// Brings the motion to rest, then does `then`.
+    fn request_stop(&mut self, then: AfterStop) {
+        match self.phase {
+            Phase::Holding => self.finish_stop(then),
+            Phase::Planning => {
+                // At rest already; a plan in the making becomes stale.
+                self.finish_stop(then)
+            }
+            Phase::Moving | Phase::Stopping => {
+                self.after_stop = then;
+                self.phase = Phase::Stopping;
+                let finishing = self
+                    .current_step()
+                    .is_some_and(|s| matches!(s.kind, StepKind::Place | StepKind::Lift));
+                if finishing {
+                    self.stop_after_step = true;
+                } else if !self.runner.stopping() {
+                    // Braking past the path end is not possible: then the
+                    // step simply runs to its (resting) end.
+                    if self.runner.stop().is_err() {
+                        self.enter_fault(FaultKind::Trajectory, NO_FINGER);
+                    }
+                }
+            }
+            Phase::SafeHold => {}
+        }
+    }
+
+    fn finish_stop(&mut self, then: AfterStop) {
+        self.stop_after_step = false;
+        match then {
+            AfterStop::Replan => {
+                if let Some(g) = self.pending.take() {
+                    self.goal = Some(g);
+                    self.begin_planning();
+                } else {
+                    self.phase = Phase::Holding;
+                }
+            }
+            AfterStop::Hold(reason) => {
+                self.end_goal(GoalState::Canceled, reason);
+                if let Some(p) = self.pending.take() {
+                    self.goal_event(p.id, GoalState::Canceled, reason);
+                }
+                self.phase = Phase::Holding;
+            }
+            AfterStop::Fault => self.phase = Phase::SafeHold,
+        }
+        self.step = 0;
+    }
+
+    fn reset(&mut self) -> Answer {
+        if self.phase != Phase::SafeHold {
+            return Answer::Accepted;
+        }
+        let Some(m) = self.prev_measurement else {
+            return Answer::Rejected(Reason::FaultActive);
+        };
+        // Resume from the measured state if it is valid.
+        let mut state = self.setpoint.state;
+        state.object = m.object;
+        for (k, f) in state.fingers.iter_mut().enumerate() {
+            f.center = m.fingers[k].center;
+            f.orientation = m.fingers[k].orientation;
+        }
+        match self.checker.check(&state) {
+            Ok(r) if r.ok() => {
+                self.setpoint = rest(state);
+                self.prev_setpoint = self.setpoint;
+                self.fault = None;
+                self.phase = Phase::Holding;
+                self.events.push(Event::FaultCleared);
+                Answer::Accepted
+            }
+            _ => Answer::Rejected(Reason::FaultActive),
+        }
+    }
+
+    /// Accepts the planner's answer for goal `id`. Returns the plan the
+    /// executor no longer needs (the replaced one, or the delivered one if
+    /// it is stale) so the caller can free it off the control thread.
+    pub fn deliver_plan(
+        &mut self,
+        id: u64,
+        result: Result<Box<Plan>, PlanError>,
+    ) -> Option<Box<Plan>> {
+        let current = self.phase == Phase::Planning && self.goal.is_some_and(|g| g.id == id);
+        match result {
+            Err(e) => {
+                if current {
+                    let reason = match e {
+                        PlanError::NoGrasp | PlanError::NonFiniteState => Reason::InvalidStart,
+                        PlanError::InvalidGoal => Reason::InvalidTarget,
+                        _ => Reason::NoPlan,
+                    };
+                    self.end_goal(GoalState::Aborted, reason);
+                    self.phase = Phase::Holding;
+                }
+                None
+            }
+            Ok(plan) if !current => Some(plan),
+            Ok(plan) => {
+                let old = self.plan.replace(plan);
+                self.start_plan();
+                old
+            }
+        }
+    }
+
+    fn start_plan(&mut self) {
+        let Some((gaits, empty, duration)) = self
+            .plan
+            .as_deref()
+            .map(|p| (p.summary.gaits, p.steps.is_empty(), p.summary.duration))
+        else {
+            return;
+        };
+        self.gaits_done = 0;
+        self.gaits_planned = gaits;
+        self.step = 0;
+        if empty {
+            self.end_goal(GoalState::Succeeded, Reason::None);
+            self.phase = Phase::Holding;
+            return;
+        }
+        self.phase = Phase::Moving;
+        self.set_goal_state(GoalState::Executing);
+        self.time_after_step = duration;
+        self.begin_step();
+    }
+
+    fn current_step(&self) -> Option<&Step> {
+        self.plan.as_deref().and_then(|p| p.steps.get(self.step))
+    }
+
+    fn begin_step(&mut self) {
+        let speed = self.goal.map_or(1.0, |g| g.speed);
+        let Some(plan) = self.plan.as_deref() else {
+            return;
+        };
+        let Some(step) = plan.steps.get(self.step) else {
+            return;
+        };
+        self.runner.start(step, &self.limits, speed);
+        self.time_after_step = (self.time_after_step - step.duration).max(0.0);
+        let event = Event::Step {
+            id: self.goal.map_or(0, |g| g.id),
+            index: self.step as u32,
+            kind: step.kind,
+            finger: step_finger(step),
+        };
+        self.events.push(event);
+    }
+
+    fn enter_fault(&mut self, kind: FaultKind, finger: u8) {
+        if self.fault.is_some() {
+            return;
+        }
+        self.fault = Some((kind, finger));
+        self.events.push(Event::Fault { kind, finger });
+        self.end_goal(GoalState::Aborted, Reason::Fault);
+        if let Some(p) = self.pending.take() {
+            self.goal_event(p.id, GoalState::Aborted, Reason::Fault);
+        }
+        let moving = matches!(self.phase, Phase::Moving | Phase::Stopping);
+        self.phase = Phase::SafeHold;
+        self.after_stop = AfterStop::Fault;
+        self.stop_after_step = false;
+        // Brake along the current path; if that is impossible the step's own
+        // end (at rest) is used (StepRunner::stop).
+        self.braking = moving && self.runner.stop().is_ok();
+    }
+
+    /// One control period (SPEC §6.1): check the measurement, advance the
+    /// motion, check the invariants of the new setpoint, fill the report.
+    /// `measurement` is what the plant reported this tick (`None`: nothing
+    /// arrived). Allocation-free.
+    pub fn tick(&mut self, measurement: Option<&Measurement>) -> &TickReport {
+        self.tick += 1;
+        let mut correction = Vector3::zeros();
+        if self.phase != Phase::SafeHold {
+            match self.feedback.check(
+                measurement,
+                &self.setpoint.state,
+                &self.prev_setpoint.state,
+                self.prev_measurement.as_ref(),
+            ) {
+                Ok(c) => correction = c,
+                Err((kind, finger)) => self.enter_fault(kind, finger),
+            }
+        }
+        if let Some(m) = measurement {
+            self.prev_measurement = Some(*m);
+        }
+        self.prev_setpoint = self.setpoint;
+        self.advance();
+        self.setpoint.object_rate += correction;
+        self.check_invariants();
+        self.fill_report();
+        &self.report
+    }
+
+    /// Moves the setpoint one period along the running step.
+    fn advance(&mut self) {
+        let moving = match self.phase {
+            Phase::Moving | Phase::Stopping => true,
+            Phase::SafeHold => self.braking,
+            Phase::Holding | Phase::Planning => false,
+        };
+        if !moving {
+            self.setpoint = rest(self.setpoint.state);
+            return;
+        }
+        let status = match self.runner.advance() {
+            Ok(s) => s,
+            Err(_) => {
+                self.enter_fault(FaultKind::Trajectory, NO_FINGER);
+                self.braking = false;
+                self.setpoint = rest(self.setpoint.state);
+                return;
+            }
+        };
+        let path = self.runner.state();
+        let Some(sp) = self
+            .current_step()
+            .map(|s| (s.eval(&path.position, &path.velocity), s.kind))
+        else {
+            self.setpoint = rest(self.setpoint.state);
+            return;
+        };
+        let (setpoint, kind) = sp;
+        self.setpoint = setpoint;
+        if status != otg::Status::Finished {
+            return;
+        }
+        // At rest: the end of the step, or of a stop.
+        let stopped_early = self.runner.stopping();
+        if !stopped_early && let Some(step) = self.current_step() {
+            // Exactly the planned end state (the generator's last sample
+            // may differ from the target in the last bits).
+            let end = step.eval(&step.dofs().length, &[0.0; 3]).state;
+            self.setpoint.state = end;
+        }
+        self.setpoint = rest(self.setpoint.state);
+        if self.phase == Phase::SafeHold {
+            self.braking = false;
+            return;
+        }
+        if !stopped_early && matches!(kind, StepKind::Place | StepKind::Lift) {
+            self.gaits_done += 1;
+        }
+        if self.phase == Phase::Stopping && (stopped_early || self.stop_after_step) {
+            self.finish_stop(self.after_stop);
+            return;
+        }
+        self.step += 1;
+        let done = self
+            .plan
+            .as_deref()
+            .is_none_or(|p| self.step >= p.steps.len());
+        if done {
+            if self.phase == Phase::Stopping {
+                self.finish_stop(self.after_stop);
+            } else {
+                self.end_goal(GoalState::Succeeded, Reason::None);
+                self.phase = Phase::Holding;
+                self.step = 0;
+            }
+            return;
+        }
+        self.begin_step();
+        if self.phase == Phase::Stopping && !self.stop_after_step {
+            // A stop was asked during the last placement: the next step
+            // never starts moving.
+            self.finish_stop(self.after_stop);
+        }
+    }
+
+    fn check_invariants(&mut self) {
+        match self.checker.check(&self.setpoint.state) {
+            Ok(r) => {
+                self.report.force_closure =
+                    (r.force_closure.check.pass, r.force_closure.check.slack);
+                for (k, f) in r.fingers.iter().enumerate() {
+                    self.report.workspace_slack[k] = f.workspace.slack;
+                }
+                if !r.ok() && self.fault.is_none() {
+                    let finger = match r.first_violation().map(|v| v.subject) {
+                        Some(crate::hand::Subject::Finger(k)) => k,
+                        Some(crate::hand::Subject::Pair(k, _)) => k,
+                        _ => NO_FINGER,
+                    };
+                    self.enter_fault(FaultKind::Invariant, finger);
+                }
+            }
+            Err(_) => {
+                if self.fault.is_none() {
+                    self.enter_fault(FaultKind::Invariant, NO_FINGER);
+                }
+            }
+        }
+    }
+
+    fn fill_report(&mut self) {
+        let r = &mut self.report;
+        r.tick = self.tick;
+        r.setpoint = self.setpoint;
+        r.phase = self.phase;
+        r.step_kind = match self.phase {
+            Phase::Moving | Phase::Stopping => self
+                .plan
+                .as_deref()
+                .and_then(|p| p.steps.get(self.step))
+                .map(|s| s.kind),
+            _ => None,
+        };
+        r.goal = match self.goal {
+            Some(g) => Some((g.id, g.state, Reason::None)),
+            None => self.last_goal,
+        };
+        r.remaining_angle = self
+            .goal
+            .map_or(0.0, |g| g.end.angle_to(&self.setpoint.state.object));
+        r.gaits = (self.gaits_done, self.gaits_planned);
+        r.eta = match self.phase {
+            Phase::Moving => self.time_after_step + self.runner.time_left(),
+            Phase::Stopping => self.runner.time_left(),
+            _ => 0.0,
+        };
+        r.fault = self.fault;
+    }
+}

@@ -1,0 +1,182 @@
+//! The plant interface and the embedded kinematic hand (SPEC §6.2).
+//!
+//! A [`Plant`] takes fingertip setpoints and reports measured fingertip
+//! poses, contact states and the object orientation. The default plant,
+//! [`KinematicHand`], applies the contact kinematics exactly: the plan is
+//! executed as commanded. For tests it injects faults: contact slip, sensor
+//! noise, a stuck finger and dropped measurements. Other plants (a physics
+//! simulator, hardware) attach through the same trait.
+
+use nalgebra::{UnitQuaternion, Vector3};
+
+use crate::planner::Setpoint;
+use crate::state::{FingerMode, HandState};
+
+/// One measured fingertip.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeasuredFinger {
+    /// Fingertip centre, hand frame [m].
+    pub center: Vector3<f64>,
+    /// Fingertip orientation (fingertip → hand).
+    pub orientation: UnitQuaternion<f64>,
+    /// Whether the fingertip touches the object.
+    pub contact: bool,
+}
+
+/// What a plant reports each tick.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Measurement {
+    /// Object orientation (object → hand).
+    pub object: UnitQuaternion<f64>,
+    /// The three fingertips.
+    pub fingers: [MeasuredFinger; 3],
+}
+
+impl Measurement {
+    /// The measurement a perfect sensor gives of `state`.
+    pub fn of(state: &HandState) -> Self {
+        Self {
+            object: state.object,
+            fingers: state.fingers.map(|f| MeasuredFinger {
+                center: f.center,
+                orientation: f.orientation,
+                contact: f.mode == FingerMode::Grasping,
+            }),
+        }
+    }
+
+    /// Whether every number is finite.
+    pub fn is_finite(&self) -> bool {
+        self.object.coords.iter().all(|x| x.is_finite())
+            && self.fingers.iter().all(|f| {
+                f.center.iter().all(|x| x.is_finite())
+                    && f.orientation.coords.iter().all(|x| x.is_finite())
+            })
+    }
+}
+
+/// The hand as the controller sees it.
+pub trait Plant {
+    /// Commands the next setpoint.
+    fn write(&mut self, setpoint: &Setpoint);
+    /// The latest measurement, or `None` if none arrived this tick.
+    fn read(&mut self) -> Option<Measurement>;
+}
+
+/// A fault the kinematic hand can be told to simulate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum InjectedFault {
+    /// The object slips in the grasp: it turns about `axis` (hand frame) at
+    /// `rate` rad/s relative to the fingers.
+    Slip {
+        /// Unit axis.
+        axis: Vector3<f64>,
+        /// Slip rate [rad/s].
+        rate: f64,
+    },
+    /// Gaussian-like noise of standard deviation `position` [m] on the
+    /// fingertip centres and `angle` [rad] on the object orientation.
+    Noise {
+        /// Position noise [m].
+        position: f64,
+        /// Orientation noise [rad].
+        angle: f64,
+    },
+    /// A finger stops following its setpoints.
+    Stuck {
+        /// Which finger.
+        finger: usize,
+    },
+    /// Measurements stop arriving.
+    Missing,
+}
+
+/// The embedded plant: applies setpoints exactly (SPEC §6.2).
+#[derive(Debug, Clone)]
+pub struct KinematicHand {
+    state: HandState,
+    fault: Option<InjectedFault>,
+    dt: f64,
+    rng: u64,
+    slip_angle: f64,
+}
+
+impl KinematicHand {
+    /// A hand in `state`, ticking every `dt` seconds.
+    pub fn new(state: HandState, dt: f64) -> Self {
+        Self {
+            state,
+            fault: None,
+            dt,
+            rng: 0x9E37_79B9_7F4A_7C15,
+            slip_angle: 0.0,
+        }
+    }
+
+    /// The true state.
+    pub fn state(&self) -> &HandState {
+        &self.state
+    }
+
+    /// Starts (or with `None`, clears) a simulated fault.
+    pub fn inject(&mut self, fault: Option<InjectedFault>) {
+        self.fault = fault;
+        self.slip_angle = 0.0;
+    }
+
+    /// The active simulated fault.
+    pub fn fault(&self) -> Option<InjectedFault> {
+        self.fault
+    }
+
+    /// Deterministic noise in [−1, 1]³ summed three times (≈ Gaussian,
+    /// σ ≈ 1): xorshift, no allocation.
+    fn noise(&mut self) -> f64 {
+        let mut sum = 0.0;
+        for _ in 0..3 {
+            self.rng ^= self.rng << 13;
+            self.rng ^= self.rng >> 7;
+            self.rng ^= self.rng << 17;
+            sum += (self.rng >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
+        }
+        sum
+    }
+}
+
+impl Plant for KinematicHand {
+    fn write(&mut self, setpoint: &Setpoint) {
+        let stuck = match self.fault {
+            Some(InjectedFault::Stuck { finger }) => Some(finger),
+            _ => None,
+        };
+        for (k, f) in self.state.fingers.iter_mut().enumerate() {
+            if stuck != Some(k) {
+                *f = setpoint.state.fingers[k];
+            }
+        }
+        self.state.object = setpoint.state.object;
+        if let Some(InjectedFault::Slip { axis, rate }) = self.fault {
+            // Accumulated slip on top of the commanded orientation.
+            self.slip_angle += rate * self.dt;
+            self.state.object =
+                UnitQuaternion::from_scaled_axis(axis * self.slip_angle) * self.state.object;
+        }
+    }
+
+    fn read(&mut self) -> Option<Measurement> {
+        let mut m = Measurement::of(&self.state);
+        match self.fault {
+            Some(InjectedFault::Missing) => return None,
+            Some(InjectedFault::Noise { position, angle }) => {
+                for f in m.fingers.iter_mut() {
+                    let d = Vector3::new(self.noise(), self.noise(), self.noise());
+                    f.center += d * position;
+                }
+                let w = Vector3::new(self.noise(), self.noise(), self.noise());
+                m.object = UnitQuaternion::from_scaled_axis(w * angle) * m.object;
+            }
+            _ => {}
+        }
+        Some(m)
+    }
+}

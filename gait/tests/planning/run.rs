@@ -1,0 +1,147 @@
+//! Runs the executor against the kinematic hand with a synchronous planner,
+//! checking every tick independently (SPEC §1.3) and the setpoint stream's
+//! continuity.
+
+use gait::executor::{Command, Event, Executor, GoalState, Phase, TickReport};
+use gait::hand::InvariantChecker;
+use gait::planner::{Planner, Setpoint};
+use gait::sim::{KinematicHand, Plant};
+use gait::{HandConfig, HandState};
+use nalgebra::Vector3;
+
+use super::verify::{Checker, Violation};
+
+/// Largest plausible change of a setpoint velocity per tick divided by dt
+/// (a bound on Cartesian acceleration: limits × lever arms, generous).
+pub const MAX_ACC: f64 = 30.0;
+/// Same for the change of acceleration (jerk bound).
+pub const MAX_JERK: f64 = 600.0;
+
+/// Everything a run measured.
+#[derive(Debug, Default)]
+pub struct RunStats {
+    pub ticks: u64,
+    pub violations: Vec<(u64, Violation)>,
+    pub slips: u64,
+    pub discontinuities: Vec<(u64, &'static str, f64)>,
+    pub goals: Vec<(u64, GoalState)>,
+    pub faults: u64,
+}
+
+/// The executor, its plant and planner, ticking together.
+pub struct Rig {
+    pub cfg: HandConfig,
+    pub dt: f64,
+    pub exec: Executor,
+    pub plant: KinematicHand,
+    pub planner: Planner,
+    checker: Checker,
+    slip: InvariantChecker,
+    prev: Option<Setpoint>,
+    prev_vel: Option<[Vector3<f64>; 4]>,
+    prev_acc: Option<[Vector3<f64>; 4]>,
+    pub stats: RunStats,
+}
+
+fn velocities(sp: &Setpoint) -> [Vector3<f64>; 4] {
+    [
+        sp.object_rate,
+        sp.finger_velocity[0],
+        sp.finger_velocity[1],
+        sp.finger_velocity[2],
+    ]
+}
+
+impl Rig {
+    pub fn new(cfg: HandConfig, start: HandState, dt: f64) -> Self {
+        Self {
+            exec: Executor::new(&cfg, dt, start).unwrap(),
+            plant: KinematicHand::new(start, dt),
+            planner: Planner::new(&cfg).unwrap(),
+            checker: Checker::new(&cfg),
+            slip: InvariantChecker::new(&cfg).unwrap(),
+            cfg,
+            dt,
+            prev: None,
+            prev_vel: None,
+            prev_acc: None,
+            stats: RunStats::default(),
+        }
+    }
+
+    /// One tick: read, tick, write, answer plan requests, check.
+    pub fn tick(&mut self) -> TickReport {
+        let m = self.plant.read();
+        let rep = *self.exec.tick(m.as_ref());
+        self.plant.write(&rep.setpoint);
+        if let Some(req) = self.exec.take_plan_request() {
+            let plan = req.target.plan(&self.planner, &req.start).map(Box::new);
+            drop(self.exec.deliver_plan(req.goal, plan));
+        }
+        while let Some(e) = self.exec.pop_event() {
+            match e {
+                Event::Goal { id, state, .. } if state.is_terminal() => {
+                    self.stats.goals.push((id, state))
+                }
+                Event::Fault { .. } => self.stats.faults += 1,
+                _ => {}
+            }
+        }
+        self.check(&rep);
+        rep
+    }
+
+    fn check(&mut self, rep: &TickReport) {
+        let t = rep.tick;
+        self.stats.ticks += 1;
+        let mut v = Vec::new();
+        self.checker.check(&rep.setpoint.state, 0, &mut v);
+        self.stats.violations.extend(v.into_iter().map(|x| (t, x)));
+        if let Some(prev) = &self.prev
+            && let Ok(slip) = self.slip.check_slip(&prev.state, &rep.setpoint.state)
+            && !slip.ok()
+        {
+            self.stats.slips += 1;
+        }
+        let vel = velocities(&rep.setpoint);
+        if let Some(pv) = self.prev_vel {
+            let acc: [Vector3<f64>; 4] = std::array::from_fn(|i| (vel[i] - pv[i]) / self.dt);
+            for a in &acc {
+                if a.norm() > MAX_ACC {
+                    self.stats.discontinuities.push((t, "velocity", a.norm()));
+                }
+            }
+            if let Some(pa) = self.prev_acc {
+                for i in 0..4 {
+                    let j = (acc[i] - pa[i]).norm() / self.dt;
+                    if j > MAX_JERK {
+                        self.stats.discontinuities.push((t, "acceleration", j));
+                    }
+                }
+            }
+            self.prev_acc = Some(acc);
+        }
+        self.prev_vel = Some(vel);
+        self.prev = Some(rep.setpoint);
+    }
+
+    /// Sends a command.
+    pub fn command(&mut self, c: Command) -> gait::executor::Answer {
+        self.exec.command(c)
+    }
+
+    /// Ticks until the executor holds still (or `max` ticks).
+    pub fn run_until_idle(&mut self, max: u64) -> u64 {
+        let mut n = 0;
+        loop {
+            let r = self.tick();
+            n += 1;
+            if (r.phase == Phase::Holding || r.phase == Phase::SafeHold) && n > 1 {
+                return n;
+            }
+            if n >= max {
+                return n;
+            }
+        }
+    }
+}
