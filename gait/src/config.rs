@@ -240,9 +240,9 @@ pub struct FeedbackConfig {
 impl Default for FeedbackConfig {
     fn default() -> Self {
         Self {
-            object_tolerance_deg: 0.5,
-            finger_tolerance: 0.002,
-            contact_tolerance: 0.002,
+            object_tolerance_deg: 0.1,
+            finger_tolerance: 0.0005,
+            contact_tolerance: 0.0005,
             stall_ratio: 0.1,
             orientation_gain: 10.0,
         }

@@ -219,19 +219,21 @@ pub enum Motion {
     },
 }
 
-/// What a step does, for people and for gait counting.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// What a step does, for people and for gait counting. The codes are
+/// stable (they cross process boundaries).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
 pub enum StepKind {
     /// Rolling on the object (object still).
-    Roll,
+    Roll = 0,
     /// Object rotation by a grasping pair (or triple).
-    Rotate,
+    Rotate = 1,
     /// A free finger travelling above the object.
-    Transfer,
+    Transfer = 2,
     /// A free finger descending to make contact (one gait).
-    Place,
+    Place = 3,
     /// A grasping finger leaving the object (one gait).
-    Lift,
+    Lift = 4,
 }
 
 /// One primitive with its exact start state.

@@ -1,0 +1,153 @@
+//! Zero heap allocations per executor tick over ≥ 10⁵ ticks that include
+//! rolling, gaits, preemption, cancels and faults (SPEC §6.1, §11). A
+//! counting global allocator counts only inside `Executor::tick` and
+//! `Executor::command` (planning, which allocates, runs outside them, as it
+//! does on the daemon's planner thread).
+
+mod planning;
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use gait::executor::{Command, Executor, GoalTarget};
+use gait::planner::{Planner, StepKind};
+use gait::sim::{InjectedFault, KinematicHand, Plant};
+use gait::{HandConfig, HandState};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+struct Counting;
+
+static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
+thread_local! {
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+}
+
+// SAFETY: forwards to the system allocator; only counts.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if COUNTING.with(Cell::get) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        if COUNTING.with(Cell::get) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: same contract as the caller's.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if COUNTING.with(Cell::get) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        // SAFETY: same contract as the caller's.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn counted<T>(f: impl FnOnce() -> T) -> T {
+    COUNTING.with(|c| c.set(true));
+    let r = f();
+    COUNTING.with(|c| c.set(false));
+    r
+}
+
+/// Runs a random mix of goals, cancels, holds, faults and resets for
+/// `ticks` ticks from `start`; returns the step kinds seen and goals sent.
+fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool; 5], u64) {
+    let planner = Planner::new(cfg).unwrap();
+    let mut exec = Executor::new(cfg, 1e-3, start).unwrap();
+    let mut plant = KinematicHand::new(start, 1e-3);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut old_plans = Vec::new();
+    let mut seen = [false; 5];
+    let mut id = 0;
+    let mut next_event = 300;
+    let mut clear_fault_at = None;
+    for t in 0..ticks {
+        let m = plant.read();
+        let rep = *counted(|| exec.tick(m.as_ref()));
+        plant.write(&rep.setpoint);
+        if let Some(k) = rep.step_kind {
+            seen[k as usize] = true;
+        }
+        counted(|| while exec.pop_event().is_some() {});
+        if let Some(req) = exec.take_plan_request() {
+            let plan = req.target.plan(&planner, &req.start).map(Box::new);
+            let old = counted(|| exec.deliver_plan(req.goal, plan));
+            old_plans.extend(old); // freed here, off the "loop"
+        }
+        if t == next_event {
+            next_event += rng.random_range(200..2000);
+            let cmd = match rng.random_range(0..14) {
+                0 => Command::Cancel,
+                1 => Command::Hold,
+                2 => {
+                    plant.inject(Some(InjectedFault::Missing));
+                    clear_fault_at = Some(t + 20);
+                    Command::Hold
+                }
+                _ => {
+                    id += 1;
+                    Command::Goal {
+                        id,
+                        target: GoalTarget::Orientation(planning::haar(&mut rng)),
+                        speed: 1.0,
+                    }
+                }
+            };
+            counted(|| exec.command(cmd));
+        }
+        if clear_fault_at == Some(t) {
+            plant.inject(None);
+            clear_fault_at = None;
+        }
+        if exec.phase() == gait::executor::Phase::SafeHold && plant.fault().is_none() {
+            counted(|| exec.command(Command::Reset));
+        }
+    }
+    (seen, id)
+}
+
+#[test]
+fn executor_ticks_do_not_allocate() {
+    let cfg = HandConfig::default();
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    // From the paper's start (rolling) and from a random two-finger state
+    // whose free finger hovers low (transfers).
+    let (a, goals_a) = run_mix(&cfg, HandState::paper_start(&cfg), 70_000, 99);
+    let mut random = planning::random_two_finger_state(&mut rng, &cfg);
+    let free = (0..3)
+        .find(|&k| random.fingers[k].mode == gait::FingerMode::Free)
+        .unwrap();
+    let dir = random.fingers[free].center.normalize();
+    random.fingers[free].center = dir * 0.61;
+    let (b, goals_b) = run_mix(&cfg, random, 50_000, 98);
+    let seen: [bool; 5] = std::array::from_fn(|i| a[i] || b[i]);
+    let id = goals_a + goals_b;
+    let ticks = 120_000;
+    let kinds = [
+        StepKind::Roll,
+        StepKind::Rotate,
+        StepKind::Transfer,
+        StepKind::Place,
+        StepKind::Lift,
+    ];
+    for k in kinds {
+        assert!(seen[k as usize], "no {k:?} step ran ({seen:?}, {id} goals)");
+    }
+    println!("{id} goals, step kinds seen {seen:?}");
+    assert!(id > 20, "{id} goals");
+    assert_eq!(
+        ALLOCATIONS.load(Ordering::Relaxed),
+        0,
+        "allocations in {ticks} ticks"
+    );
+}

@@ -1,0 +1,145 @@
+//! Goals, cancels and holds arriving mid-execution (mid-gait, mid-roll):
+//! the setpoint stream stays continuous, every tick stays within the
+//! invariants, and the last goal is reached.
+
+mod planning;
+
+use gait::executor::{Command, GoalState, GoalTarget, Phase};
+use gait::planner::StepKind;
+use gait::{HandConfig, HandState};
+use planning::run::Rig;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::collections::BTreeMap;
+
+#[test]
+fn interruptions_keep_the_stream_continuous_and_valid() {
+    let cfg = HandConfig::default();
+    let mut rng = ChaCha8Rng::seed_from_u64(21);
+    let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
+    let mut interrupted: BTreeMap<&'static str, u32> = BTreeMap::new();
+    let mut id = 0u64;
+    let mut last_goal = None;
+    for round in 0..60 {
+        // Let something run for a random while, then interrupt it.
+        let wait = rng.random_range(50..2500);
+        for _ in 0..wait {
+            rig.tick();
+        }
+        let r = *rig.exec.report();
+        let what = match (r.phase, r.step_kind) {
+            (Phase::Moving | Phase::Stopping, Some(StepKind::Roll)) => "roll",
+            (Phase::Moving | Phase::Stopping, Some(StepKind::Place | StepKind::Lift)) => "gait",
+            (Phase::Moving | Phase::Stopping, Some(StepKind::Transfer)) => "transfer",
+            (Phase::Moving | Phase::Stopping, Some(StepKind::Rotate)) => "rotate",
+            _ => "rest",
+        };
+        *interrupted.entry(what).or_default() += 1;
+        let choice = if round % 10 == 0 {
+            0
+        } else {
+            rng.random_range(0..10)
+        };
+        match choice {
+            0 => {
+                rig.command(Command::Cancel);
+            }
+            1 => {
+                rig.command(Command::Hold);
+            }
+            _ => {
+                id += 1;
+                let goal = planning::haar(&mut rng);
+                rig.command(Command::Goal {
+                    id,
+                    target: GoalTarget::Orientation(goal),
+                    speed: 1.0,
+                });
+                last_goal = Some((id, goal));
+            }
+        }
+    }
+    // The last word: one more goal, run to the end.
+    id += 1;
+    let goal = planning::haar(&mut rng);
+    rig.command(Command::Goal {
+        id,
+        target: GoalTarget::Orientation(goal),
+        speed: 1.0,
+    });
+    last_goal = Some((id, goal)).or(last_goal);
+    rig.run_until_idle(200_000);
+    let (last_id, last_q) = last_goal.unwrap();
+    let err = rig.exec.setpoint().state.object.angle_to(&last_q);
+    println!(
+        "interrupted while: {interrupted:?}; {} ticks",
+        rig.stats.ticks
+    );
+    let s = &rig.stats;
+    assert!(
+        s.violations.is_empty(),
+        "{:?}",
+        &s.violations[..s.violations.len().min(5)]
+    );
+    assert_eq!(s.slips, 0);
+    assert!(
+        s.discontinuities.is_empty(),
+        "{:?}",
+        &s.discontinuities[..s.discontinuities.len().min(5)]
+    );
+    assert_eq!(s.faults, 0);
+    assert!(err < 1e-6, "last goal error {err}");
+    assert_eq!(s.goals.last(), Some(&(last_id, GoalState::Succeeded)));
+    for kind in ["gait", "rotate", "transfer"] {
+        assert!(
+            interrupted.get(kind).copied().unwrap_or(0) > 0,
+            "never interrupted a {kind}"
+        );
+    }
+}
+
+#[test]
+fn a_goal_preempts_the_initial_roll() {
+    let cfg = HandConfig::default();
+    let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    rig.command(Command::Goal {
+        id: 1,
+        target: GoalTarget::Orientation(planning::haar(&mut rng)),
+        speed: 1.0,
+    });
+    // Tick into the roll to a two-finger grasp.
+    let mut ticks = 0;
+    while rig.exec.report().step_kind != Some(StepKind::Roll) {
+        rig.tick();
+        ticks += 1;
+        assert!(ticks < 100, "the plan starts with a roll");
+    }
+    for _ in 0..300 {
+        rig.tick();
+    }
+    assert_eq!(rig.exec.report().step_kind, Some(StepKind::Roll));
+    let goal = planning::haar(&mut rng);
+    rig.command(Command::Goal {
+        id: 2,
+        target: GoalTarget::Orientation(goal),
+        speed: 1.0,
+    });
+    rig.run_until_idle(100_000);
+    let s = &rig.stats;
+    assert!(
+        s.violations.is_empty(),
+        "{:?}",
+        &s.violations[..s.violations.len().min(5)]
+    );
+    assert!(
+        s.discontinuities.is_empty(),
+        "{:?}",
+        &s.discontinuities[..s.discontinuities.len().min(5)]
+    );
+    assert_eq!(
+        s.goals,
+        vec![(1, GoalState::Preempted), (2, GoalState::Succeeded)]
+    );
+    assert!(rig.exec.setpoint().state.object.angle_to(&goal) < 1e-6);
+}
