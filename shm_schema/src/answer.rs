@@ -1,4 +1,4 @@
-//! daemon → client: [`Answer`], the response of the `goals` service.
+//! daemon → client: [`Answer`] (`answers` service), one per command.
 
 use crate::codes::{AnswerCode, CommandKind, ReasonCode, UnknownCode};
 use iceoryx2::prelude::ZeroCopySend;
@@ -7,13 +7,15 @@ use iceoryx2::prelude::ZeroCopySend;
 /// or rejected with a reason. The goal's later progress is in
 /// [`Status`](crate::Status) and [`Event`](crate::Event)s.
 ///
-/// Type name `gaitd::Answer.v1`, 48 bytes, alignment 8.
+/// Type name `gaitd::Answer.v1`, 56 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::Answer.v1")]
 pub struct Answer {
     /// Echo of the command's `client_id`.
     pub client_id: u64,
+    /// Echo of the command's `request_id`.
+    pub request_id: u64,
     /// Echo of the command's `goal_id`.
     pub goal_id: u64,
     /// Echo of the command's `kind` (as received, even if invalid).
@@ -30,7 +32,7 @@ pub struct Answer {
     pub instance: u64,
 }
 
-const _: () = assert!(core::mem::size_of::<Answer>() == 48);
+const _: () = assert!(core::mem::size_of::<Answer>() == 56);
 const _: () = assert!(core::mem::align_of::<Answer>() == 8);
 
 /// A decoded [`Answer`].
@@ -65,6 +67,7 @@ impl Answer {
         };
         Self {
             client_id: cmd.client_id,
+            request_id: cmd.request_id,
             goal_id: cmd.goal_id,
             command: cmd.kind,
             code: code.code(),

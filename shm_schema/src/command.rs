@@ -1,5 +1,4 @@
-//! client → daemon: [`Command`] (request of the `goals` service) and its
-//! validation into a typed [`ValidCommand`].
+//! client → daemon: [`Command`] (`commands` service) and its validation into a typed [`ValidCommand`].
 
 use crate::codes::{CommandKind, GoalFrame, ReasonCode};
 use iceoryx2::prelude::ZeroCopySend;
@@ -54,7 +53,7 @@ pub const fn limit_bit(kind: LimitKind, order: LimitOrder) -> u32 {
 /// A command from a client: a reorientation goal, cancel, hold or reset
 /// (SPEC §6.4, §7.3). Fields a command kind does not use must be zero.
 ///
-/// Type name `gaitd::Command.v1`, 136 bytes, alignment 8.
+/// Type name `gaitd::Command.v1`, 144 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::Command.v1")]
@@ -66,6 +65,9 @@ pub struct Command {
     /// Non-zero id the client chose for itself (e.g. at connect); goal ids
     /// are unique per client.
     pub client_id: u64,
+    /// Any value the client chooses to match the [`Answer`](crate::Answer)
+    /// (echoed); e.g. a counter.
+    pub request_id: u64,
     /// Goal: the new goal's id (non-zero). Cancel: the goal to cancel, 0 =
     /// whichever is active. Hold, Reset: 0.
     pub goal_id: u64,
@@ -85,7 +87,7 @@ pub struct Command {
 }
 
 const _: () = assert!(core::mem::size_of::<MotionLimits>() == 24);
-const _: () = assert!(core::mem::size_of::<Command>() == 136);
+const _: () = assert!(core::mem::size_of::<Command>() == 144);
 const _: () = assert!(core::mem::align_of::<Command>() == 8);
 
 impl Command {
@@ -94,6 +96,7 @@ impl Command {
         kind: 0,
         frame: 0,
         client_id: 0,
+        request_id: 0,
         goal_id: 0,
         target: [0.0; 4],
         limit_mask: 0,
@@ -517,7 +520,9 @@ mod tests {
             let mut c = Command::ZERO;
             // Mix fully random bytes with mostly-valid commands mutated in one field.
             if i % 2 == 0 {
-                let bytes: &mut [u8; 136] = unsafe { &mut *(&raw mut c).cast() };
+                // SAFETY: Command is plain old data (integers and floats,
+                // explicit padding), so every byte pattern is a valid value.
+                let bytes: &mut [u8; 144] = unsafe { &mut *(&raw mut c).cast() };
                 rng.fill(&mut bytes[..]);
             } else {
                 c = Command::goal(

@@ -122,6 +122,52 @@ impl IpcSettings {
     }
 }
 
+/// What a process asks for; `None` = not set explicitly (config key or
+/// command-line flag). See the module docs for the resolution order.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct IpcRequest {
+    /// Service-name prefix.
+    pub service_prefix: Option<String>,
+    /// iceoryx2 config file to load.
+    pub iceoryx2_config: Option<String>,
+    /// iceoryx2 root path.
+    pub root_path: Option<String>,
+    /// iceoryx2 file prefix.
+    pub file_prefix: Option<String>,
+}
+
+impl IpcRequest {
+    /// Fills every unset value from the environment (`env(name)`; empty
+    /// values count as unset).
+    pub fn or_env(mut self, env: impl Fn(&str) -> Option<String>) -> Self {
+        let get = |k: &str| env(k).filter(|v| !v.is_empty());
+        self.service_prefix = self.service_prefix.or_else(|| get(ENV_PREFIX));
+        self.iceoryx2_config = self.iceoryx2_config.or_else(|| get(ENV_ICEORYX2_CONFIG));
+        self.root_path = self.root_path.or_else(|| get(ENV_ROOT_PATH));
+        self.file_prefix = self.file_prefix.or_else(|| get(ENV_FILE_PREFIX));
+        self
+    }
+
+    /// The final settings: explicit values, else those of the loaded
+    /// iceoryx2 config `file`, else the defaults.
+    pub fn resolve(&self, file: Option<&Config>, uid: u32, run_dir_exists: bool) -> IpcSettings {
+        IpcSettings {
+            service_prefix: self
+                .service_prefix
+                .clone()
+                .unwrap_or_else(|| crate::DEFAULT_PREFIX.to_owned()),
+            root_path: self.root_path.clone().unwrap_or_else(|| match file {
+                Some(c) => c.global.root_path().to_string(),
+                None => default_root_path(uid, run_dir_exists),
+            }),
+            file_prefix: self.file_prefix.clone().unwrap_or_else(|| match file {
+                Some(c) => c.global.prefix.as_str().to_owned(),
+                None => DEFAULT_FILE_PREFIX.to_owned(),
+            }),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -156,6 +202,30 @@ mod tests {
             s("a", "/tmp", "a/b").validate(),
             Err(IpcSettingsError::BadFilePrefix)
         );
+    }
+
+    #[test]
+    fn explicit_beats_env_beats_file_beats_default() {
+        let env = |k: &str| match k {
+            ENV_PREFIX => Some("from-env".to_owned()),
+            ENV_FILE_PREFIX => Some(String::new()),
+            _ => None,
+        };
+        let r = IpcRequest {
+            root_path: Some("/explicit/".into()),
+            ..Default::default()
+        }
+        .or_env(env);
+        let mut file = Config::default();
+        file.global.prefix = FileName::new(b"file_").unwrap();
+        let s = r.resolve(Some(&file), 1000, false);
+        assert_eq!(s.service_prefix, "from-env");
+        assert_eq!(s.root_path, "/explicit/");
+        assert_eq!(s.file_prefix, "file_");
+        let s = IpcRequest::default().resolve(None, 1000, false);
+        assert_eq!(s.file_prefix, DEFAULT_FILE_PREFIX);
+        assert_eq!(s.root_path, "/tmp/gaitd-1000/iceoryx2/");
+        assert_eq!(s.service_prefix, crate::DEFAULT_PREFIX);
     }
 
     #[test]

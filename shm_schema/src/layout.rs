@@ -117,6 +117,7 @@ pub fn layouts() -> Vec<TypeLayout> {
                     "goal target meaning (goals only, else 0)"
                 ),
                 f!(Command, client_id, "", "sender's non-zero id"),
+                f!(Command, request_id, "", "any value, echoed in the answer"),
                 f!(
                     Command,
                     goal_id,
@@ -178,6 +179,7 @@ pub fn layouts() -> Vec<TypeLayout> {
             "Answer",
             vec![
                 f!(Answer, client_id, "", "echo of the command's client_id"),
+                f!(Answer, request_id, "", "echo of the command's request_id"),
                 f!(Answer, goal_id, "", "echo of the command's goal_id"),
                 f!(
                     Answer,
@@ -430,11 +432,12 @@ pub fn layout_markdown() -> String {
          same type names. Quaternions are `[w, x, y, z]` Hamilton, unit norm.\n\n\
          ## Services (prefix `{DEFAULT_PREFIX}`, configurable)\n\n\
          | service | pattern | payload | notes |\n|---|---|---|---|\n\
-         | `{}` | request-response | `Command` → `Answer` | one answer per command |\n\
+         | `{}` | publish-subscribe | `Command` | client → daemon, one publisher per client |\n\
+         | `{}` | publish-subscribe | `Answer` | one per command, match `client_id` + `request_id` |\n\
          | `{}` | publish-subscribe | `Status` | every tick, history 1, latest value |\n\
          | `{}` | publish-subscribe | `Event` | with history |\n\
          | `{}` | event | — | wake-ups, ids below |\n",
-        names.goals, names.status, names.events, names.notify
+        names.commands, names.answers, names.status, names.events, names.notify
     );
     let _ = writeln!(
         s,

@@ -5,11 +5,16 @@
 //! maths, no nalgebra, no I/O, so that a C or Python client can mirror it.
 //!
 //! Messages are named by direction (as in dora's `node_to_daemon`):
-//! - client → daemon: [`Command`] (request of the `goals` service), checked
-//!   with [`Command::validate`] into a [`ValidCommand`] or a [`ReasonCode`];
-//! - daemon → client: [`Answer`] (its response), [`Status`] (every tick,
-//!   latest value), [`Event`] (with history), and wake-up notifications on
-//!   the `notify` event service.
+//! - client → daemon: [`Command`] (`commands` service), checked with
+//!   [`Command::validate`] into a [`ValidCommand`] or a [`ReasonCode`];
+//! - daemon → client: [`Answer`] (`answers`, one per command, matched by
+//!   `client_id` and `request_id`), [`Status`] (every tick, latest value),
+//!   [`Event`] (with history), and wake-up notifications on the `notify`
+//!   event service.
+//!
+//! Commands and answers use publish-subscribe, not iceoryx2's
+//! request-response: in 0.10 `Server::receive` allocates per request, and
+//! the daemon's loop thread must not allocate.
 //!
 //! Every payload is `#[repr(C)]`, `Copy`, `ZeroCopySend`, fixed size with
 //! explicit padding and a versioned iceoryx2 type name
@@ -69,8 +74,10 @@ pub const EVENT_ID_MAX: usize = 7;
 /// The services of one daemon instance, all under one prefix.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ServiceNames {
-    /// client → daemon commands, daemon → client answers (request-response).
-    pub goals: String,
+    /// client → daemon [`Command`]s (publish-subscribe, one publisher per client).
+    pub commands: String,
+    /// daemon → clients [`Answer`]s (publish-subscribe; match `client_id`, `request_id`).
+    pub answers: String,
     /// daemon → clients status, latest value (publish-subscribe).
     pub status: String,
     /// daemon → clients events, with history (publish-subscribe).
@@ -80,10 +87,11 @@ pub struct ServiceNames {
 }
 
 impl ServiceNames {
-    /// Names under `prefix` (e.g. `"gaitd"` → `"gaitd/goals"`, …).
+    /// Names under `prefix` (e.g. `"gaitd"` → `"gaitd/commands"`, …).
     pub fn new(prefix: &str) -> Self {
         Self {
-            goals: format!("{prefix}/goals"),
+            commands: format!("{prefix}/commands"),
+            answers: format!("{prefix}/answers"),
             status: format!("{prefix}/status"),
             events: format!("{prefix}/events"),
             notify: format!("{prefix}/notify"),
@@ -98,7 +106,8 @@ mod tests {
     #[test]
     fn names_share_the_prefix() {
         let n = ServiceNames::new("test-1");
-        assert_eq!(n.goals, "test-1/goals");
+        assert_eq!(n.commands, "test-1/commands");
+        assert_eq!(n.answers, "test-1/answers");
         assert_eq!(n.status, "test-1/status");
         assert_eq!(n.events, "test-1/events");
         assert_eq!(n.notify, "test-1/notify");
