@@ -19,6 +19,7 @@ use crate::handoff::{self, Consumer, Producer};
 use crate::ipc::{IpcError, OutPorts, OutServices};
 use crate::runtime::Shared;
 use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::*;
 use shm_schema::{
     Answer, DaemonState, EVENT_ID_ANSWER, EVENT_ID_EVENT, EVENT_ID_STATUS, Event, ServiceNames,
@@ -202,6 +203,12 @@ fn run(
             {
                 errors += 1;
             }
+        }
+        // A publisher connects new subscribers (and hands them the event
+        // history) only when it sends or is told to; events are rare, so
+        // connect late joiners here instead of at the next event.
+        if ports.events.update_connections().is_err() {
+            errors += 1;
         }
         if errors > 0 {
             shared.ipc_errors.fetch_add(errors, Ordering::Relaxed);
