@@ -44,6 +44,13 @@ fn main() -> Result<()> {
     let cfg = DaemonConfig::load(&args.config)?;
     if args.check_config {
         println!("{}", toml::to_string_pretty(&cfg)?);
+        // Also resolve where the iceoryx2 resources will live (loads the
+        // iceoryx2 config file if one is named, so a bad one fails here).
+        let (_, ipc) = ipc::resolve(&cfg.ipc)?;
+        eprintln!(
+            "ipc: service prefix {}, iceoryx2 root {}, file prefix {}",
+            ipc.service_prefix, ipc.root_path, ipc.file_prefix
+        );
         eprintln!("config OK: {}", args.config);
         return Ok(());
     }
