@@ -23,8 +23,111 @@ impl Default for ControlConfig {
     }
 }
 
+/// `[daemon]`: what the loop does besides control.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DaemonSection {
+    /// Publish the status every this many ticks (1 = every tick).
+    pub status_every: u32,
+    /// Wake waiting clients (status notification) every this many published
+    /// statuses; answers and events always notify at once. A notification is
+    /// one syscall per listening client, made by the writer thread (not the
+    /// loop); raise this to save that CPU when clients need fewer wake-ups.
+    pub status_notify_every: u32,
+    /// Commands taken from the queue per tick at most (the rest wait a tick).
+    pub max_commands_per_tick: u32,
+    /// Recent (client, goal id) pairs remembered to refuse duplicate ids.
+    pub goal_id_memory: u32,
+    /// On SIGTERM/SIGINT, how long the controller may take to come to rest
+    /// before the final status is published anyway [ms].
+    pub shutdown_timeout_ms: u32,
+    /// Housekeeping period: dead-node cleanup, client count, STATUS= [ms].
+    pub housekeeping_period_ms: u32,
+}
+
+impl Default for DaemonSection {
+    fn default() -> Self {
+        Self {
+            status_every: 1,
+            status_notify_every: 1,
+            max_commands_per_tick: 8,
+            goal_id_memory: 1024,
+            shutdown_timeout_ms: 2000,
+            housekeeping_period_ms: 1000,
+        }
+    }
+}
+
+/// `[ipc]`: iceoryx2 services (SPEC §7.3). Empty strings mean: take the
+/// environment variable (`GAITD_PREFIX`, `GAITD_IPC_CONFIG`,
+/// `GAITD_IPC_ROOT`, `GAITD_IPC_FILE_PREFIX`), then the iceoryx2 config
+/// file's value, then the built-in default; clients resolve the same way.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct IpcSection {
+    /// Service-name prefix (default `gaitd`).
+    pub service_prefix: String,
+    /// iceoryx2 config file to load (the service uses /etc/gaitd/iceoryx2.toml).
+    pub iceoryx2_config: String,
+    /// iceoryx2 root path override.
+    pub root_path: String,
+    /// iceoryx2 file prefix override (names in /dev/shm).
+    pub file_prefix: String,
+    /// Most clients at once (publishers of commands, status/event readers, listeners).
+    pub max_clients: u32,
+    /// Commands buffered per client before its sends are refused.
+    pub command_queue: u32,
+    /// Answers buffered per client (oldest dropped when full).
+    pub answer_buffer: u32,
+    /// Events kept as history for late subscribers.
+    pub event_history: u32,
+    /// Events buffered per client (oldest dropped when full).
+    pub event_buffer: u32,
+}
+
+impl Default for IpcSection {
+    fn default() -> Self {
+        Self {
+            service_prefix: String::new(),
+            iceoryx2_config: String::new(),
+            root_path: String::new(),
+            file_prefix: String::new(),
+            max_clients: 16,
+            command_queue: 8,
+            answer_buffer: 16,
+            event_history: 64,
+            event_buffer: 256,
+        }
+    }
+}
+
+/// `[rt]`: real-time setup, applied when permitted (SPEC §7.1).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RtSection {
+    /// Lock all memory (mlockall) so the loop never page-faults.
+    pub lock_memory: bool,
+    /// SCHED_FIFO priority of the loop thread, 1–99; 0 = normal scheduling.
+    pub fifo_priority: u32,
+    /// CPUs the loop thread may run on (empty: no pinning).
+    pub loop_cpus: Vec<u32>,
+    /// CPUs of the other threads (empty: no pinning).
+    pub background_cpus: Vec<u32>,
+}
+
+impl Default for RtSection {
+    fn default() -> Self {
+        Self {
+            lock_memory: true,
+            fifo_priority: 80,
+            loop_cpus: Vec::new(),
+            background_cpus: Vec::new(),
+        }
+    }
+}
+
 /// The whole daemon configuration file.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DaemonConfig {
     /// `[model]`: geometry, friction, workspace, margins.
@@ -39,6 +142,201 @@ pub struct DaemonConfig {
     pub feedback: FeedbackConfig,
     /// `[control]`: loop rate.
     pub control: ControlConfig,
+    /// `[daemon]`: status rate, command intake, shutdown, housekeeping.
+    pub daemon: DaemonSection,
+    /// `[ipc]`: iceoryx2 services.
+    pub ipc: IpcSection,
+    /// `[rt]`: real-time setup.
+    pub rt: RtSection,
+}
+
+/// A key whose value is refused. Every variant names the key as written in
+/// the TOML file.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum KeyError {
+    /// A key of the model sections (`[model]`, `[load]`, `[limits]`) or a rate.
+    #[error(transparent)]
+    Model(#[from] ConfigError),
+    /// An integer out of its range.
+    #[error("config key `{key}` = {value} is out of range: {expected}")]
+    OutOfRange {
+        /// Key, as written in the TOML file.
+        key: &'static str,
+        /// The value found.
+        value: i64,
+        /// The allowed range, in words.
+        expected: &'static str,
+    },
+    /// A value that is not usable for another reason.
+    #[error("config key `{key}`: {why}")]
+    Invalid {
+        /// Key, as written in the TOML file.
+        key: &'static str,
+        /// What is wrong.
+        why: &'static str,
+    },
+}
+
+fn int_range(
+    key: &'static str,
+    value: u32,
+    lo: u32,
+    hi: u32,
+    expected: &'static str,
+) -> Result<(), KeyError> {
+    if (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(KeyError::OutOfRange {
+            key,
+            value: value.into(),
+            expected,
+        })
+    }
+}
+
+fn cpu_list(key: &'static str, cpus: &[u32]) -> Result<(), KeyError> {
+    for (i, &c) in cpus.iter().enumerate() {
+        if c >= 1024 {
+            return Err(KeyError::OutOfRange {
+                key,
+                value: c.into(),
+                expected: "CPU numbers in [0, 1023]",
+            });
+        }
+        if cpus[..i].contains(&c) {
+            return Err(KeyError::Invalid {
+                key,
+                why: "a CPU is listed twice",
+            });
+        }
+    }
+    Ok(())
+}
+
+impl DaemonSection {
+    fn validate(&self) -> Result<(), KeyError> {
+        int_range(
+            "daemon.status_every",
+            self.status_every,
+            1,
+            1000,
+            "in [1, 1000] ticks",
+        )?;
+        int_range(
+            "daemon.status_notify_every",
+            self.status_notify_every,
+            1,
+            10_000,
+            "in [1, 10000] statuses",
+        )?;
+        int_range(
+            "daemon.max_commands_per_tick",
+            self.max_commands_per_tick,
+            1,
+            64,
+            "in [1, 64]",
+        )?;
+        int_range(
+            "daemon.goal_id_memory",
+            self.goal_id_memory,
+            16,
+            65_536,
+            "in [16, 65536]",
+        )?;
+        int_range(
+            "daemon.shutdown_timeout_ms",
+            self.shutdown_timeout_ms,
+            0,
+            60_000,
+            "in [0, 60000] ms",
+        )?;
+        int_range(
+            "daemon.housekeeping_period_ms",
+            self.housekeeping_period_ms,
+            100,
+            60_000,
+            "in [100, 60000] ms",
+        )
+    }
+}
+
+impl IpcSection {
+    fn validate(&self) -> Result<(), KeyError> {
+        let p = &self.service_prefix;
+        if !p.is_empty()
+            && !p
+                .bytes()
+                .all(|b| b.is_ascii_alphanumeric() || b"._/-".contains(&b))
+        {
+            return Err(KeyError::Invalid {
+                key: "ipc.service_prefix",
+                why: "use only [A-Za-z0-9._/-]",
+            });
+        }
+        if !self.root_path.is_empty() && !self.root_path.starts_with('/') {
+            return Err(KeyError::Invalid {
+                key: "ipc.root_path",
+                why: "must be an absolute path",
+            });
+        }
+        if self.file_prefix.contains('/') {
+            return Err(KeyError::Invalid {
+                key: "ipc.file_prefix",
+                why: "must be a plain file name (no '/')",
+            });
+        }
+        int_range("ipc.max_clients", self.max_clients, 1, 256, "in [1, 256]")?;
+        int_range(
+            "ipc.command_queue",
+            self.command_queue,
+            1,
+            256,
+            "in [1, 256]",
+        )?;
+        int_range(
+            "ipc.answer_buffer",
+            self.answer_buffer,
+            1,
+            1024,
+            "in [1, 1024]",
+        )?;
+        int_range(
+            "ipc.event_history",
+            self.event_history,
+            0,
+            4096,
+            "in [0, 4096]",
+        )?;
+        int_range(
+            "ipc.event_buffer",
+            self.event_buffer,
+            1,
+            4096,
+            "in [1, 4096]",
+        )?;
+        if self.event_buffer < self.event_history {
+            return Err(KeyError::Invalid {
+                key: "ipc.event_buffer",
+                why: "must be at least ipc.event_history",
+            });
+        }
+        Ok(())
+    }
+}
+
+impl RtSection {
+    fn validate(&self) -> Result<(), KeyError> {
+        int_range(
+            "rt.fifo_priority",
+            self.fifo_priority,
+            0,
+            99,
+            "0 (normal scheduling) or 1-99",
+        )?;
+        cpu_list("rt.loop_cpus", &self.loop_cpus)?;
+        cpu_list("rt.background_cpus", &self.background_cpus)
+    }
 }
 
 /// Why a configuration file could not be used.
@@ -66,11 +364,16 @@ pub enum LoadError {
         /// Path as given.
         path: String,
         /// Which key and why.
-        source: ConfigError,
+        source: KeyError,
     },
 }
 
 impl DaemonConfig {
+    /// The loop period [ns] (rounded to the nearest nanosecond).
+    pub fn period_ns(&self) -> u64 {
+        (1e9 / self.control.tick_hz).round() as u64
+    }
+
     /// The model part, as the maths crate wants it.
     pub fn hand(&self) -> HandConfig {
         HandConfig {
@@ -83,23 +386,27 @@ impl DaemonConfig {
     }
 
     /// Validates every key.
-    pub fn validate(&self) -> Result<(), ConfigError> {
+    pub fn validate(&self) -> Result<(), KeyError> {
         self.hand().validate()?;
         let hz = self.control.tick_hz;
         if !hz.is_finite() {
             return Err(ConfigError::NotFinite {
                 key: "control.tick_hz",
                 value: hz,
-            });
+            }
+            .into());
         }
         if !(100.0..=10_000.0).contains(&hz) {
             return Err(ConfigError::OutOfRange {
                 key: "control.tick_hz",
                 value: hz,
                 expected: "in [100, 10000] Hz",
-            });
+            }
+            .into());
         }
-        Ok(())
+        self.daemon.validate()?;
+        self.ipc.validate()?;
+        self.rt.validate()
     }
 
     /// Parses and validates TOML text; `path` is only used in messages.
@@ -147,5 +454,38 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.to_string().contains("limits.object.velocity"), "{e}");
+    }
+
+    #[test]
+    fn new_sections_name_their_keys() {
+        let bad = [
+            ("[daemon]\nstatus_every = 0\n", "daemon.status_every"),
+            (
+                "[daemon]\nmax_commands_per_tick = 65\n",
+                "daemon.max_commands_per_tick",
+            ),
+            (
+                "[daemon]\nhousekeeping_period_ms = 5\n",
+                "daemon.housekeeping_period_ms",
+            ),
+            ("[ipc]\nservice_prefix = \"a b\"\n", "ipc.service_prefix"),
+            ("[ipc]\nroot_path = \"relative\"\n", "ipc.root_path"),
+            ("[ipc]\nfile_prefix = \"a/b\"\n", "ipc.file_prefix"),
+            ("[ipc]\nmax_clients = 0\n", "ipc.max_clients"),
+            ("[ipc]\nevent_history = 300\n", "ipc.event_buffer"),
+            ("[rt]\nfifo_priority = 100\n", "rt.fifo_priority"),
+            ("[rt]\nloop_cpus = [1, 1]\n", "rt.loop_cpus"),
+            ("[rt]\nbackground_cpus = [5000]\n", "rt.background_cpus"),
+            ("[rt]\npriority = 3\n", "priority"),
+        ];
+        for (text, key) in bad {
+            let e = DaemonConfig::from_toml(text, "x.toml").unwrap_err();
+            assert!(e.to_string().contains(key), "{text}: {e}");
+        }
+        let ok = "[daemon]\nstatus_every = 2\n[ipc]\nservice_prefix = \"t/1\"\n[rt]\nloop_cpus = [1]\nfifo_priority = 0\n";
+        let c = DaemonConfig::from_toml(ok, "x.toml").unwrap();
+        assert_eq!(c.daemon.status_every, 2);
+        assert_eq!(c.rt.loop_cpus, vec![1]);
+        assert_eq!(c.period_ns(), 1_000_000);
     }
 }

@@ -1,8 +1,25 @@
-//! `gaitd` command line.
+//! `gaitd` command line: load the config, set up IPC and the process, run
+//! the loop on the main thread (SPEC §7).
+//!
+//! Start-up order matters: services and ports first (so `READY=1` means
+//! clients can connect), then memory locking (it locks the shared memory
+//! just mapped), then the background threads (before the main thread turns
+//! SCHED_FIFO, so they do not inherit it), then `READY=1` and the loop.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Parser;
+use gaitd::clock::MonotonicClock;
 use gaitd::config::{DEFAULT_CONFIG_PATH, DaemonConfig};
+use gaitd::hold::HoldController;
+use gaitd::housekeeping::{self, HousekeepingSetup};
+use gaitd::logging::{self, LogFormat};
+use gaitd::runtime::{Runtime, Shared};
+use gaitd::{ipc, outbox, rt, sd_notify, signals};
+use iceoryx2::prelude::{LogLevel, set_log_level_from_env_or};
+use shm_schema::ipc::DAEMON_NODE_NAME;
+use std::sync::Arc;
+use std::time::Duration;
+use tracing::{info, warn};
 
 /// gaitd: real-time finger-gaiting controller daemon.
 #[derive(Parser, Debug)]
@@ -14,6 +31,12 @@ struct Args {
     /// Validate the configuration file, print the effective configuration and exit.
     #[arg(long)]
     check_config: bool,
+    /// Log format.
+    #[arg(long, value_enum, default_value_t = LogFormat::Human)]
+    log_format: LogFormat,
+    /// Log level (`RUST_LOG` overrides it).
+    #[arg(long, default_value = "info")]
+    log_level: String,
 }
 
 fn main() -> Result<()> {
@@ -21,8 +44,126 @@ fn main() -> Result<()> {
     let cfg = DaemonConfig::load(&args.config)?;
     if args.check_config {
         println!("{}", toml::to_string_pretty(&cfg)?);
+        // Also resolve where the iceoryx2 resources will live (loads the
+        // iceoryx2 config file if one is named, so a bad one fails here).
+        let (_, ipc) = ipc::resolve(&cfg.ipc)?;
+        eprintln!(
+            "ipc: service prefix {}, iceoryx2 root {}, file prefix {}",
+            ipc.service_prefix, ipc.root_path, ipc.file_prefix
+        );
         eprintln!("config OK: {}", args.config);
         return Ok(());
     }
-    anyhow::bail!("the control loop is not built yet (issue 5); only --check-config works")
+    logging::init(args.log_format, &args.log_level);
+    // iceoryx2 prints its own diagnostics; keep them to real errors unless asked.
+    set_log_level_from_env_or(LogLevel::Error);
+    let stop = signals::install().context("installing SIGTERM/SIGINT handlers")?;
+
+    let (ice_config, settings) = ipc::resolve(&cfg.ipc)?;
+    let node = ipc::create_node(DAEMON_NODE_NAME, &ice_config)?;
+    let daemon_node = *node.id();
+    let services = ipc::create_services(&node, &cfg, &settings.service_prefix)?;
+    let names = services.names.clone();
+    let commands = services.command_subscriber(cfg.ipc.command_queue as usize)?;
+    let shared = Arc::new(Shared::default());
+    let (outbox, writer) = outbox::spawn(
+        services.out,
+        names.clone(),
+        cfg.daemon.status_notify_every.into(),
+        shared.clone(),
+        cfg.rt.background_cpus.clone(),
+    )?;
+    info!(
+        prefix = %settings.service_prefix,
+        root = %settings.root_path,
+        file_prefix = %settings.file_prefix,
+        tick_hz = cfg.control.tick_hz,
+        "iceoryx2 services up"
+    );
+
+    if cfg.rt.lock_memory {
+        match rt::lock_memory() {
+            Ok(()) => info!("memory locked (mlockall)"),
+            Err(e) => warn!("real-time: {e}; continuing without"),
+        }
+    }
+
+    let sd = sd_notify::Notifier::from_env().context("connecting to $NOTIFY_SOCKET")?;
+    let sd_status = sd_notify::Notifier::from_env().ok().flatten();
+    let hk = housekeeping::spawn(HousekeepingSetup {
+        config: ice_config.clone(),
+        names,
+        daemon_node,
+        shared: shared.clone(),
+        period: Duration::from_millis(cfg.daemon.housekeeping_period_ms.into()),
+        sd: sd_status,
+        cpus: cfg.rt.background_cpus.clone(),
+    })
+    .context("starting the housekeeping thread")?;
+
+    // Stand-in until issue 4's executor: holds the paper's start grasp.
+    let controller = HoldController::new(&cfg.hand());
+    warn!(
+        "no planner/executor in this build: reorientation goals are rejected (PlannerUnavailable)"
+    );
+    let instance = gaitd::new_instance_id();
+    let mut runtime = Runtime::new(
+        commands,
+        outbox,
+        controller,
+        MonotonicClock,
+        &cfg,
+        instance,
+        shared,
+    );
+    if let (Some(period), Some(_)) = (sd_notify::watchdog_period(), &sd) {
+        let n = sd_notify::Notifier::from_env()?.context("NOTIFY_SOCKET vanished")?;
+        runtime.set_watchdog(n, period.as_nanos() as u64 / 2);
+        info!(
+            ?period,
+            "systemd watchdog fed from the loop every half period"
+        );
+    }
+
+    // The main thread becomes the loop thread.
+    if let Err(e) = rt::pin_current_thread(&cfg.rt.loop_cpus) {
+        warn!(cpus = ?cfg.rt.loop_cpus, "real-time: cannot pin the loop thread: {e}; continuing unpinned");
+    }
+    if cfg.rt.fifo_priority > 0 {
+        match rt::set_fifo_priority(cfg.rt.fifo_priority) {
+            Ok(()) => info!(
+                priority = cfg.rt.fifo_priority,
+                "loop thread runs SCHED_FIFO"
+            ),
+            Err(e) => warn!(
+                priority = cfg.rt.fifo_priority,
+                "real-time: SCHED_FIFO not permitted ({e}); running with normal scheduling \
+                 (grant LimitRTPRIO/CAP_SYS_NICE)"
+            ),
+        }
+    }
+    rt::prefault_stack(64 * 1024);
+
+    if let Some(sd) = &sd {
+        let _ = sd.ready();
+        let _ = sd.status("running");
+    }
+    info!(instance = format!("{instance:016x}"), "ready");
+    let summary = runtime.run(stop);
+    if let Some(sd) = &sd {
+        let _ = sd.stopping();
+    }
+    info!(
+        signal = signals::last_signal(),
+        ticks = summary.ticks,
+        missed = summary.overruns,
+        at_rest = summary.at_rest,
+        "stopped: final status published"
+    );
+    writer.join();
+    hk.join();
+    drop(runtime);
+    drop(services.commands);
+    drop(node);
+    Ok(())
 }

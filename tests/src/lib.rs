@@ -41,3 +41,188 @@ pub fn workspace_bin(name: &str) -> PathBuf {
     });
     profile_dir.join(name)
 }
+
+/// A gaitd process in its own iceoryx2 namespace (service prefix, root
+/// path, file prefix), so tests run in parallel without colliding. Dropping
+/// it kills the process and removes the namespace's files.
+pub struct TestDaemon {
+    /// The process (None after it was waited for).
+    pub child: Option<std::process::Child>,
+    /// Service-name prefix.
+    pub prefix: String,
+    /// iceoryx2 root path.
+    pub root: PathBuf,
+    /// iceoryx2 file prefix (names in /dev/shm).
+    pub file_prefix: String,
+    /// Directory with the config and the log.
+    pub dir: PathBuf,
+    extra_env: Vec<(String, String)>,
+}
+
+static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0);
+
+impl TestDaemon {
+    /// A namespace and config, not started yet. `extra_config` is appended
+    /// to the config file.
+    pub fn new(tag: &str, extra_config: &str) -> Self {
+        let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let pid = std::process::id();
+        let dir = std::env::temp_dir().join(format!("gaitd-e2e-{pid}-{n}-{tag}"));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("test dir");
+        let root = dir.join("iceoryx2");
+        let d = Self {
+            child: None,
+            prefix: format!("e2e-{pid}-{n}"),
+            file_prefix: format!("ge{pid}x{n}_"),
+            root,
+            dir,
+            extra_env: Vec::new(),
+        };
+        let cfg = format!(
+            "[ipc]\nservice_prefix = \"{}\"\nroot_path = \"{}/\"\nfile_prefix = \"{}\"\n\
+             [rt]\nlock_memory = false\nfifo_priority = 0\n{extra_config}\n",
+            d.prefix,
+            d.root.display(),
+            d.file_prefix
+        );
+        std::fs::write(d.config_path(), cfg).expect("write config");
+        d
+    }
+
+    /// Starts a daemon with the default test config.
+    pub fn start(tag: &str) -> Self {
+        let mut d = Self::new(tag, "");
+        d.spawn();
+        d
+    }
+
+    /// Path of the config file.
+    pub fn config_path(&self) -> PathBuf {
+        self.dir.join("gaitd.toml")
+    }
+
+    /// Path of the daemon's log (stderr, appended across restarts).
+    pub fn log_path(&self) -> PathBuf {
+        self.dir.join("gaitd.log")
+    }
+
+    /// The daemon's log so far.
+    pub fn log(&self) -> String {
+        std::fs::read_to_string(self.log_path()).unwrap_or_default()
+    }
+
+    /// Sets an environment variable for the next spawn.
+    pub fn env(&mut self, k: &str, v: &str) {
+        self.extra_env.push((k.into(), v.into()));
+    }
+
+    /// Starts (or restarts) the process.
+    pub fn spawn(&mut self) {
+        let log = std::fs::OpenOptions::new()
+            .create(true)
+            .append(true)
+            .open(self.log_path())
+            .expect("log file");
+        let mut cmd = Command::new(workspace_bin("gaitd"));
+        cmd.arg("--config")
+            .arg(self.config_path())
+            .env_remove("NOTIFY_SOCKET")
+            .env_remove("WATCHDOG_USEC")
+            .env_remove("WATCHDOG_PID")
+            .env("RUST_LOG", "info")
+            .stdout(std::process::Stdio::null())
+            .stderr(log);
+        for (k, v) in &self.extra_env {
+            cmd.env(k, v);
+        }
+        self.child = Some(cmd.spawn().expect("spawn gaitd"));
+    }
+
+    /// The process id.
+    pub fn pid(&self) -> i32 {
+        self.child.as_ref().expect("running").id() as i32
+    }
+
+    /// Sends `signal` to the process.
+    pub fn signal(&self, signal: i32) {
+        // SAFETY: plain syscall on our own child.
+        unsafe { libc::kill(self.pid(), signal) };
+    }
+
+    /// Waits for the process to exit (at most `timeout`), returning its status.
+    pub fn wait(&mut self, timeout: std::time::Duration) -> Option<std::process::ExitStatus> {
+        let t0 = std::time::Instant::now();
+        let child = self.child.as_mut()?;
+        loop {
+            if let Some(s) = child.try_wait().expect("try_wait") {
+                self.child = None;
+                return Some(s);
+            }
+            if t0.elapsed() > timeout {
+                return None;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+    }
+
+    /// Whether the process is still running.
+    pub fn running(&mut self) -> bool {
+        self.child
+            .as_mut()
+            .is_some_and(|c| c.try_wait().expect("try_wait").is_none())
+    }
+
+    /// Client options for this daemon's namespace.
+    pub fn options(&self) -> gaitd_client::ConnectOptions {
+        gaitd_client::ConnectOptions::new()
+            .prefix(&self.prefix)
+            .root_path(format!("{}/", self.root.display()))
+            .file_prefix(&self.file_prefix)
+            .timeout(std::time::Duration::from_secs(10))
+    }
+
+    /// A connected client (panics with the daemon's log if it cannot connect).
+    pub fn client(&self) -> gaitd_client::Client {
+        match gaitd_client::Client::connect(self.options()) {
+            Ok(c) => c,
+            Err(e) => panic!("connect: {e}\n--- gaitd log ---\n{}", self.log()),
+        }
+    }
+
+    /// `gaitctl` with this daemon's namespace flags.
+    pub fn gaitctl(&self) -> Command {
+        let mut c = Command::new(workspace_bin("gaitctl"));
+        c.arg("--prefix")
+            .arg(&self.prefix)
+            .arg("--ipc-root")
+            .arg(format!("{}/", self.root.display()))
+            .arg("--ipc-file-prefix")
+            .arg(&self.file_prefix)
+            .arg("--timeout")
+            .arg("10");
+        c
+    }
+}
+
+/// Removes /dev/shm files whose names start with `file_prefix`.
+pub fn remove_shm(file_prefix: &str) {
+    if let Ok(dir) = std::fs::read_dir("/dev/shm") {
+        for e in dir.flatten() {
+            if e.file_name().to_string_lossy().starts_with(file_prefix) {
+                let _ = std::fs::remove_file(e.path());
+            }
+        }
+    }
+}
+
+impl Drop for TestDaemon {
+    fn drop(&mut self) {
+        if let Some(mut c) = self.child.take() {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+        remove_shm(&self.file_prefix);
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}

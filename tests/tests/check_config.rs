@@ -53,3 +53,37 @@ fn missing_file_is_a_clear_error() {
         "{err}"
     );
 }
+
+#[test]
+fn shipped_iceoryx2_config_puts_resources_under_run_gaitd() {
+    let out = gaitd()
+        .arg("--config")
+        .arg(gaitd_tests::repo_root().join("deploy/gaitd.toml"))
+        .arg("--check-config")
+        .env(
+            "GAITD_IPC_CONFIG",
+            gaitd_tests::repo_root().join("deploy/iceoryx2.toml"),
+        )
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("iceoryx2 root /run/gaitd/iceoryx2/, file prefix gaitd_"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_missing_iceoryx2_config_is_refused() {
+    let out = gaitd()
+        .arg("--config")
+        .arg(gaitd_tests::repo_root().join("deploy/gaitd.toml"))
+        .arg("--check-config")
+        .env("GAITD_IPC_CONFIG", "/nonexistent/iceoryx2.toml")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("/nonexistent/iceoryx2.toml"), "{err}");
+}

@@ -1,0 +1,432 @@
+//! `gaitctl bench`: latency benchmarks against a running daemon (SPEC §11,
+//! issue item 6). Figures are printed as a table and as JSON; nothing is
+//! asserted (these machines are shared and noisy).
+//!
+//! - goal → answer: a reorientation goal sent, its answer received (the
+//!   client blocks on the daemon's notification, as applications do);
+//! - status latency: `publish_time_ns` (stamped by the daemon's writer just
+//!   before publishing) to reception by this process busy-polling, beside a
+//!   bare iceoryx2 one-way latency measured in the same run between this
+//!   process and a child (`gaitctl __pong`), also busy-polling, with a
+//!   payload of the status's size;
+//! - tick compute time p50/p99/max and missed periods from the status;
+//!   the wake-up jitter histogram of the bench window; daemon RSS.
+
+use crate::common::{ConnArgs, us};
+use gaitd_client::{GoalFrame, GoalSpec, Status, Verdict, monotonic_ns};
+use iceoryx2::prelude::*;
+use serde_json::json;
+use shm_schema::status::{JITTER_BUCKETS, jitter_bucket_upper_ns};
+use std::collections::BTreeMap;
+use std::process::{Command as Process, ExitCode, Stdio};
+use std::time::{Duration, Instant};
+
+/// Options.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Goals sent for goal → answer latency.
+    #[arg(long, default_value_t = 200)]
+    goals: usize,
+    /// Statuses received for status latency.
+    #[arg(long, default_value_t = 5000)]
+    statuses: usize,
+    /// Ping-pong round trips of the bare iceoryx2 reference.
+    #[arg(long, default_value_t = 5000)]
+    pings: usize,
+    /// Print only the JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Options of the hidden echo process.
+#[derive(clap::Args, Debug)]
+pub struct PongArgs {
+    /// Service name prefix of the ping-pong pair.
+    #[arg(long)]
+    service: String,
+    /// iceoryx2 root path.
+    #[arg(long)]
+    root: String,
+    /// iceoryx2 file prefix.
+    #[arg(long)]
+    file_prefix: String,
+}
+
+/// Ping-pong payload, the size of a [`Status`] so both measure the same copy.
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+#[type_name("gaitctl::BenchPing.v1")]
+pub struct BenchPing {
+    seq: u64,
+    t_send: u64,
+    t_echo: u64,
+    pad: [u64; 106],
+}
+
+const _: () = assert!(size_of::<BenchPing>() == size_of::<Status>());
+
+/// n, p50, p99, max, mean of a sample.
+fn summary(v: &mut [f64]) -> serde_json::Value {
+    if v.is_empty() {
+        return json!(null);
+    }
+    v.sort_by(f64::total_cmp);
+    let q = |p: f64| v[((p * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1];
+    json!({
+        "n": v.len(),
+        "p50": q(0.5),
+        "p99": q(0.99),
+        "max": v[v.len() - 1],
+        "mean": v.iter().sum::<f64>() / v.len() as f64,
+    })
+}
+
+fn ice_config(root: &str, file_prefix: &str) -> gaitd_client::Result<iceoryx2::config::Config> {
+    let s = shm_schema::ipc::IpcSettings {
+        service_prefix: "bench".into(),
+        root_path: root.into(),
+        file_prefix: file_prefix.into(),
+    };
+    let mut c = iceoryx2::config::Config::default();
+    s.apply(&mut c)
+        .map_err(|e| gaitd_client::Error::Settings(e.to_string()))?;
+    Ok(c)
+}
+
+fn ice<E: std::fmt::Debug>(what: &'static str) -> impl Fn(E) -> gaitd_client::Error {
+    move |e| gaitd_client::Error::Ipc {
+        what,
+        why: format!("{e:?}"),
+    }
+}
+
+type Svc =
+    iceoryx2::service::port_factory::publish_subscribe::PortFactory<ipc::Service, BenchPing, ()>;
+
+fn pair(node: &Node<ipc::Service>, name: &str) -> gaitd_client::Result<Svc> {
+    node.service_builder(&ServiceName::new(name).map_err(ice("service name"))?)
+        .publish_subscribe::<BenchPing>()
+        .max_publishers(1)
+        .max_subscribers(1)
+        .open_or_create()
+        .map_err(ice("bench service"))
+}
+
+/// The echo side: receives pings, stamps and returns them.
+pub fn pong(a: &PongArgs) -> gaitd_client::Result<ExitCode> {
+    let config = ice_config(&a.root, &a.file_prefix)?;
+    let node = NodeBuilder::new()
+        .config(&config)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .map_err(ice("node"))?;
+    let ping = pair(&node, &format!("{}/ping", a.service))?;
+    let pong = pair(&node, &format!("{}/pong", a.service))?;
+    let rx = ping
+        .subscriber_builder()
+        .create()
+        .map_err(ice("subscriber"))?;
+    let tx = pong
+        .publisher_builder()
+        .create()
+        .map_err(ice("publisher"))?;
+    println!("ready");
+    let mut idle = Instant::now();
+    while idle.elapsed() < Duration::from_secs(5) {
+        if let Some(s) = rx.receive().map_err(ice("receive"))? {
+            let mut p = *s.payload();
+            p.t_echo = monotonic_ns();
+            tx.send_copy(p).map_err(ice("send"))?;
+            if p.seq == u64::MAX {
+                break;
+            }
+            idle = Instant::now();
+        } else {
+            std::hint::spin_loop();
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// One-way and half round-trip latencies [µs] of `n` ping-pongs.
+fn ping_pong(
+    n: usize,
+    root: &str,
+    file_prefix: &str,
+) -> gaitd_client::Result<(Vec<f64>, Vec<f64>)> {
+    let service = format!("gaitctl-bench-{}", std::process::id());
+    let config = ice_config(root, file_prefix)?;
+    let node = NodeBuilder::new()
+        .config(&config)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .map_err(ice("node"))?;
+    let ping = pair(&node, &format!("{service}/ping"))?;
+    let pong = pair(&node, &format!("{service}/pong"))?;
+    let tx = ping
+        .publisher_builder()
+        .create()
+        .map_err(ice("publisher"))?;
+    let rx = pong
+        .subscriber_builder()
+        .create()
+        .map_err(ice("subscriber"))?;
+    let exe = std::env::current_exe().map_err(|e| gaitd_client::Error::Ipc {
+        what: "current exe",
+        why: e.to_string(),
+    })?;
+    let mut child = Process::new(exe)
+        .args([
+            "__pong",
+            "--service",
+            &service,
+            "--root",
+            root,
+            "--file-prefix",
+            file_prefix,
+        ])
+        .stdout(Stdio::piped())
+        .spawn()
+        .map_err(|e| gaitd_client::Error::Ipc {
+            what: "spawn pong",
+            why: e.to_string(),
+        })?;
+    let mut line = String::new();
+    std::io::BufRead::read_line(
+        &mut std::io::BufReader::new(child.stdout.take().expect("piped")),
+        &mut line,
+    )
+    .ok();
+    let (mut one_way, mut half_rtt) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    let mut payload = BenchPing {
+        seq: 0,
+        t_send: 0,
+        t_echo: 0,
+        pad: [0; 106],
+    };
+    for i in 0..n as u64 + 100 {
+        payload.seq = if i == n as u64 + 99 { u64::MAX } else { i };
+        payload.t_send = monotonic_ns();
+        tx.send_copy(payload).map_err(ice("send"))?;
+        let start = Instant::now();
+        let back = loop {
+            if let Some(s) = rx.receive().map_err(ice("receive"))? {
+                break Some((*s.payload(), monotonic_ns()));
+            }
+            if start.elapsed() > Duration::from_secs(2) {
+                break None;
+            }
+            std::hint::spin_loop();
+        };
+        let Some((p, t_back)) = back else {
+            let _ = child.kill();
+            return Err(gaitd_client::Error::Timeout {
+                what: "the pong process",
+                waited: Duration::from_secs(2),
+            });
+        };
+        // The first 100 warm the caches and are not counted.
+        if i >= 100 && p.seq != u64::MAX {
+            one_way.push(us(p.t_echo - p.t_send));
+            half_rtt.push(us(t_back - p.t_send) / 2.0);
+        }
+    }
+    let _ = child.wait();
+    Ok((one_way, half_rtt))
+}
+
+fn rss_kb(pid: i32) -> Option<(u64, u64)> {
+    let text = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    let field = |name: &str| {
+        text.lines()
+            .find(|l| l.starts_with(name))
+            .and_then(|l| l.split_whitespace().nth(1))
+            .and_then(|v| v.parse().ok())
+    };
+    Some((field("VmRSS:")?, field("VmHWM:")?))
+}
+
+/// Runs the benchmarks.
+pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
+    let mut c = conn.connect()?;
+    let first = c.wait_status(conn.timeout())?;
+
+    // goal → answer
+    let mut goal_answer = Vec::with_capacity(a.goals);
+    let mut verdicts: BTreeMap<String, usize> = BTreeMap::new();
+    for i in 0..a.goals {
+        let goal = GoalSpec::axis_angle(
+            [0.0, 0.0, 1.0],
+            0.01 * (i % 7) as f64 + 0.01,
+            GoalFrame::Relative,
+        )?;
+        let t0 = Instant::now();
+        let t = c.reorient(&goal, conn.timeout())?;
+        goal_answer.push(t0.elapsed().as_secs_f64() * 1e6);
+        let key = match t.verdict {
+            Verdict::Accepted => "accepted".to_string(),
+            Verdict::Rejected(r) => format!("rejected {r}"),
+        };
+        *verdicts.entry(key).or_default() += 1;
+        if t.verdict == Verdict::Accepted {
+            // Do not leave a goal running: the next one would preempt it anyway.
+            let _ = c.cancel(Some(t.goal_id), conn.timeout());
+        }
+    }
+
+    // status publish → receive, busy-polling
+    let (mut status_lat, mut tick_lat) = (
+        Vec::with_capacity(a.statuses),
+        Vec::with_capacity(a.statuses),
+    );
+    let mut last_tick = c.latest_status()?.map_or(0, |s| s.tick);
+    let window_start = c.latest_status()?.unwrap_or(first);
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while status_lat.len() < a.statuses && Instant::now() < deadline {
+        if let Some(s) = c.latest_status()?
+            && s.tick != last_tick
+        {
+            let now = monotonic_ns();
+            last_tick = s.tick;
+            status_lat.push(us(now.saturating_sub(s.publish_time_ns)));
+            tick_lat.push(us(now.saturating_sub(s.time_ns)));
+        } else {
+            std::hint::spin_loop();
+        }
+    }
+    let last = c.latest_status()?.unwrap_or(first);
+
+    // bare iceoryx2, same run
+    let settings = c.settings().clone();
+    let (mut one_way, mut half_rtt) =
+        ping_pong(a.pings, &settings.root_path, &settings.file_prefix)?;
+
+    let t = &last.timing;
+    let hist: Vec<_> = (0..JITTER_BUCKETS)
+        .map(|i| {
+            let n = t.jitter_hist[i] - window_start.timing.jitter_hist[i];
+            json!({"below_us": if i + 1 < JITTER_BUCKETS { Some(jitter_bucket_upper_ns(i) / 1000) } else { None }, "count": n})
+        })
+        .collect();
+    let rss = c.daemon_pid().and_then(rss_kb);
+    let status_s = summary(&mut status_lat);
+    let pp_s = summary(&mut one_way);
+    let ratio = match (status_s["p50"].as_f64(), pp_s["p50"].as_f64()) {
+        (Some(s), Some(p)) if p > 0.0 => Some(s / p),
+        _ => None,
+    };
+    let report = json!({
+        "machine": {
+            "cpus": std::thread::available_parallelism().map_or(0, |n| n.get()),
+            "kernel": std::fs::read_to_string("/proc/sys/kernel/osrelease").unwrap_or_default().trim(),
+        },
+        "daemon": {
+            "instance": format!("{:016x}", last.instance),
+            "period_us": us(t.period_ns),
+            "pid": c.daemon_pid(),
+            "rss_kb": rss.map(|r| r.0),
+            "rss_peak_kb": rss.map(|r| r.1),
+        },
+        "goal_to_answer_us": summary(&mut goal_answer),
+        "goal_verdicts": verdicts,
+        "goal_to_first_motion_ticks": null,
+        "status_publish_to_receive_us": status_s,
+        "status_tick_to_receive_us": summary(&mut tick_lat),
+        "iceoryx2_one_way_us": pp_s,
+        "iceoryx2_half_round_trip_us": summary(&mut half_rtt),
+        "status_vs_iceoryx2_p50_ratio": ratio,
+        "tick_compute_ns": {
+            "p50": t.compute_p50_ns, "p99": t.compute_p99_ns, "max": t.compute_max_ns,
+            "since": "daemon start",
+        },
+        "missed_periods_in_window": t.overruns - window_start.timing.overruns,
+        "jitter_histogram_window": hist,
+        "jitter_p99_us_since_start": us(t.jitter_p99_ns),
+    });
+    if !a.json {
+        print_table(&report);
+        println!();
+    }
+    println!("{report}");
+    Ok(ExitCode::SUCCESS)
+}
+
+fn print_table(r: &serde_json::Value) {
+    let row = |name: &str, v: &serde_json::Value| {
+        if v.is_null() {
+            println!("{name:<36} {:>10}", "n/a");
+            return;
+        }
+        let f = |k: &str| v[k].as_f64().map_or("-".into(), |x| format!("{x:.2}"));
+        println!(
+            "{name:<36} {:>10} {:>10} {:>10} {:>10} {:>8}",
+            f("p50"),
+            f("p99"),
+            f("max"),
+            f("mean"),
+            v["n"]
+        );
+    };
+    println!(
+        "gaitctl bench  ({} cpus, kernel {}, loop {} us)",
+        r["machine"]["cpus"], r["machine"]["kernel"], r["daemon"]["period_us"]
+    );
+    println!(
+        "{:<36} {:>10} {:>10} {:>10} {:>10} {:>8}",
+        "latency [us]", "p50", "p99", "max", "mean", "n"
+    );
+    row("goal -> answer", &r["goal_to_answer_us"]);
+    row(
+        "status publish -> client receive",
+        &r["status_publish_to_receive_us"],
+    );
+    row(
+        "status tick -> client receive",
+        &r["status_tick_to_receive_us"],
+    );
+    row(
+        "bare iceoryx2 one-way (same run)",
+        &r["iceoryx2_one_way_us"],
+    );
+    row(
+        "bare iceoryx2 round trip / 2",
+        &r["iceoryx2_half_round_trip_us"],
+    );
+    println!("goal verdicts: {}", r["goal_verdicts"]);
+    println!("goal -> first motion: n/a (no executor in this daemon build)");
+    println!(
+        "status / bare iceoryx2 (p50): {}",
+        r["status_vs_iceoryx2_p50_ratio"]
+            .as_f64()
+            .map_or("-".into(), |x| format!("{x:.2}x (target <= 2x)"))
+    );
+    let c = &r["tick_compute_ns"];
+    println!(
+        "tick compute [us] p50 {:.2} p99 {:.2} max {:.2} (since daemon start; target p99 <= 20)",
+        c["p50"].as_f64().unwrap_or(0.0) / 1e3,
+        c["p99"].as_f64().unwrap_or(0.0) / 1e3,
+        c["max"].as_f64().unwrap_or(0.0) / 1e3
+    );
+    println!(
+        "missed periods in the bench window: {}",
+        r["missed_periods_in_window"]
+    );
+    println!("wake-up jitter in the bench window:");
+    for b in r["jitter_histogram_window"]
+        .as_array()
+        .into_iter()
+        .flatten()
+    {
+        let n = b["count"].as_u64().unwrap_or(0);
+        if n > 0 {
+            let label = b["below_us"]
+                .as_u64()
+                .map_or("    >= 16384 us".into(), |u| format!("  < {u:>6} us"));
+            println!("{label} {n:>9}");
+        }
+    }
+    println!(
+        "daemon RSS: {} kB (peak {} kB)",
+        r["daemon"]["rss_kb"], r["daemon"]["rss_peak_kb"]
+    );
+}

@@ -1,0 +1,166 @@
+//! Connection flags and formatting shared by the subcommands.
+
+use gaitd_client::{Client, ConnectOptions, Event, EventKind, Status, Verdict};
+use std::process::ExitCode;
+use std::time::Duration;
+
+/// Where the daemon is (flags override the GAITD_* environment variables).
+#[derive(clap::Args, Debug, Clone)]
+pub struct ConnArgs {
+    /// Service-name prefix [env: GAITD_PREFIX; default gaitd].
+    #[arg(long, global = true)]
+    pub prefix: Option<String>,
+    /// iceoryx2 config file, e.g. /etc/gaitd/iceoryx2.toml [env: GAITD_IPC_CONFIG].
+    #[arg(long, global = true)]
+    pub ipc_config: Option<String>,
+    /// iceoryx2 root path [env: GAITD_IPC_ROOT].
+    #[arg(long, global = true)]
+    pub ipc_root: Option<String>,
+    /// iceoryx2 file prefix [env: GAITD_IPC_FILE_PREFIX].
+    #[arg(long, global = true)]
+    pub ipc_file_prefix: Option<String>,
+    /// How long to wait for the daemon [s].
+    #[arg(long, global = true, default_value_t = 2.0)]
+    pub timeout: f64,
+}
+
+impl ConnArgs {
+    /// The timeout as a duration.
+    pub fn timeout(&self) -> Duration {
+        Duration::from_secs_f64(self.timeout.max(0.0))
+    }
+
+    /// Connects with these options.
+    pub fn connect(&self) -> gaitd_client::Result<Client> {
+        let mut o = ConnectOptions::new()
+            .timeout(self.timeout())
+            .node_name("gaitctl");
+        o.ipc.service_prefix = self.prefix.clone();
+        o.ipc.iceoryx2_config = self.ipc_config.clone();
+        o.ipc.root_path = self.ipc_root.clone();
+        o.ipc.file_prefix = self.ipc_file_prefix.clone();
+        Client::connect(o)
+    }
+}
+
+/// A name for a decoded code, or the raw number.
+pub fn code<T: std::fmt::Display, E>(r: Result<T, E>, raw: u32) -> String {
+    r.map_or_else(|_| format!("?{raw}"), |v| v.to_string())
+}
+
+/// Exit code for a verdict: 0 accepted, 1 rejected.
+pub fn verdict_exit(what: &str, v: Verdict) -> ExitCode {
+    match v {
+        Verdict::Accepted => {
+            println!("{what}: accepted");
+            ExitCode::SUCCESS
+        }
+        Verdict::Rejected(r) => {
+            println!("{what}: rejected ({r})");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// One line describing an event.
+pub fn event_line(e: &Event) -> String {
+    let kind = code(e.kind(), e.kind);
+    let t = e.time_ns as f64 / 1e9;
+    let mut s = format!(
+        "#{:<6} tick {:<9} t {:>12.6} s  {kind:<15}",
+        e.seq, e.tick, t
+    );
+    match e.kind() {
+        Ok(EventKind::GoalTransition) => {
+            s += &format!(
+                " goal {:x}/{} -> {} ({})",
+                e.client_id,
+                e.goal_id,
+                code(e.state(), e.state),
+                code(e.reason(), e.reason)
+            );
+        }
+        Ok(EventKind::Place | EventKind::Lift | EventKind::Roll | EventKind::Substitution) => {
+            s += &format!(" finger {} goal {}", e.finger, e.goal_id);
+        }
+        Ok(EventKind::Fault) => s += &format!(" {}", code(e.fault(), e.fault)),
+        Ok(EventKind::Overrun) => s += &format!(" {} periods missed", e.count),
+        Ok(EventKind::ClientsCleaned) => s += &format!(" {} dead nodes", e.count),
+        Ok(EventKind::Hold) => s += &format!(" by client {:x}", e.client_id),
+        _ => {}
+    }
+    s
+}
+
+/// Microseconds from nanoseconds, for display.
+pub fn us(ns: u64) -> f64 {
+    ns as f64 / 1e3
+}
+
+/// Degrees from radians.
+pub fn deg(rad: f64) -> f64 {
+    rad.to_degrees()
+}
+
+/// The status as JSON (every field, codes decoded to names).
+pub fn status_json(s: &Status) -> serde_json::Value {
+    use serde_json::json;
+    let fingers: Vec<_> = s
+        .fingers
+        .iter()
+        .map(|f| {
+            json!({
+                "state": code(f.phase(), f.state),
+                "contact_hand": f.contact_hand,
+                "contact_object": f.contact_object,
+                "tip_position": f.tip_position,
+                "tip_orientation": f.tip_orientation,
+                "tip_contact": f.tip_contact,
+                "roll": f.roll,
+                "workspace_margin": f.workspace_margin,
+                "normal_force": f.normal_force,
+            })
+        })
+        .collect();
+    let t = &s.timing;
+    json!({
+        "tick": s.tick,
+        "time_ns": s.time_ns,
+        "publish_time_ns": s.publish_time_ns,
+        "instance": format!("{:016x}", s.instance),
+        "daemon_state": code(s.daemon_state(), s.daemon_state),
+        "phase": code(s.phase(), s.phase),
+        "fault": code(s.fault(), s.fault),
+        "grasp": code(s.grasp(), s.grasp),
+        "grasp_margin": s.grasp_margin,
+        "object_q": s.object_q,
+        "object_omega": s.object_omega,
+        "goal": {
+            "goal_id": s.goal.goal_id,
+            "client_id": format!("{:x}", s.goal.client_id),
+            "state": code(s.goal_state(), s.goal.state),
+            "reason": code(s.goal_reason(), s.goal.reason),
+            "remaining_angle": s.goal.remaining_angle,
+            "eta": s.goal.eta,
+            "gaits_done": s.goal.gaits_done,
+            "gaits_planned": s.goal.gaits_planned,
+            "active_finger": s.goal.active_finger,
+        },
+        "fingers": fingers,
+        "timing": {
+            "period_ns": t.period_ns,
+            "compute_last_ns": t.compute_last_ns,
+            "compute_p50_ns": t.compute_p50_ns,
+            "compute_p99_ns": t.compute_p99_ns,
+            "compute_max_ns": t.compute_max_ns,
+            "jitter_last_ns": t.jitter_last_ns,
+            "jitter_p99_ns": t.jitter_p99_ns,
+            "jitter_max_ns": t.jitter_max_ns,
+            "overruns": t.overruns,
+            "jitter_hist": t.jitter_hist,
+        },
+        "commands": s.commands,
+        "rejected": s.rejected,
+        "clients": s.clients,
+    })
+}

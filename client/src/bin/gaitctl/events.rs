@@ -1,0 +1,47 @@
+//! `gaitctl events`: the daemon's event history, then (with `--follow`)
+//! new events as they come.
+
+use crate::common::{ConnArgs, event_line};
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+/// Options.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Keep printing new events.
+    #[arg(long, short)]
+    follow: bool,
+    /// With --follow: stop after this many seconds.
+    #[arg(long)]
+    duration: Option<f64>,
+}
+
+/// Runs the subcommand.
+pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
+    let mut c = conn.connect()?;
+    // History arrives with the connection; give it a moment to land.
+    std::thread::sleep(Duration::from_millis(20));
+    for e in c.events()? {
+        println!("{}", event_line(&e));
+    }
+    if a.follow {
+        let end = a
+            .duration
+            .map(|d| Instant::now() + Duration::from_secs_f64(d));
+        loop {
+            if end.is_some_and(|t| Instant::now() >= t) {
+                break;
+            }
+            if let Some(e) = c.next_event(Duration::from_millis(200))? {
+                println!("{}", event_line(&e));
+            } else if !c.daemon_alive()? {
+                c.ensure_connected(conn.timeout())?;
+                eprintln!(
+                    "(reconnected to daemon instance {:016x})",
+                    c.daemon_instance()
+                );
+            }
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,68 @@
+//! `gaitctl`: command line for gaitd (SPEC §8). One module per subcommand;
+//! add a new one by adding a variant to [`Cmd`] and a module with a `run`.
+
+mod bench;
+mod common;
+mod control;
+mod events;
+mod reorient;
+mod status;
+mod watch;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Talk to a running gaitd.
+#[derive(Parser, Debug)]
+#[command(version, about)]
+struct Cli {
+    #[command(flatten)]
+    conn: common::ConnArgs,
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand, Debug)]
+enum Cmd {
+    /// Print the latest status once.
+    Status(status::Args),
+    /// Live view of the daemon's state (Ctrl-C to quit).
+    Watch(watch::Args),
+    /// Send a reorientation goal.
+    Reorient(reorient::Args),
+    /// Cancel the active goal (or a given one).
+    Cancel(control::CancelArgs),
+    /// Stop any motion and hold the grasp.
+    Hold,
+    /// Clear a fault.
+    Reset,
+    /// Print events (the daemon's history first).
+    Events(events::Args),
+    /// Latency benchmarks against the running daemon.
+    Bench(bench::Args),
+    /// Internal: the echo side of the bench's iceoryx2 ping-pong.
+    #[command(hide = true, name = "__pong")]
+    Pong(bench::PongArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.cmd {
+        Cmd::Status(a) => status::run(&cli.conn, &a),
+        Cmd::Watch(a) => watch::run(&cli.conn, &a),
+        Cmd::Reorient(a) => reorient::run(&cli.conn, &a),
+        Cmd::Cancel(a) => control::cancel(&cli.conn, &a),
+        Cmd::Hold => control::hold(&cli.conn),
+        Cmd::Reset => control::reset(&cli.conn),
+        Cmd::Events(a) => events::run(&cli.conn, &a),
+        Cmd::Bench(a) => bench::run(&cli.conn, &a),
+        Cmd::Pong(a) => bench::pong(&a),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("gaitctl: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -1,0 +1,169 @@
+//! `gaitctl watch`: a live view refreshed in place with ANSI escapes (no
+//! TUI library): phase, fingers, force-closure margin, goal progress bar,
+//! tick timing.
+
+use crate::common::{ConnArgs, code, deg, us};
+use gaitd_client::Status;
+use std::fmt::Write as _;
+use std::io::Write as _;
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+/// Options.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Refresh rate [Hz].
+    #[arg(long, default_value_t = 20.0)]
+    rate: f64,
+    /// Stop after this many frames (default: until Ctrl-C).
+    #[arg(long)]
+    frames: Option<u64>,
+}
+
+fn bar(fraction: f64, width: usize) -> String {
+    let f = fraction.clamp(0.0, 1.0);
+    let full = (f * width as f64).round() as usize;
+    format!(
+        "[{}{}] {:5.1} %",
+        "#".repeat(full),
+        "-".repeat(width - full),
+        100.0 * f
+    )
+}
+
+/// The view of one status. `progress` is the goal's completed fraction if
+/// known; `rate` the loop rate measured by the viewer [Hz].
+pub fn render(s: &Status, progress: Option<f64>, rate: f64) -> String {
+    let mut o = String::new();
+    let t = &s.timing;
+    let _ = writeln!(
+        o,
+        "gaitd {:016x}  {}  tick {}  t {:.3} s  clients {}  loop {:.0} Hz",
+        s.instance,
+        code(s.daemon_state(), s.daemon_state),
+        s.tick,
+        s.time_ns as f64 / 1e9,
+        s.clients,
+        rate
+    );
+    let _ = writeln!(
+        o,
+        "phase {:<9} fault {:<18} grasp {} margin {:.2} deg",
+        code(s.phase(), s.phase),
+        code(s.fault(), s.fault),
+        code(s.grasp(), s.grasp),
+        deg(s.grasp_margin)
+    );
+    let q = s.object_q;
+    let w = s.object_omega;
+    let _ = writeln!(
+        o,
+        "object q [{:+.4} {:+.4} {:+.4} {:+.4}]  omega [{:+.3} {:+.3} {:+.3}] rad/s",
+        q[0], q[1], q[2], q[3], w[0], w[1], w[2]
+    );
+    let g = &s.goal;
+    let eta = if g.eta >= 0.0 {
+        format!("{:.1} s", g.eta)
+    } else {
+        "?".into()
+    };
+    let _ = writeln!(
+        o,
+        "goal {} ({:x})  {} {}  remaining {:.2} deg  gaits {}/{}  eta {}",
+        g.goal_id,
+        g.client_id,
+        code(s.goal_state(), g.state),
+        code(s.goal_reason(), g.reason),
+        deg(g.remaining_angle),
+        g.gaits_done,
+        g.gaits_planned,
+        eta
+    );
+    let _ = writeln!(
+        o,
+        "progress {}",
+        progress.map_or_else(|| "-".into(), |f| bar(f, 40))
+    );
+    let _ = writeln!(
+        o,
+        "finger  state      contact (hand) [m]           roll [deg]  ws margin [deg]  force [N]"
+    );
+    for (k, f) in s.fingers.iter().enumerate() {
+        let c = f.contact_hand;
+        let _ = writeln!(
+            o,
+            "f{}      {:<10} [{:+.3} {:+.3} {:+.3}]   {:+8.2}    {:8.2}         {:7.3}",
+            k + 1,
+            code(f.phase(), f.state),
+            c[0],
+            c[1],
+            c[2],
+            deg(f.roll),
+            deg(f.workspace_margin),
+            f.normal_force
+        );
+    }
+    let _ = writeln!(
+        o,
+        "tick compute last {:.1} p50 {:.1} p99 {:.1} max {:.1} us | jitter p99 {:.1} max {:.1} us | missed {}",
+        us(t.compute_last_ns),
+        us(t.compute_p50_ns),
+        us(t.compute_p99_ns),
+        us(t.compute_max_ns),
+        us(t.jitter_p99_ns),
+        us(t.jitter_max_ns),
+        t.overruns
+    );
+    let _ = writeln!(o, "commands {}  rejected {}", s.commands, s.rejected);
+    o
+}
+
+/// Runs the subcommand.
+pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
+    let mut c = conn.connect()?;
+    let period = Duration::from_secs_f64(1.0 / a.rate.clamp(0.5, 100.0));
+    let mut out = std::io::stdout();
+    let _ = write!(out, "\x1b[2J");
+    let (mut goal, mut initial) = (0u64, 0f64);
+    let mut frames = 0u64;
+    let mut last_tick = None::<(u64, Instant)>;
+    let mut rate = 0.0;
+    loop {
+        let start = Instant::now();
+        let s = match c.wait_status(conn.timeout()) {
+            Ok(s) => s,
+            Err(gaitd_client::Error::Timeout { .. }) => {
+                let _ = write!(
+                    out,
+                    "\x1b[H\x1b[Kdaemon not answering; reconnecting...\x1b[J"
+                );
+                let _ = out.flush();
+                c.ensure_connected(conn.timeout())?;
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        // Loop rate seen from here: ticks per wall-clock second.
+        if let Some((t0, i0)) = last_tick {
+            let dt = i0.elapsed().as_secs_f64();
+            if dt > 0.0 && s.tick >= t0 {
+                rate = (s.tick - t0) as f64 / dt;
+            }
+        }
+        last_tick = Some((s.tick, Instant::now()));
+        if s.goal.goal_id != goal {
+            goal = s.goal.goal_id;
+            initial = 0.0;
+        }
+        initial = initial.max(s.goal.remaining_angle);
+        let progress = (goal != 0 && initial > 0.0).then(|| 1.0 - s.goal.remaining_angle / initial);
+        let view = render(&s, progress, rate).replace('\n', "\x1b[K\n");
+        let _ = write!(out, "\x1b[H{view}\x1b[J");
+        let _ = out.flush();
+        frames += 1;
+        if a.frames.is_some_and(|n| frames >= n) {
+            return Ok(ExitCode::SUCCESS);
+        }
+        std::thread::sleep(period.saturating_sub(start.elapsed()));
+    }
+}

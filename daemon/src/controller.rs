@@ -1,0 +1,173 @@
+//! The seam between the daemon and the controller that moves the hand.
+//!
+//! The daemon owns time, IPC, statistics and shutdown; a [`Controller`]
+//! owns the hand: it takes validated commands, advances one tick at a time
+//! and reports what it did in a [`ControlOutput`]. Issue 4's executor
+//! (planner + trajectory generator + kinematic hand plant) implements this
+//! trait and replaces [`HoldController`](crate::hold::HoldController).
+//!
+//! Contract (copper-rs `CuTask` phases): every method runs on the real-time
+//! loop thread, so it must not allocate, free, block, sleep, log or do I/O
+//! other than its plant; planning goes through a
+//! [`PlannerLink`](crate::planner::PlannerLink). Per tick the loop calls
+//! [`Controller::command`] for each command that arrived (in order), then
+//! [`Controller::tick`] exactly once.
+
+use crate::clock::Nanos;
+use crate::events::EventQueue;
+use gait::HandState;
+use gait::config::LimitsConfig;
+use nalgebra::{UnitQuaternion, Vector3};
+use shm_schema::{FaultCode, FingerPhase, GoalState, GraspState, Phase, ReasonCode, Verdict};
+
+/// How a goal's target is meant (decoded from the schema's `GoalFrame`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GoalTarget {
+    /// The object orientation q_o to reach (object → hand frame).
+    Absolute(UnitQuaternion<f64>),
+    /// A rotation (hand frame) applied to the orientation at acceptance:
+    /// q_goal = q_rel · q_o.
+    Relative(UnitQuaternion<f64>),
+}
+
+/// A reorientation goal that passed every check the daemon can make.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Goal {
+    /// Sending client.
+    pub client_id: u64,
+    /// Goal id, unique for this client.
+    pub goal_id: u64,
+    /// Target, renormalised.
+    pub target: GoalTarget,
+    /// Effective motion limits: the configured ones with the goal's
+    /// overrides applied (each override ≤ the configured limit).
+    pub limits: LimitsConfig,
+}
+
+/// A command for the controller (SPEC §6.4).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ControlCommand {
+    /// Reorient; preempts the active goal.
+    Goal(Goal),
+    /// Stop the active goal (`goal_id` 0 = whichever is active), then hold.
+    Cancel {
+        /// Sender.
+        client_id: u64,
+        /// Goal to cancel, 0 = active.
+        goal_id: u64,
+    },
+    /// Stop any motion and hold.
+    Hold {
+        /// Sender.
+        client_id: u64,
+    },
+    /// Clear a fault.
+    Reset {
+        /// Sender.
+        client_id: u64,
+    },
+}
+
+/// Per-tick context handed to the controller.
+#[derive(Debug)]
+pub struct TickContext<'a> {
+    /// This tick's wake-up time.
+    pub now: Nanos,
+    /// Tick counter.
+    pub tick: u64,
+    /// Events to publish at the end of this tick.
+    pub events: &'a mut EventQueue,
+}
+
+/// The current goal, for the status.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GoalReport {
+    /// Goal id, 0 = none yet.
+    pub goal_id: u64,
+    /// Its client.
+    pub client_id: u64,
+    /// Lifecycle state.
+    pub state: GoalState,
+    /// Reason (terminal states).
+    pub reason: ReasonCode,
+    /// Angle still to rotate [rad].
+    pub remaining_angle: f64,
+    /// Estimated time to completion [s], if known.
+    pub eta: Option<f64>,
+    /// Gaits completed.
+    pub gaits_done: u32,
+    /// Gaits planned.
+    pub gaits_planned: u32,
+    /// Finger moved by the current primitive.
+    pub active_finger: Option<usize>,
+}
+
+impl Default for GoalReport {
+    fn default() -> Self {
+        Self {
+            goal_id: 0,
+            client_id: 0,
+            state: GoalState::None,
+            reason: ReasonCode::None,
+            remaining_angle: 0.0,
+            eta: None,
+            gaits_done: 0,
+            gaits_planned: 0,
+            active_finger: None,
+        }
+    }
+}
+
+/// Per-finger data the hand state alone does not give.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FingerReport {
+    /// Finger state.
+    pub phase: FingerPhase,
+    /// Angle to the workspace cone boundary, > 0 inside [rad].
+    pub workspace_margin: f64,
+    /// Intended normal force [N] (0 when not in contact or unknown).
+    pub normal_force: f64,
+}
+
+/// What the controller reports after each tick (in maths types; the
+/// daemon converts it to the wire format in one place, `convert`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ControlOutput {
+    /// Hand and object state (measured, or commanded for a kinematic plant).
+    pub hand: HandState,
+    /// Object angular velocity, hand frame [rad/s].
+    pub object_omega: Vector3<f64>,
+    /// Controller phase.
+    pub phase: Phase,
+    /// Current fault.
+    pub fault: FaultCode,
+    /// Current goal and progress.
+    pub goal: GoalReport,
+    /// Per-finger extras.
+    pub fingers: [FingerReport; gait::FINGERS],
+    /// Force closure of the grasping fingers.
+    pub grasp: GraspState,
+    /// Force-closure margin [rad] (0 when unknown).
+    pub grasp_margin: f64,
+}
+
+/// A controller the daemon's loop drives. See the module docs for the
+/// real-time contract.
+pub trait Controller {
+    /// Handles one command that passed validation and the daemon's checks
+    /// (duplicate ids, limits). Returns the immediate answer; state changes
+    /// and goal transitions go into `ctx.events`.
+    fn command(&mut self, cmd: &ControlCommand, ctx: &mut TickContext<'_>) -> Verdict;
+
+    /// Advances one tick: read the plant, advance the motion, write
+    /// setpoints, check invariants, fill `out`.
+    fn tick(&mut self, ctx: &mut TickContext<'_>, out: &mut ControlOutput);
+
+    /// Shutdown was requested: bring any motion smoothly to rest and hold
+    /// the grasp (SPEC §7.1). The loop keeps calling [`Controller::tick`]
+    /// until [`Controller::at_rest`] or its shutdown timeout.
+    fn begin_safe_hold(&mut self, ctx: &mut TickContext<'_>);
+
+    /// Whether the hand is still (no motion in progress).
+    fn at_rest(&self) -> bool;
+}

@@ -1,0 +1,110 @@
+//! Fixed-capacity queue of the events produced during one tick; published
+//! and cleared by the loop's postprocess phase. Never allocates after
+//! construction; overflow is counted, not hidden.
+
+use shm_schema::{Event, EventKind, FaultCode, GoalState, ReasonCode};
+
+/// Events per tick kept at most.
+pub const EVENTS_PER_TICK: usize = 32;
+
+/// The events of one tick.
+#[derive(Debug, Clone)]
+pub struct EventQueue {
+    items: [Event; EVENTS_PER_TICK],
+    len: usize,
+    dropped: u64,
+}
+
+impl Default for EventQueue {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl EventQueue {
+    /// An empty queue.
+    pub fn new() -> Self {
+        Self {
+            items: [Event::default(); EVENTS_PER_TICK],
+            len: 0,
+            dropped: 0,
+        }
+    }
+
+    /// Adds an event (the loop stamps seq, tick, time and instance).
+    pub fn push(&mut self, e: Event) {
+        if self.len < EVENTS_PER_TICK {
+            self.items[self.len] = e;
+            self.len += 1;
+        } else {
+            self.dropped += 1;
+        }
+    }
+
+    /// A goal changed state.
+    pub fn goal_transition(
+        &mut self,
+        client_id: u64,
+        goal_id: u64,
+        state: GoalState,
+        reason: ReasonCode,
+        remaining_angle: f64,
+    ) {
+        let mut e = Event::new(EventKind::GoalTransition);
+        e.client_id = client_id;
+        e.goal_id = goal_id;
+        e.state = state.code();
+        e.reason = reason.code();
+        e.value = remaining_angle;
+        self.push(e);
+    }
+
+    /// A gait event (place, lift, roll, substitution, rewind) of `finger`.
+    pub fn gait(&mut self, kind: EventKind, finger: usize, goal_id: u64, client_id: u64) {
+        let mut e = Event::new(kind);
+        e.finger = finger as u32;
+        e.goal_id = goal_id;
+        e.client_id = client_id;
+        self.push(e);
+    }
+
+    /// A fault was detected.
+    pub fn fault(&mut self, fault: FaultCode) {
+        let mut e = Event::new(EventKind::Fault);
+        e.fault = fault.code();
+        self.push(e);
+    }
+
+    /// The queued events.
+    pub fn as_slice(&self) -> &[Event] {
+        &self.items[..self.len]
+    }
+
+    /// Empties the queue (keeps the overflow count).
+    pub fn clear(&mut self) {
+        self.len = 0;
+    }
+
+    /// Events lost to overflow since start.
+    pub fn dropped(&self) -> u64 {
+        self.dropped
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overflow_is_counted() {
+        let mut q = EventQueue::new();
+        for i in 0..EVENTS_PER_TICK + 3 {
+            q.gait(EventKind::Place, i % 3, 1, 2);
+        }
+        assert_eq!(q.as_slice().len(), EVENTS_PER_TICK);
+        assert_eq!(q.dropped(), 3);
+        assert_eq!(q.as_slice()[1].finger, 1);
+        q.clear();
+        assert!(q.as_slice().is_empty());
+    }
+}

@@ -1,0 +1,204 @@
+//! Housekeeping, off the real-time loop (SPEC §7.2), about once a second:
+//!
+//! - iceoryx2 dead-node cleanup (`try_cleanup_dead_nodes`, ~100 µs): frees
+//!   the ports of crashed clients so they stop counting against the limits;
+//! - client bookkeeping: how many client nodes are alive, logged when it
+//!   changes, and how many dead ones were cleaned (the loop turns that into
+//!   a `ClientsCleaned` event);
+//! - reports what the loop only counts (missed periods, IPC errors, lost
+//!   events) as rate-limited warnings — the loop itself never logs;
+//! - `STATUS=` for systemd from the latest published status, which this
+//!   thread reads like any client.
+//!
+//! It has its own iceoryx2 node (ports are not shared across threads).
+
+use crate::ipc::{Ipc, create_node, status_subscriber};
+use crate::logging::RateLimit;
+use crate::runtime::Shared;
+use crate::sd_notify;
+use iceoryx2::config::Config;
+use iceoryx2::identifiers::UniqueNodeId;
+use iceoryx2::node::NodeView;
+use iceoryx2::prelude::*;
+use shm_schema::ServiceNames;
+use shm_schema::ipc::HOUSEKEEPING_NODE_NAME;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+use tracing::{info, warn};
+
+/// What the housekeeping thread needs.
+#[derive(Debug)]
+pub struct HousekeepingSetup {
+    /// iceoryx2 config shared with the daemon.
+    pub config: Config,
+    /// Service names.
+    pub names: ServiceNames,
+    /// The daemon node's id (not counted as a client).
+    pub daemon_node: UniqueNodeId,
+    /// Counters shared with the loop.
+    pub shared: Arc<Shared>,
+    /// Period.
+    pub period: Duration,
+    /// systemd notifier, if started by systemd.
+    pub sd: Option<sd_notify::Notifier>,
+    /// CPUs to pin this thread to.
+    pub cpus: Vec<u32>,
+}
+
+/// Handle of the running thread.
+#[derive(Debug)]
+pub struct Housekeeping {
+    stop: Arc<AtomicBool>,
+    handle: Option<JoinHandle<()>>,
+}
+
+impl Housekeeping {
+    /// Stops the thread and waits for it.
+    pub fn join(mut self) {
+        self.stop_now();
+    }
+
+    fn stop_now(&mut self) {
+        self.stop.store(true, Ordering::Release);
+        if let Some(h) = self.handle.take() {
+            h.thread().unpark();
+            let _ = h.join();
+        }
+    }
+}
+
+impl Drop for Housekeeping {
+    fn drop(&mut self) {
+        self.stop_now();
+    }
+}
+
+/// Starts the thread `gaitd-housekeeping`.
+pub fn spawn(setup: HousekeepingSetup) -> std::io::Result<Housekeeping> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let stop2 = stop.clone();
+    let handle = std::thread::Builder::new()
+        .name("gaitd-housekeeping".into())
+        .spawn(move || run(setup, &stop2))?;
+    Ok(Housekeeping {
+        stop,
+        handle: Some(handle),
+    })
+}
+
+fn run(s: HousekeepingSetup, stop: &AtomicBool) {
+    if let Err(e) = crate::rt::pin_current_thread(&s.cpus) {
+        warn!(cpus = ?s.cpus, error = %e, "cannot pin housekeeping thread");
+    }
+    let node = match create_node(HOUSEKEEPING_NODE_NAME, &s.config) {
+        Ok(n) => n,
+        Err(e) => {
+            warn!(error = %e, "housekeeping disabled: cannot create its iceoryx2 node");
+            return;
+        }
+    };
+    let status = status_subscriber(&node, &s.names)
+        .map_err(|e| warn!(error = %e, "housekeeping: no status subscription (no STATUS= texts)"))
+        .ok();
+    let mut overrun_limit = RateLimit::new(Duration::from_secs(10));
+    let mut ipc_limit = RateLimit::new(Duration::from_secs(10));
+    let mut event_limit = RateLimit::new(Duration::from_secs(10));
+    let (mut last_overruns, mut last_ipc, mut last_dropped, mut last_clients) = (0, 0, 0, 0);
+    while !stop.load(Ordering::Acquire) {
+        let now = Instant::now();
+
+        let c = node.try_cleanup_dead_nodes();
+        if c.cleanups > 0 {
+            info!(
+                nodes = c.cleanups,
+                "cleaned up dead iceoryx2 nodes (crashed clients)"
+            );
+            s.shared.cleaned.fetch_add(c.cleanups, Ordering::Relaxed);
+        }
+        if c.failed_cleanups > 0 {
+            warn!(
+                nodes = c.failed_cleanups,
+                "dead iceoryx2 nodes could not be cleaned up (permissions?)"
+            );
+        }
+
+        let clients = count_clients(&s.config, s.daemon_node, node.id());
+        s.shared.clients.store(clients, Ordering::Relaxed);
+        if clients != last_clients {
+            info!(clients, "client count changed");
+            last_clients = clients;
+        }
+
+        let overruns = s.shared.overruns.load(Ordering::Relaxed);
+        if overruns > last_overruns
+            && let Some(suppressed) = overrun_limit.allow(now)
+        {
+            warn!(
+                missed = overruns - last_overruns,
+                total = overruns,
+                suppressed,
+                "control loop missed periods"
+            );
+            last_overruns = overruns;
+        }
+        let ipc = s.shared.ipc_errors.load(Ordering::Relaxed);
+        if ipc > last_ipc
+            && let Some(suppressed) = ipc_limit.allow(now)
+        {
+            warn!(
+                errors = ipc - last_ipc,
+                total = ipc,
+                suppressed,
+                "iceoryx2 send/receive errors on the loop"
+            );
+            last_ipc = ipc;
+        }
+        let dropped = s.shared.events_dropped.load(Ordering::Relaxed);
+        if dropped > last_dropped
+            && let Some(suppressed) = event_limit.allow(now)
+        {
+            warn!(
+                lost = dropped - last_dropped,
+                suppressed, "more events in one tick than the event queue holds"
+            );
+            last_dropped = dropped;
+        }
+
+        if let (Some(sd), Some(sub)) = (&s.sd, &status) {
+            let mut latest = None;
+            while let Ok(Some(sample)) = sub.receive() {
+                latest = Some(*sample.payload());
+            }
+            if let Some(st) = latest {
+                let t = &st.timing;
+                let _ = sd.status(&format!(
+                    "tick {} | compute p99 {:.1} us max {:.1} us | jitter p99 {:.1} us | missed {} | clients {}",
+                    st.tick,
+                    t.compute_p99_ns as f64 / 1e3,
+                    t.compute_max_ns as f64 / 1e3,
+                    t.jitter_p99_ns as f64 / 1e3,
+                    t.overruns,
+                    st.clients
+                ));
+            }
+        }
+        std::thread::park_timeout(s.period);
+    }
+}
+
+/// Alive nodes under `config` other than the daemon's two.
+fn count_clients(config: &Config, daemon: UniqueNodeId, own: &UniqueNodeId) -> u32 {
+    let mut n = 0;
+    let _ = Node::<Ipc>::list(config, |state| {
+        if let NodeState::Alive(v) = &state
+            && *v.id() != daemon
+            && v.id() != own
+        {
+            n += 1;
+        }
+        CallbackProgression::Continue
+    });
+    n
+}

@@ -1,0 +1,229 @@
+//! Command intake, the loop's preprocess phase (SPEC §7.3, §12): every
+//! command is decoded and checked before the controller sees it. Bytes that
+//! fail [`Command::validate`] are answered with their reason and go no
+//! further; then the daemon's own checks (shutdown, duplicate goal ids,
+//! limit overrides above the configured limits); only then the controller.
+
+use crate::controller::{ControlCommand, Controller, TickContext};
+use crate::convert::control_command;
+use gait::config::LimitsConfig;
+use shm_schema::{Command, GoalState, ReasonCode, ValidCommand, Verdict};
+
+/// Remembers recent (client, goal id) pairs in a fixed ring to refuse
+/// duplicates (SPEC §6.4: goal ids are unique per client).
+#[derive(Debug, Clone)]
+pub struct GoalIdMemory {
+    seen: Box<[(u64, u64)]>,
+    next: usize,
+}
+
+impl GoalIdMemory {
+    /// Remembers the last `capacity` goals (allocated here, once).
+    pub fn new(capacity: usize) -> Self {
+        Self {
+            seen: vec![(0, 0); capacity.max(1)].into_boxed_slice(),
+            next: 0,
+        }
+    }
+
+    /// Whether the pair was seen (goal ids are never 0, so empty slots never match).
+    pub fn contains(&self, client_id: u64, goal_id: u64) -> bool {
+        self.seen.contains(&(client_id, goal_id))
+    }
+
+    /// Records a pair, forgetting the oldest when full.
+    pub fn insert(&mut self, client_id: u64, goal_id: u64) {
+        self.seen[self.next] = (client_id, goal_id);
+        self.next = (self.next + 1) % self.seen.len();
+    }
+}
+
+/// Decides every command's answer.
+#[derive(Debug, Clone)]
+pub struct Intake {
+    ids: GoalIdMemory,
+    limits: LimitsConfig,
+    shutting_down: bool,
+    received: u64,
+    rejected: u64,
+}
+
+impl Intake {
+    /// Intake remembering `goal_id_memory` goals, checking overrides
+    /// against `limits`.
+    pub fn new(goal_id_memory: usize, limits: LimitsConfig) -> Self {
+        Self {
+            ids: GoalIdMemory::new(goal_id_memory),
+            limits,
+            shutting_down: false,
+            received: 0,
+            rejected: 0,
+        }
+    }
+
+    /// From now on every command is refused with `ShuttingDown`.
+    pub fn begin_shutdown(&mut self) {
+        self.shutting_down = true;
+    }
+
+    /// Commands received since start.
+    pub fn received(&self) -> u64 {
+        self.received
+    }
+
+    /// Commands rejected since start.
+    pub fn rejected(&self) -> u64 {
+        self.rejected
+    }
+
+    /// Decides one command, handing it to `controller` if it passes.
+    pub fn handle<C: Controller>(
+        &mut self,
+        cmd: &Command,
+        controller: &mut C,
+        ctx: &mut TickContext<'_>,
+    ) -> Verdict {
+        self.received += 1;
+        let verdict = self.decide(cmd, controller, ctx);
+        if verdict != Verdict::Accepted {
+            self.rejected += 1;
+        }
+        verdict
+    }
+
+    fn decide<C: Controller>(
+        &mut self,
+        cmd: &Command,
+        controller: &mut C,
+        ctx: &mut TickContext<'_>,
+    ) -> Verdict {
+        // Malformed bytes: answered, not recorded anywhere else (a flood of
+        // garbage must not wash the event history away).
+        let valid = match cmd.validate() {
+            Ok(v) => v,
+            Err(reason) => return Verdict::Rejected(reason),
+        };
+        let goal = match valid {
+            ValidCommand::Goal(g) => Some((g.client_id, g.goal_id)),
+            _ => None,
+        };
+        let verdict = self.decide_valid(&valid, goal, controller, ctx);
+        if let (Some((client_id, goal_id)), Verdict::Rejected(reason)) = (goal, verdict) {
+            ctx.events
+                .goal_transition(client_id, goal_id, GoalState::Rejected, reason, 0.0);
+        }
+        verdict
+    }
+
+    fn decide_valid<C: Controller>(
+        &mut self,
+        valid: &ValidCommand,
+        goal: Option<(u64, u64)>,
+        controller: &mut C,
+        ctx: &mut TickContext<'_>,
+    ) -> Verdict {
+        if self.shutting_down {
+            return Verdict::Rejected(ReasonCode::ShuttingDown);
+        }
+        if let Some((client_id, goal_id)) = goal {
+            if self.ids.contains(client_id, goal_id) {
+                return Verdict::Rejected(ReasonCode::DuplicateGoalId);
+            }
+            self.ids.insert(client_id, goal_id);
+        }
+        let cmd: ControlCommand = match control_command(valid, &self.limits) {
+            Ok(c) => c,
+            Err(reason) => return Verdict::Rejected(reason),
+        };
+        controller.command(&cmd, ctx)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::events::EventQueue;
+    use crate::hold::HoldController;
+    use gait::HandConfig;
+    use shm_schema::{EventKind, GoalFrame, LimitKind, LimitOrder};
+
+    const Q: [f64; 4] = [1.0, 0.0, 0.0, 0.0];
+
+    #[test]
+    fn every_check_in_order() {
+        let cfg = HandConfig::default();
+        let mut ctl = HoldController::new(&cfg);
+        let mut intake = Intake::new(16, cfg.limits);
+        let mut events = EventQueue::new();
+        let mut ctx = TickContext {
+            now: 0,
+            tick: 1,
+            events: &mut events,
+        };
+        let mut run = |c: Command, ctx: &mut TickContext<'_>| intake.handle(&c, &mut ctl, ctx);
+        let goal = |id| Command::goal(5, id, GoalFrame::Absolute, Q);
+        assert_eq!(
+            run(
+                Command {
+                    kind: 42,
+                    ..goal(1)
+                },
+                &mut ctx
+            ),
+            Verdict::Rejected(ReasonCode::UnknownCommandKind)
+        );
+        assert_eq!(
+            run(goal(1), &mut ctx),
+            Verdict::Rejected(ReasonCode::PlannerUnavailable)
+        );
+        assert_eq!(
+            run(goal(1), &mut ctx),
+            Verdict::Rejected(ReasonCode::DuplicateGoalId)
+        );
+        // Same id from another client is fine.
+        assert_eq!(
+            run(Command::goal(6, 1, GoalFrame::Absolute, Q), &mut ctx),
+            Verdict::Rejected(ReasonCode::PlannerUnavailable)
+        );
+        assert_eq!(
+            run(
+                goal(2).with_limit(LimitKind::Fingertip, LimitOrder::Jerk, 1e3),
+                &mut ctx
+            ),
+            Verdict::Rejected(ReasonCode::LimitAboveConfigured)
+        );
+        assert_eq!(run(Command::hold(5), &mut ctx), Verdict::Accepted);
+        let kinds: Vec<_> = ctx
+            .events
+            .as_slice()
+            .iter()
+            .map(|e| (e.kind().unwrap(), e.reason().unwrap()))
+            .collect();
+        assert_eq!(
+            kinds,
+            vec![
+                (EventKind::GoalTransition, ReasonCode::PlannerUnavailable),
+                (EventKind::GoalTransition, ReasonCode::DuplicateGoalId),
+                (EventKind::GoalTransition, ReasonCode::PlannerUnavailable),
+                (EventKind::GoalTransition, ReasonCode::LimitAboveConfigured),
+                (EventKind::Hold, ReasonCode::HoldRequested),
+            ]
+        );
+        intake.begin_shutdown();
+        assert_eq!(
+            intake.handle(&Command::hold(5), &mut ctl, &mut ctx),
+            Verdict::Rejected(ReasonCode::ShuttingDown)
+        );
+        assert_eq!((intake.received(), intake.rejected()), (7, 6));
+    }
+
+    #[test]
+    fn memory_forgets_the_oldest() {
+        let mut m = GoalIdMemory::new(2);
+        m.insert(1, 1);
+        m.insert(1, 2);
+        m.insert(1, 3);
+        assert!(!m.contains(1, 1));
+        assert!(m.contains(1, 2) && m.contains(1, 3));
+    }
+}

@@ -1,0 +1,426 @@
+//! The daemon's iceoryx2 services and ports (SPEC §7.3).
+//!
+//! The daemon creates every service, so its limits win; clients only open
+//! them. Commands travel on a publish-subscribe service rather than
+//! request-response because iceoryx2 0.10's `Server::receive` allocates an
+//! `Arc` per request, which the loop thread must not do (checked by the
+//! allocation test); answers go back on their own publish-subscribe service
+//! and clients match them by `(client_id, request_id)`.
+//!
+//! Restart after a crash: a service still held open by clients of the dead
+//! daemon is adopted when it is compatible (its dead ports were removed by
+//! dead-node cleanup at node creation); an incompatible or corrupted one
+//! (another schema version, other limits) is removed by force and created
+//! anew, and its old clients must reconnect.
+
+use crate::config::{DaemonConfig, IpcSection};
+use iceoryx2::config::Config;
+use iceoryx2::node::NodeBuilder;
+use iceoryx2::port::notifier::Notifier;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::*;
+use iceoryx2::service::builder::event::EventCreateError;
+use iceoryx2::service::builder::publish_subscribe::PublishSubscribeCreateError;
+use shm_schema::ipc::{IpcRequest, IpcSettings};
+use shm_schema::{
+    Answer, Command, EVENT_ID_DAEMON_DEAD, EVENT_ID_MAX, Event, ServiceNames, Status,
+};
+use tracing::{info, warn};
+
+/// The iceoryx2 service type used everywhere (inter-process, not thread-safe ports).
+pub type Ipc = ipc::Service;
+
+/// Why the IPC setup failed. Messages name the service and what to check.
+#[derive(Debug, thiserror::Error)]
+pub enum IpcError {
+    /// The settings (prefix, root path, file prefix) are unusable.
+    #[error("ipc settings: {0}")]
+    Settings(#[from] shm_schema::ipc::IpcSettingsError),
+    /// The iceoryx2 config file could not be loaded.
+    #[error("cannot load iceoryx2 config {path}: {why}")]
+    ConfigFile {
+        /// Path as given.
+        path: String,
+        /// iceoryx2's error.
+        why: String,
+    },
+    /// The root path could not be created.
+    #[error("cannot create iceoryx2 root path {path}: {source}")]
+    RootPath {
+        /// The path.
+        path: String,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// The iceoryx2 node could not be created.
+    #[error(
+        "cannot create iceoryx2 node under {root}: {why} (is the root path writable by this user?)"
+    )]
+    Node {
+        /// Root path.
+        root: String,
+        /// iceoryx2's error.
+        why: String,
+    },
+    /// A service or port could not be created.
+    #[error("service {service}: {why}")]
+    Service {
+        /// Service name.
+        service: String,
+        /// What failed.
+        why: String,
+    },
+}
+
+/// Loads the iceoryx2 config a daemon with `ipc` settings uses and the
+/// resolved settings (explicit keys → environment → config file → defaults).
+pub fn resolve(ipc: &IpcSection) -> Result<(Config, IpcSettings), IpcError> {
+    let opt = |s: &String| (!s.is_empty()).then(|| s.clone());
+    let req = IpcRequest {
+        service_prefix: opt(&ipc.service_prefix),
+        iceoryx2_config: opt(&ipc.iceoryx2_config),
+        root_path: opt(&ipc.root_path),
+        file_prefix: opt(&ipc.file_prefix),
+    }
+    .or_env(|k| std::env::var(k).ok());
+    let file = match &req.iceoryx2_config {
+        Some(path) => {
+            let fp = FilePath::new(path.as_bytes()).map_err(|e| IpcError::ConfigFile {
+                path: path.clone(),
+                why: format!("{e:?}"),
+            })?;
+            Some(Config::from_file(&fp).map_err(|e| IpcError::ConfigFile {
+                path: path.clone(),
+                why: format!("{e:?}"),
+            })?)
+        }
+        None => None,
+    };
+    // SAFETY: getuid has no preconditions.
+    let uid = unsafe { libc::getuid() };
+    let run_dir = std::path::Path::new("/run/gaitd").is_dir();
+    let settings = req.resolve(file.as_ref(), uid, run_dir);
+    let mut config = file.unwrap_or_default();
+    settings.apply(&mut config)?;
+    Ok((config, settings))
+}
+
+/// Creates the node `name` under `config` (cleaning up dead nodes of
+/// earlier runs, which iceoryx2 does on node creation).
+pub fn create_node(name: &str, config: &Config) -> Result<Node<Ipc>, IpcError> {
+    let root = config.global.root_path().to_string();
+    std::fs::create_dir_all(&root).map_err(|source| IpcError::RootPath {
+        path: root.clone(),
+        source,
+    })?;
+    let node_name = NodeName::new(name).map_err(|e| IpcError::Node {
+        root: root.clone(),
+        why: format!("bad node name {name}: {e:?}"),
+    })?;
+    let node = NodeBuilder::new()
+        .name(&node_name)
+        .config(config)
+        // The daemon handles SIGTERM/SIGINT itself (signals module).
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<Ipc>()
+        .map_err(|e| IpcError::Node {
+            root,
+            why: format!("{e:?}"),
+        })?;
+    let cleaned = node.try_cleanup_dead_nodes();
+    if cleaned.cleanups > 0 {
+        info!(
+            nodes = cleaned.cleanups,
+            "cleaned up dead iceoryx2 nodes of an earlier run"
+        );
+    }
+    Ok(node)
+}
+
+fn service_name(name: &str) -> Result<ServiceName, IpcError> {
+    ServiceName::new(name).map_err(|e| IpcError::Service {
+        service: name.to_owned(),
+        why: format!("invalid service name: {e:?}"),
+    })
+}
+
+fn err(service: &str, what: &str, e: impl std::fmt::Debug) -> IpcError {
+    IpcError::Service {
+        service: service.to_owned(),
+        why: format!("{what}: {e:?}"),
+    }
+}
+
+/// Creates a service, or adopts the one clients of a dead daemon still
+/// hold, or replaces it when incompatible (see module docs).
+fn create_or_adopt<F, E1, E2>(
+    node: &Node<Ipc>,
+    name: &str,
+    pattern: MessagingPattern,
+    create: impl Fn() -> Result<F, E1>,
+    open: impl Fn() -> Result<F, E2>,
+    already_exists: impl Fn(&E1) -> bool,
+) -> Result<F, IpcError>
+where
+    E1: std::fmt::Debug,
+    E2: std::fmt::Debug,
+{
+    match create() {
+        Ok(f) => return Ok(f),
+        Err(e) if !already_exists(&e) => return Err(err(name, "create", e)),
+        Err(_) => {}
+    }
+    match open() {
+        Ok(f) => {
+            warn!(
+                service = name,
+                "adopted a service left by an earlier daemon (clients still attached)"
+            );
+            Ok(f)
+        }
+        Err(e) => {
+            warn!(service = name, error = ?e, "service left by an earlier daemon is incompatible; removing it");
+            let sn = service_name(name)?;
+            // SAFETY: the daemon owns this prefix; clients of the old
+            // service fail and reconnect.
+            unsafe { node.force_remove_service(&sn, pattern) }
+                .map_err(|e| err(name, "force remove", e))?;
+            create().map_err(|e| err(name, "create after removal", e))
+        }
+    }
+}
+
+type PubSub<T> = iceoryx2::service::port_factory::publish_subscribe::PortFactory<Ipc, T, ()>;
+type EventSvc = iceoryx2::service::port_factory::event::PortFactory<Ipc>;
+
+/// The daemon's services. iceoryx2 ports cannot move between threads but
+/// services can: each thread builds its own ports from these.
+#[derive(Debug)]
+pub struct DaemonServices {
+    /// client → daemon commands.
+    pub commands: PubSub<Command>,
+    /// Services the writer thread publishes on.
+    pub out: OutServices,
+    /// Service names.
+    pub names: ServiceNames,
+}
+
+/// The services of the daemon → clients direction.
+#[derive(Debug)]
+pub struct OutServices {
+    /// Answers.
+    pub answers: PubSub<Answer>,
+    /// Status (latest value).
+    pub status: PubSub<Status>,
+    /// Events (with history).
+    pub events: PubSub<Event>,
+    /// Wake-ups.
+    pub notify: EventSvc,
+}
+
+/// The writer thread's ports (see `outbox`).
+#[derive(Debug)]
+pub struct OutPorts {
+    /// Answers.
+    pub answers: Publisher<Ipc, Answer, ()>,
+    /// Status.
+    pub status: Publisher<Ipc, Status, ()>,
+    /// Events.
+    pub events: Publisher<Ipc, Event, ()>,
+    /// Wake-ups.
+    pub notifier: Notifier<Ipc>,
+}
+
+impl OutServices {
+    /// Creates the publishers and the notifier (on the calling thread).
+    pub fn ports(&self, names: &ServiceNames) -> Result<OutPorts, IpcError> {
+        let busy = "publisher (is another gaitd running with this prefix?)";
+        Ok(OutPorts {
+            answers: self
+                .answers
+                .publisher_builder()
+                .max_loaned_samples(1)
+                .create()
+                .map_err(|e| err(&names.answers, busy, e))?,
+            status: self
+                .status
+                .publisher_builder()
+                .max_loaned_samples(1)
+                .create()
+                .map_err(|e| err(&names.status, busy, e))?,
+            events: self
+                .events
+                .publisher_builder()
+                .max_loaned_samples(1)
+                .create()
+                .map_err(|e| err(&names.events, busy, e))?,
+            notifier: self.notify.notifier_builder().create().map_err(|e| {
+                err(
+                    &names.notify,
+                    "notifier (is another gaitd running with this prefix?)",
+                    e,
+                )
+            })?,
+        })
+    }
+}
+
+impl DaemonServices {
+    /// The loop's command subscriber (on the calling thread).
+    pub fn command_subscriber(
+        &self,
+        queue: usize,
+    ) -> Result<Subscriber<Ipc, Command, ()>, IpcError> {
+        self.commands
+            .subscriber_builder()
+            .buffer_size(queue)
+            .create()
+            .map_err(|e| {
+                err(
+                    &self.names.commands,
+                    "subscriber (is another gaitd running with this prefix?)",
+                    e,
+                )
+            })
+    }
+}
+
+/// Creates (or adopts, see module docs) every service under `prefix`.
+pub fn create_services(
+    node: &Node<Ipc>,
+    cfg: &DaemonConfig,
+    prefix: &str,
+) -> Result<DaemonServices, IpcError> {
+    let names = ServiceNames::new(prefix);
+    let ipc = &cfg.ipc;
+    let clients = ipc.max_clients as usize;
+    // Clients, the daemon, its housekeeping node, and room for one
+    // reconnecting client whose dead node is not yet cleaned up.
+    let nodes = clients + 3;
+
+    let n = &names.commands;
+    let sn = service_name(n)?;
+    let build = || {
+        node.service_builder(&sn)
+            .publish_subscribe::<Command>()
+            .max_publishers(clients)
+            .max_subscribers(1)
+            .max_nodes(nodes)
+            .subscriber_max_buffer_size(ipc.command_queue as usize)
+            // A full queue refuses the client's send instead of silently
+            // dropping an older command.
+            .enable_safe_overflow(false)
+    };
+    let commands = create_or_adopt(
+        node,
+        n,
+        MessagingPattern::PublishSubscribe,
+        || build().history_size(0).create(),
+        || build().open(),
+        |e| matches!(e, PublishSubscribeCreateError::AlreadyExists),
+    )?;
+
+    let answers = out_service::<Answer>(
+        node,
+        &names.answers,
+        clients,
+        nodes,
+        0,
+        ipc.answer_buffer as usize,
+    )?;
+    // One more reader: the daemon's housekeeping.
+    let status = out_service::<Status>(node, &names.status, clients + 1, nodes, 1, 1)?;
+    let events = out_service::<Event>(
+        node,
+        &names.events,
+        clients,
+        nodes,
+        ipc.event_history as usize,
+        ipc.event_buffer as usize,
+    )?;
+
+    let n = &names.notify;
+    let sn = service_name(n)?;
+    let build = || {
+        node.service_builder(&sn)
+            .event()
+            .max_notifiers(1)
+            .max_listeners(clients + 1)
+            .max_nodes(nodes)
+            .event_id_max_value(EVENT_ID_MAX)
+            .notifier_dead_event(EventId::new(EVENT_ID_DAEMON_DEAD))
+    };
+    let notify = create_or_adopt(
+        node,
+        n,
+        MessagingPattern::Event,
+        || build().create(),
+        || build().open(),
+        |e| matches!(e, EventCreateError::AlreadyExists),
+    )?;
+
+    Ok(DaemonServices {
+        commands,
+        out: OutServices {
+            answers,
+            status,
+            events,
+            notify,
+        },
+        names,
+    })
+}
+
+/// A daemon → clients publish-subscribe service with one publisher.
+fn out_service<T>(
+    node: &Node<Ipc>,
+    name: &str,
+    subscribers: usize,
+    nodes: usize,
+    history: usize,
+    buffer: usize,
+) -> Result<PubSub<T>, IpcError>
+where
+    T: std::fmt::Debug + ZeroCopySend + Copy + 'static,
+{
+    let sn = service_name(name)?;
+    let build = || {
+        node.service_builder(&sn)
+            .publish_subscribe::<T>()
+            .max_publishers(1)
+            .max_subscribers(subscribers)
+            .max_nodes(nodes)
+            .history_size(history)
+            .subscriber_max_buffer_size(buffer)
+            .enable_safe_overflow(true)
+    };
+    create_or_adopt(
+        node,
+        name,
+        MessagingPattern::PublishSubscribe,
+        || build().create(),
+        || build().open(),
+        |e| matches!(e, PublishSubscribeCreateError::AlreadyExists),
+    )
+}
+
+/// A status subscriber for the daemon's own housekeeping thread (it reads
+/// the status like a client, for `STATUS=` texts).
+pub fn status_subscriber(
+    node: &Node<Ipc>,
+    names: &ServiceNames,
+) -> Result<Subscriber<Ipc, Status, ()>, IpcError> {
+    let sn = service_name(&names.status)?;
+    let svc = node
+        .service_builder(&sn)
+        .publish_subscribe::<Status>()
+        .open()
+        .map_err(|e| err(&names.status, "open", e))?;
+    let sub = svc
+        .subscriber_builder()
+        .buffer_size(1)
+        .create()
+        .map_err(|e| err(&names.status, "subscriber", e))?;
+    Ok(sub)
+}

@@ -1,0 +1,222 @@
+//! The writer thread: publishes what the loop produced (answers, events,
+//! status) and wakes waiting clients.
+//!
+//! Why a thread: iceoryx2 0.10 allocates on every `Publisher::loan_uninit`
+//! (an `Rc` per sample) and a notification is one syscall per listening
+//! client; neither belongs on the real-time loop. The loop moves plain
+//! `Copy` values into a pre-allocated ring ([`handoff`]) and unparks this
+//! thread (one futex wake), which publishes them in order — a tick's
+//! answers, then its events, then its status — and notifies: answers and
+//! events at once, status every `status_notify_every` statuses and always
+//! for the final one. `publish_time_ns` is stamped here, just before the
+//! status is sent, so clients measure the iceoryx2 hop itself.
+//!
+//! If the ring is full (the writer starved for many periods) the loop drops
+//! the message and counts it; it never waits.
+
+use crate::clock::monotonic_now;
+use crate::handoff::{self, Consumer, Producer};
+use crate::ipc::{IpcError, OutPorts, OutServices};
+use crate::runtime::Shared;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::update_connections::UpdateConnections;
+use iceoryx2::prelude::*;
+use shm_schema::{
+    Answer, DaemonState, EVENT_ID_ANSWER, EVENT_ID_EVENT, EVENT_ID_STATUS, Event, ServiceNames,
+    Status,
+};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::thread::{JoinHandle, Thread};
+use std::time::Duration;
+
+/// Messages in the ring.
+const CAPACITY: usize = 256;
+
+/// One message from the loop to the writer.
+#[derive(Debug, Clone, Copy)]
+#[allow(clippy::large_enum_variant)] // stored inline on purpose: no boxing on the loop
+pub enum Outbound {
+    /// An answer to a command.
+    Answer(Answer),
+    /// An event.
+    Event(Event),
+    /// A status.
+    Status(Status),
+}
+
+/// The loop's end: wait-free, allocation-free.
+#[derive(Debug)]
+pub struct Outbox {
+    tx: Producer<Outbound>,
+    writer: Thread,
+    shared: Arc<Shared>,
+}
+
+impl Outbox {
+    /// Queues a message (dropped and counted if the ring is full).
+    pub fn push(&mut self, m: Outbound) {
+        if self.tx.push(m).is_err() {
+            self.shared.outbox_dropped.fetch_add(1, Ordering::Relaxed);
+        }
+    }
+
+    /// Wakes the writer to publish what was queued.
+    pub fn flush(&self) {
+        self.writer.unpark();
+    }
+}
+
+/// Handle of the writer thread.
+#[derive(Debug)]
+pub struct Writer {
+    stop: Arc<AtomicBool>,
+    handle: Option<JoinHandle<()>>,
+}
+
+impl Writer {
+    /// Publishes everything still queued, then stops the thread.
+    pub fn join(mut self) {
+        self.stop_now();
+    }
+
+    fn stop_now(&mut self) {
+        self.stop.store(true, Ordering::Release);
+        if let Some(h) = self.handle.take() {
+            h.thread().unpark();
+            let _ = h.join();
+        }
+    }
+}
+
+impl Drop for Writer {
+    fn drop(&mut self) {
+        self.stop_now();
+    }
+}
+
+/// Starts the writer thread `gaitd-writer` on `services`; returns once its
+/// ports exist (so `READY=1` after this means clients get data).
+pub fn spawn(
+    services: OutServices,
+    names: ServiceNames,
+    status_notify_every: u64,
+    shared: Arc<Shared>,
+    cpus: Vec<u32>,
+) -> Result<(Outbox, Writer), IpcError> {
+    let (tx, rx) = handoff::channel::<Outbound>(CAPACITY);
+    let stop = Arc::new(AtomicBool::new(false));
+    let stop2 = stop.clone();
+    let shared2 = shared.clone();
+    let (ready_tx, ready_rx) = std::sync::mpsc::sync_channel::<Result<(), IpcError>>(1);
+    let handle = std::thread::Builder::new()
+        .name("gaitd-writer".into())
+        .spawn(move || {
+            if let Err(e) = crate::rt::pin_current_thread(&cpus) {
+                tracing::warn!(?cpus, error = %e, "cannot pin the writer thread");
+            }
+            let ports = match services.ports(&names) {
+                Ok(p) => {
+                    let _ = ready_tx.send(Ok(()));
+                    p
+                }
+                Err(e) => {
+                    let _ = ready_tx.send(Err(e));
+                    return;
+                }
+            };
+            run(ports, rx, status_notify_every.max(1), &shared2, &stop2);
+        })
+        .map_err(|e| IpcError::Service {
+            service: "writer thread".into(),
+            why: e.to_string(),
+        })?;
+    let writer = handle.thread().clone();
+    let guard = Writer {
+        stop,
+        handle: Some(handle),
+    };
+    match ready_rx.recv() {
+        Ok(Ok(())) => Ok((Outbox { tx, writer, shared }, guard)),
+        Ok(Err(e)) => Err(e),
+        Err(_) => Err(IpcError::Service {
+            service: "writer thread".into(),
+            why: "exited during start-up".into(),
+        }),
+    }
+}
+
+fn send<T: std::fmt::Debug + ZeroCopySend + Copy>(
+    p: &Publisher<ipc::Service, T, ()>,
+    v: T,
+) -> bool {
+    match p.loan_uninit() {
+        Ok(s) => s.write_payload(v).send().is_ok(),
+        Err(_) => false,
+    }
+}
+
+fn run(
+    ports: OutPorts,
+    mut rx: Consumer<Outbound>,
+    status_notify_every: u64,
+    shared: &Shared,
+    stop: &AtomicBool,
+) {
+    let mut statuses = 0u64;
+    loop {
+        // Read the stop flag before draining: whatever the loop queued
+        // before setting it is published below.
+        let stopping = stop.load(Ordering::Acquire);
+        let (mut answers, mut events, mut wake_status) = (false, false, false);
+        let mut errors = 0;
+        while let Some(m) = rx.pop() {
+            let ok = match m {
+                Outbound::Answer(a) => {
+                    answers = true;
+                    send(&ports.answers, a)
+                }
+                Outbound::Event(e) => {
+                    events = true;
+                    send(&ports.events, e)
+                }
+                Outbound::Status(mut s) => {
+                    statuses += 1;
+                    wake_status |= statuses.is_multiple_of(status_notify_every)
+                        || s.daemon_state == DaemonState::Stopped.code();
+                    s.publish_time_ns = monotonic_now();
+                    send(&ports.status, s)
+                }
+            };
+            errors += u64::from(!ok);
+        }
+        for (flag, id) in [
+            (answers, EVENT_ID_ANSWER),
+            (events, EVENT_ID_EVENT),
+            (wake_status, EVENT_ID_STATUS),
+        ] {
+            if flag
+                && ports
+                    .notifier
+                    .notify_with_custom_event_id(EventId::new(id))
+                    .is_err()
+            {
+                errors += 1;
+            }
+        }
+        // A publisher connects new subscribers (and hands them the event
+        // history) only when it sends or is told to; events are rare, so
+        // connect late joiners here instead of at the next event.
+        if ports.events.update_connections().is_err() {
+            errors += 1;
+        }
+        if errors > 0 {
+            shared.ipc_errors.fetch_add(errors, Ordering::Relaxed);
+        }
+        if stopping {
+            break;
+        }
+        // The loop unparks every tick; the timeout only bounds a lost wake-up.
+        std::thread::park_timeout(Duration::from_millis(50));
+    }
+}

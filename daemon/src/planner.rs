@@ -1,0 +1,246 @@
+//! The planner thread and its lock-free link to the loop (SPEC §7.2).
+//!
+//! Planning allocates and takes milliseconds, so it runs on its own thread.
+//! The loop and the planner share three pre-allocated [`handoff`] rings:
+//!
+//! ```text
+//!  loop ── requests (Copy data) ──▶ planner      plans are built here
+//!  loop ◀── replies (Box<Plan>) ─── planner
+//!  loop ── retired (Box<Plan>) ───▶ planner      and dropped here
+//! ```
+//!
+//! The loop only moves boxes: nothing is allocated or freed on it. A
+//! controller that plans (issue 4's executor) owns a [`PlannerLink`]; the
+//! daemon starts the thread with [`spawn`].
+
+use crate::handoff::{self, Consumer, Producer};
+use shm_schema::ReasonCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::thread::{JoinHandle, Thread};
+use std::time::Duration;
+
+/// Computes plans off the real-time thread.
+pub trait Planner: Send + 'static {
+    /// What the loop asks for (plain data, e.g. start state + goal).
+    type Request: Send + 'static;
+    /// The plan handed to the loop (may own heap memory).
+    type Plan: Send + 'static;
+    /// Plans one request, or says why not.
+    fn plan(&mut self, request: &Self::Request) -> Result<Self::Plan, ReasonCode>;
+}
+
+/// A planner's answer to request number `seq`.
+#[derive(Debug)]
+pub struct Reply<P> {
+    /// Sequence number returned by [`PlannerLink::submit`].
+    pub seq: u64,
+    /// The plan, or why there is none.
+    pub result: Result<Box<P>, ReasonCode>,
+}
+
+/// The loop's end of the planner link. Every method is wait-free and
+/// allocation-free.
+pub struct PlannerLink<Req, P> {
+    requests: Producer<(u64, Req)>,
+    replies: Consumer<Reply<P>>,
+    retired: Producer<Box<P>>,
+    planner: Thread,
+    next_seq: u64,
+}
+
+impl<Req, P> std::fmt::Debug for PlannerLink<Req, P> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PlannerLink")
+            .field("next_seq", &self.next_seq)
+            .finish()
+    }
+}
+
+impl<Req: Send, P: Send> PlannerLink<Req, P> {
+    /// Queues a request and wakes the planner; returns its sequence number,
+    /// or the request back when the queue is full.
+    pub fn submit(&mut self, request: Req) -> Result<u64, Req> {
+        let seq = self.next_seq;
+        self.requests.push((seq, request)).map_err(|(_, r)| r)?;
+        self.next_seq += 1;
+        self.planner.unpark();
+        Ok(seq)
+    }
+
+    /// The next finished reply, if any.
+    pub fn poll(&mut self) -> Option<Reply<P>> {
+        self.replies.pop()
+    }
+
+    /// Hands a plan the loop no longer needs back to the planner thread,
+    /// which drops it. Returns it if the ring is full (keep it, retry next
+    /// tick: never drop it on the loop thread).
+    pub fn retire(&mut self, plan: Box<P>) -> Result<(), Box<P>> {
+        self.retired.push(plan)?;
+        self.planner.unpark();
+        Ok(())
+    }
+}
+
+/// Handle of the planner thread: stop and join.
+#[derive(Debug)]
+pub struct PlannerThread {
+    stop: Arc<AtomicBool>,
+    handle: Option<JoinHandle<()>>,
+}
+
+impl PlannerThread {
+    /// Asks the thread to finish and waits for it.
+    pub fn join(mut self) {
+        self.shutdown();
+    }
+
+    fn shutdown(&mut self) {
+        self.stop.store(true, Ordering::Release);
+        if let Some(h) = self.handle.take() {
+            h.thread().unpark();
+            let _ = h.join();
+        }
+    }
+}
+
+impl Drop for PlannerThread {
+    fn drop(&mut self) {
+        self.shutdown();
+    }
+}
+
+/// What [`spawn`] returns: the loop's link and the thread's handle.
+pub type Spawned<Pl> = (
+    PlannerLink<<Pl as Planner>::Request, <Pl as Planner>::Plan>,
+    PlannerThread,
+);
+
+/// Starts `planner` on a thread named `gaitd-planner`; `queue` bounds the
+/// requests (and replies) in flight. `on_start` runs first on the new
+/// thread (CPU affinity).
+pub fn spawn<Pl: Planner>(
+    mut planner: Pl,
+    queue: usize,
+    on_start: impl FnOnce() + Send + 'static,
+) -> std::io::Result<Spawned<Pl>> {
+    let (req_tx, mut req_rx) = handoff::channel::<(u64, Pl::Request)>(queue);
+    let (mut rep_tx, rep_rx) = handoff::channel::<Reply<Pl::Plan>>(queue);
+    // Room for every plan that can be alive on the loop side at once.
+    let (ret_tx, mut ret_rx) = handoff::channel::<Box<Pl::Plan>>(queue + 2);
+    let stop = Arc::new(AtomicBool::new(false));
+    let stop2 = stop.clone();
+    let handle = std::thread::Builder::new()
+        .name("gaitd-planner".into())
+        .spawn(move || {
+            on_start();
+            while !stop2.load(Ordering::Acquire) {
+                while let Some(old) = ret_rx.pop() {
+                    drop(old);
+                }
+                if let Some((seq, req)) = req_rx.pop() {
+                    let result = planner.plan(&req).map(Box::new);
+                    let mut reply = Reply { seq, result };
+                    // The loop drains replies every tick; wait for room.
+                    loop {
+                        match rep_tx.push(reply) {
+                            Ok(()) => break,
+                            Err(r) if stop2.load(Ordering::Acquire) => {
+                                drop(r);
+                                return;
+                            }
+                            Err(r) => {
+                                reply = r;
+                                std::thread::park_timeout(Duration::from_millis(1));
+                            }
+                        }
+                    }
+                    continue;
+                }
+                std::thread::park_timeout(Duration::from_millis(100));
+            }
+        })?;
+    let link = PlannerLink {
+        requests: req_tx,
+        replies: rep_rx,
+        retired: ret_tx,
+        planner: handle.thread().clone(),
+        next_seq: 1,
+    };
+    Ok((
+        link,
+        PlannerThread {
+            stop,
+            handle: Some(handle),
+        },
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::AtomicUsize;
+
+    /// Builds a heap-owning "plan" and counts drops, to check where plans die.
+    struct Squares(Arc<AtomicUsize>);
+    #[derive(Debug)]
+    struct Plan {
+        values: Vec<u64>,
+        dropped_on: Arc<AtomicUsize>,
+    }
+    impl Drop for Plan {
+        fn drop(&mut self) {
+            if std::thread::current().name() == Some("gaitd-planner") {
+                self.dropped_on.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+    }
+    impl Planner for Squares {
+        type Request = u64;
+        type Plan = Plan;
+        fn plan(&mut self, n: &u64) -> Result<Plan, ReasonCode> {
+            if *n == 0 {
+                return Err(ReasonCode::NoPlan);
+            }
+            Ok(Plan {
+                values: (0..*n).map(|i| i * i).collect(),
+                dropped_on: self.0.clone(),
+            })
+        }
+    }
+
+    #[test]
+    fn plans_travel_to_the_loop_and_die_on_the_planner_thread() {
+        let dropped = Arc::new(AtomicUsize::new(0));
+        let (mut link, thread) = spawn(Squares(dropped.clone()), 4, || {}).unwrap();
+        let mut got = 0;
+        let mut held: Option<Box<Plan>> = None;
+        for n in 0..20u64 {
+            let seq = link.submit(n).unwrap();
+            let reply = loop {
+                if let Some(r) = link.poll() {
+                    break r;
+                }
+                std::thread::yield_now();
+            };
+            assert_eq!(reply.seq, seq);
+            match reply.result {
+                Ok(plan) => {
+                    assert_eq!(plan.values.len() as u64, n);
+                    if let Some(old) = held.replace(plan) {
+                        link.retire(old).unwrap();
+                    }
+                    got += 1;
+                }
+                Err(r) => assert_eq!((n, r), (0, ReasonCode::NoPlan)),
+            }
+        }
+        link.retire(held.take().unwrap()).unwrap();
+        while dropped.load(Ordering::Relaxed) < got {
+            std::thread::yield_now();
+        }
+        thread.join();
+        assert_eq!(dropped.load(Ordering::Relaxed), 19);
+    }
+}

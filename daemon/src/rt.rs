@@ -1,0 +1,127 @@
+//! Real-time setup (SPEC §7.1): memory locking, SCHED_FIFO, CPU affinity.
+//!
+//! Each step is tried when configured and reports why it could not be done;
+//! the daemon then warns and runs without it (a developer's machine, a
+//! container without CAP_SYS_NICE), it never refuses to start.
+
+use std::io;
+
+/// Why memory locking was skipped or failed.
+#[derive(Debug, thiserror::Error)]
+pub enum LockError {
+    /// RLIMIT_MEMLOCK is finite and we are not privileged: with MCL_FUTURE
+    /// every later mapping beyond the limit would fail, so we do not lock.
+    #[error(
+        "RLIMIT_MEMLOCK is {0} bytes; not locking memory (set LimitMEMLOCK=infinity in the unit, or grant CAP_IPC_LOCK)"
+    )]
+    LimitTooLow(u64),
+    /// mlockall failed.
+    #[error("mlockall failed: {0}")]
+    Os(io::Error),
+}
+
+fn memlock_limit() -> io::Result<libc::rlim_t> {
+    let mut r = libc::rlimit {
+        rlim_cur: 0,
+        rlim_max: 0,
+    };
+    // SAFETY: valid out pointer.
+    if unsafe { libc::getrlimit(libc::RLIMIT_MEMLOCK, &mut r) } != 0 {
+        return Err(io::Error::last_os_error());
+    }
+    Ok(r.rlim_cur)
+}
+
+/// Whether locking all current and future memory is safe: root (which
+/// bypasses the limit) or an unlimited RLIMIT_MEMLOCK.
+pub fn may_lock_memory(euid: u32, limit: libc::rlim_t) -> Result<(), LockError> {
+    if euid == 0 || limit == libc::RLIM_INFINITY {
+        Ok(())
+    } else {
+        Err(LockError::LimitTooLow(limit))
+    }
+}
+
+/// Locks all current and future pages (mlockall MCL_CURRENT | MCL_FUTURE),
+/// so the loop never waits for a page fault.
+pub fn lock_memory() -> Result<(), LockError> {
+    // SAFETY: geteuid has no preconditions.
+    let euid = unsafe { libc::geteuid() };
+    may_lock_memory(euid, memlock_limit().map_err(LockError::Os)?)?;
+    // SAFETY: plain syscall.
+    if unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE) } != 0 {
+        return Err(LockError::Os(io::Error::last_os_error()));
+    }
+    Ok(())
+}
+
+/// Runs the calling thread with SCHED_FIFO at `priority` (1–99).
+pub fn set_fifo_priority(priority: u32) -> io::Result<()> {
+    let param = libc::sched_param {
+        sched_priority: priority as libc::c_int,
+    };
+    // SAFETY: pthread_self is always valid; param is a valid pointer.
+    let rc = unsafe { libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param) };
+    if rc != 0 {
+        return Err(io::Error::from_raw_os_error(rc));
+    }
+    Ok(())
+}
+
+/// Restricts the calling thread to `cpus` (no-op for an empty list).
+pub fn pin_current_thread(cpus: &[u32]) -> io::Result<()> {
+    if cpus.is_empty() {
+        return Ok(());
+    }
+    // SAFETY: cpu_set_t is plain data; CPU_ZERO/CPU_SET write within it
+    // (config validation keeps CPU numbers below CPU_SETSIZE = 1024).
+    unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        libc::CPU_ZERO(&mut set);
+        for &c in cpus {
+            libc::CPU_SET(c as usize, &mut set);
+        }
+        if libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set) != 0 {
+            return Err(io::Error::last_os_error());
+        }
+    }
+    Ok(())
+}
+
+/// Touches `bytes` of stack so its pages are mapped (and locked) before
+/// the loop starts.
+#[inline(never)]
+pub fn prefault_stack(bytes: usize) {
+    let mut buf = [0u8; 64 * 1024];
+    let n = bytes.min(buf.len());
+    for i in (0..n).step_by(4096) {
+        // Volatile so the writes are not optimised away.
+        // SAFETY: i < buf.len().
+        unsafe { std::ptr::write_volatile(buf.as_mut_ptr().add(i), 1) };
+    }
+    std::hint::black_box(&buf);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn locking_needs_root_or_an_unlimited_limit() {
+        assert!(may_lock_memory(0, 65536).is_ok());
+        assert!(may_lock_memory(1000, libc::RLIM_INFINITY).is_ok());
+        let e = may_lock_memory(1000, 8 << 20).unwrap_err();
+        assert!(e.to_string().contains("LimitMEMLOCK"), "{e}");
+    }
+
+    #[test]
+    fn pinning_to_an_allowed_cpu_works_and_to_a_missing_one_fails() {
+        std::thread::spawn(|| {
+            pin_current_thread(&[0]).unwrap();
+            assert!(pin_current_thread(&[1000]).is_err());
+            pin_current_thread(&[]).unwrap();
+        })
+        .join()
+        .unwrap();
+    }
+}

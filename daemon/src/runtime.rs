@@ -1,0 +1,359 @@
+//! The real-time loop (SPEC §6.1, §7.2), in copper-rs phases (STYLE §3):
+//!
+//! 1. **preprocess** — record the wake-up (jitter, missed periods), drain at
+//!    most `max_commands_per_tick` commands: validate, decide, answer;
+//! 2. **process** — one [`Controller::tick`];
+//! 3. **postprocess** — hand the tick's answers, events and status (every
+//!    `status_every` ticks) to the writer thread (`outbox`), feed the
+//!    systemd watchdog;
+//! 4. **stats** — record the compute time.
+//!
+//! Contract: after construction nothing here allocates, frees, blocks or
+//! logs (proven by `tests/loop_allocations.rs` with a counting allocator,
+//! real iceoryx2 ports and the mock clock). The loop's only iceoryx2 call
+//! is receiving commands, which is allocation-free in 0.10 except when the
+//! set of connected clients changes (iceoryx2 then rebuilds its connection
+//! list on the calling thread). Failures are counted in [`Shared`] for
+//! housekeeping to report.
+//!
+//! Shutdown (dora `shutdown.rs` style, the order matters): stop accepting
+//! commands → ask the controller for a safe hold → keep ticking until it is
+//! at rest or `shutdown_timeout_ms` has passed (bounds how long a stop may
+//! take) → queue `DaemonStopping` and a final status with
+//! `daemon_state = Stopped` → return; the caller then joins the writer,
+//! which publishes them, and drops the ports.
+
+use crate::clock::{Clock, Nanos};
+use crate::config::DaemonConfig;
+use crate::controller::{ControlOutput, Controller, FingerReport, GoalReport, TickContext};
+use crate::convert::fill_status;
+use crate::events::EventQueue;
+use crate::intake::Intake;
+use crate::ipc::Ipc;
+use crate::outbox::{Outbound, Outbox};
+use crate::sd_notify;
+use crate::stats::LoopStats;
+use crate::ticker::{Ticker, Wake};
+use gait::HandState;
+use iceoryx2::port::subscriber::Subscriber;
+use nalgebra::Vector3;
+use shm_schema::{
+    Answer, Command, DaemonState, Event, EventKind, FaultCode, FingerPhase, GraspState, Phase,
+    Status,
+};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
+
+/// Counters shared between the loop and housekeeping (atomics only).
+#[derive(Debug, Default)]
+pub struct Shared {
+    /// Ticks run (loop writes).
+    pub ticks: AtomicU64,
+    /// Missed periods (loop writes).
+    pub overruns: AtomicU64,
+    /// Failed iceoryx2 sends/receives/notifications (loop and writer).
+    pub ipc_errors: AtomicU64,
+    /// Messages the loop dropped because the writer's ring was full.
+    pub outbox_dropped: AtomicU64,
+    /// Events lost because more than `EVENTS_PER_TICK` happened in a tick.
+    pub events_dropped: AtomicU64,
+    /// Client nodes alive (housekeeping writes).
+    pub clients: AtomicU32,
+    /// Dead nodes cleaned up since start (housekeeping writes).
+    pub cleaned: AtomicU64,
+}
+
+/// The loop's settings, from the config.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoopSettings {
+    /// Period [ns].
+    pub period: Nanos,
+    /// Status every N ticks.
+    pub status_every: u64,
+    /// Commands per tick at most.
+    pub max_commands_per_tick: u32,
+    /// How long a shutdown may wait for the controller to come to rest [ns].
+    pub shutdown_timeout: Nanos,
+    /// Object radius R [m] (for contact points in the status).
+    pub object_radius: f64,
+    /// This run's instance id.
+    pub instance: u64,
+}
+
+impl LoopSettings {
+    /// Settings from a validated config.
+    pub fn from_config(cfg: &DaemonConfig, instance: u64) -> Self {
+        Self {
+            period: cfg.period_ns(),
+            status_every: cfg.daemon.status_every.into(),
+            max_commands_per_tick: cfg.daemon.max_commands_per_tick,
+            shutdown_timeout: u64::from(cfg.daemon.shutdown_timeout_ms) * 1_000_000,
+            object_radius: cfg.model.object_radius,
+            instance,
+        }
+    }
+}
+
+/// What a finished run did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Summary {
+    /// Ticks run.
+    pub ticks: u64,
+    /// Missed periods.
+    pub overruns: u64,
+    /// Whether the controller reached rest before the final status.
+    pub at_rest: bool,
+}
+
+struct Watchdog {
+    notifier: sd_notify::Notifier,
+    interval: Nanos,
+    next: Nanos,
+}
+
+/// The loop: controller + clock + ports + statistics.
+pub struct Runtime<C: Controller, K: Clock> {
+    clock: K,
+    ticker: Ticker,
+    controller: C,
+    commands: Subscriber<Ipc, Command, ()>,
+    outbox: Outbox,
+    intake: Intake,
+    stats: LoopStats,
+    events: EventQueue,
+    out: ControlOutput,
+    status: Status,
+    settings: LoopSettings,
+    tick: u64,
+    event_seq: u64,
+    last_cleaned: u64,
+    watchdog: Option<Watchdog>,
+    shared: Arc<Shared>,
+}
+
+impl ControlOutput {
+    /// A still hand at `hand`, before the controller's first tick.
+    pub fn initial(hand: HandState) -> Self {
+        Self {
+            hand,
+            object_omega: Vector3::zeros(),
+            phase: Phase::Hold,
+            fault: FaultCode::None,
+            goal: GoalReport::default(),
+            fingers: [FingerReport {
+                phase: FingerPhase::Grasping,
+                workspace_margin: 0.0,
+                normal_force: 0.0,
+            }; gait::FINGERS],
+            grasp: GraspState::Unknown,
+            grasp_margin: 0.0,
+        }
+    }
+}
+
+impl<C: Controller, K: Clock> Runtime<C, K> {
+    /// A loop whose first deadline is one period after `clock.now()`,
+    /// reading commands from `commands` and publishing through `outbox`.
+    pub fn new(
+        commands: Subscriber<Ipc, Command, ()>,
+        outbox: Outbox,
+        controller: C,
+        clock: K,
+        cfg: &DaemonConfig,
+        instance: u64,
+        shared: Arc<Shared>,
+    ) -> Self {
+        let settings = LoopSettings::from_config(cfg, instance);
+        let ticker = Ticker::new(clock.now(), settings.period);
+        Self {
+            clock,
+            ticker,
+            controller,
+            commands,
+            outbox,
+            intake: Intake::new(cfg.daemon.goal_id_memory as usize, cfg.limits),
+            stats: LoopStats::new(settings.period),
+            events: EventQueue::new(),
+            out: ControlOutput::initial(HandState::paper_start(&cfg.hand())),
+            status: Status::default(),
+            settings,
+            tick: 0,
+            event_seq: 0,
+            last_cleaned: 0,
+            watchdog: None,
+            shared,
+        }
+    }
+
+    /// Sends `WATCHDOG=1` through `notifier` every `interval` ns.
+    pub fn set_watchdog(&mut self, notifier: sd_notify::Notifier, interval: Nanos) {
+        self.watchdog = Some(Watchdog {
+            notifier,
+            interval,
+            next: self.clock.now(),
+        });
+    }
+
+    /// Loop statistics so far.
+    pub fn stats(&self) -> &LoopStats {
+        &self.stats
+    }
+
+    /// The controller.
+    pub fn controller(&self) -> &C {
+        &self.controller
+    }
+
+    /// Waits for the next deadline and runs one tick.
+    pub fn run_once(&mut self) -> Wake {
+        let w = self.ticker.wait(&mut self.clock);
+        self.step(w);
+        w
+    }
+
+    /// Runs until `stop` is set, then shuts down (see module docs).
+    pub fn run(&mut self, stop: &AtomicBool) -> Summary {
+        self.events.push(Event::new(EventKind::DaemonStarted));
+        while !stop.load(Ordering::Acquire) {
+            let stopping = || stop.load(Ordering::Acquire);
+            match self.ticker.wait_or_stop(&mut self.clock, stopping) {
+                Some(w) => self.step(w),
+                None => break,
+            }
+        }
+        self.shutdown()
+    }
+
+    /// Safe hold, final status (see module docs).
+    pub fn shutdown(&mut self) -> Summary {
+        self.intake.begin_shutdown();
+        let now = self.clock.now();
+        let mut ctx = TickContext {
+            now,
+            tick: self.tick,
+            events: &mut self.events,
+        };
+        self.controller.begin_safe_hold(&mut ctx);
+        let give_up = now + self.settings.shutdown_timeout;
+        while !self.controller.at_rest() && self.clock.now() < give_up {
+            self.run_once();
+        }
+        let at_rest = self.controller.at_rest();
+        let now = self.clock.now();
+        self.events.push(Event::new(EventKind::DaemonStopping));
+        self.publish_events(now);
+        self.publish_status(now, DaemonState::Stopped);
+        self.outbox.flush();
+        Summary {
+            ticks: self.tick,
+            overruns: self.stats.overruns(),
+            at_rest,
+        }
+    }
+
+    /// One tick for wake-up `w` (all four phases).
+    pub fn step(&mut self, w: Wake) {
+        self.tick += 1;
+        // 1. preprocess
+        self.stats.record_wake(w.jitter(), w.missed);
+        if w.missed > 0 {
+            let mut e = Event::new(EventKind::Overrun);
+            e.count = w.missed;
+            self.events.push(e);
+            self.shared.overruns.fetch_add(w.missed, Ordering::Relaxed);
+        }
+        let cleaned = self.shared.cleaned.load(Ordering::Relaxed);
+        if cleaned != self.last_cleaned {
+            let mut e = Event::new(EventKind::ClientsCleaned);
+            e.count = cleaned.wrapping_sub(self.last_cleaned);
+            self.events.push(e);
+            self.last_cleaned = cleaned;
+        }
+        self.drain_commands(w.now);
+        // 2. process
+        let mut ctx = TickContext {
+            now: w.now,
+            tick: self.tick,
+            events: &mut self.events,
+        };
+        self.controller.tick(&mut ctx, &mut self.out);
+        // 3. postprocess
+        self.publish_events(w.now);
+        if self.tick.is_multiple_of(self.settings.status_every) {
+            self.publish_status(w.now, DaemonState::Running);
+        }
+        self.outbox.flush();
+        self.feed_watchdog(w.now);
+        self.shared.ticks.store(self.tick, Ordering::Relaxed);
+        // 4. stats
+        let end = self.clock.now();
+        self.stats
+            .record_compute(end.saturating_sub(w.now), self.tick);
+    }
+
+    fn drain_commands(&mut self, now: Nanos) {
+        for _ in 0..self.settings.max_commands_per_tick {
+            let cmd = match self.commands.receive() {
+                Ok(Some(sample)) => *sample.payload(),
+                Ok(None) => break,
+                Err(_) => {
+                    self.shared.ipc_errors.fetch_add(1, Ordering::Relaxed);
+                    break;
+                }
+            };
+            let mut ctx = TickContext {
+                now,
+                tick: self.tick,
+                events: &mut self.events,
+            };
+            let verdict = self.intake.handle(&cmd, &mut self.controller, &mut ctx);
+            let answer = Answer::new(&cmd, verdict, self.tick, self.settings.instance);
+            self.outbox.push(Outbound::Answer(answer));
+        }
+    }
+
+    fn publish_events(&mut self, now: Nanos) {
+        let n = self.events.as_slice().len();
+        for i in 0..n {
+            self.event_seq += 1;
+            let mut e = self.events.as_slice()[i];
+            e.seq = self.event_seq;
+            e.tick = self.tick;
+            e.time_ns = now;
+            e.instance = self.settings.instance;
+            self.outbox.push(Outbound::Event(e));
+        }
+        self.events.clear();
+        self.shared
+            .events_dropped
+            .store(self.events.dropped(), Ordering::Relaxed);
+    }
+
+    fn publish_status(&mut self, now: Nanos, state: DaemonState) {
+        let s = &mut self.status;
+        fill_status(&self.out, self.settings.object_radius, s);
+        s.tick = self.tick;
+        s.time_ns = now;
+        s.instance = self.settings.instance;
+        s.daemon_state = state.code();
+        s.timing = self.stats.timing();
+        s.commands = self.intake.received();
+        s.rejected = self.intake.rejected();
+        s.clients = self.shared.clients.load(Ordering::Relaxed);
+        s.reserved = 0;
+        // Stamped by the writer just before it publishes.
+        s.publish_time_ns = 0;
+        self.outbox.push(Outbound::Status(self.status));
+    }
+
+    fn feed_watchdog(&mut self, now: Nanos) {
+        if let Some(w) = &mut self.watchdog
+            && now >= w.next
+        {
+            w.next = now + w.interval;
+            if w.notifier.watchdog().is_err() {
+                self.shared.ipc_errors.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+    }
+}

@@ -1,0 +1,569 @@
+//! Zero heap allocations on the loop thread (SPEC §11), proven with a
+//! counting global allocator (STYLE §6, copper-rs
+//! `error_display_allocations.rs`): the daemon's real loop code
+//! (`Runtime::run_once`: command intake from a real iceoryx2 subscriber,
+//! controller tick, answers/events/status handed to the writer thread) with
+//! the mock clock, over 10⁵ ticks with a command every tick (goals,
+//! duplicates, cancel, hold, reset, malformed bytes), each answer and status
+//! checked on the client side.
+//!
+//! Only allocations made on this thread while a tick runs are counted: the
+//! test's own client work between ticks is another process's job in
+//! production, and the writer thread (which publishes, and allocates inside
+//! iceoryx2's `loan_uninit`) is not the real-time thread. A second run drives a controller that plans through
+//! the planner thread, so plans (boxes) reach the loop and old ones leave
+//! it on every goal — preemption included.
+
+use gaitd::clock::MockClock;
+use gaitd::config::DaemonConfig;
+use gaitd::controller::{ControlCommand, ControlOutput, Controller, TickContext};
+use gaitd::hold::HoldController;
+use gaitd::ipc::{self, Ipc};
+use gaitd::outbox;
+use gaitd::planner::{self, Planner, PlannerLink};
+use gaitd::runtime::{Runtime, Shared};
+use iceoryx2::port::listener::Listener;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::*;
+use shm_schema::{
+    Answer, Command, CommandKind, Event, GoalFrame, GoalState, ReasonCode, ServiceNames, Status,
+    Verdict,
+};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+struct Counting;
+
+thread_local! {
+    static ARMED: Cell<bool> = const { Cell::new(false) };
+}
+static ALLOCS: AtomicU64 = AtomicU64::new(0);
+static BYTES: AtomicU64 = AtomicU64::new(0);
+static FREES: AtomicU64 = AtomicU64::new(0);
+
+fn armed() -> bool {
+    ARMED.try_with(Cell::get).unwrap_or(false)
+}
+
+// SAFETY: forwards to the system allocator; only counts.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        if armed() {
+            ALLOCS.fetch_add(1, Ordering::Relaxed);
+            BYTES.fetch_add(l.size() as u64, Ordering::Relaxed);
+        }
+        unsafe { System.alloc(l) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        if armed() {
+            FREES.fetch_add(1, Ordering::Relaxed);
+        }
+        unsafe { System.dealloc(p, l) }
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        if armed() {
+            ALLOCS.fetch_add(1, Ordering::Relaxed);
+            BYTES.fetch_add(n as u64, Ordering::Relaxed);
+        }
+        unsafe { System.realloc(p, l, n) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn counted<R>(f: impl FnOnce() -> R) -> R {
+    ARMED.with(|a| a.set(true));
+    let r = f();
+    ARMED.with(|a| a.set(false));
+    r
+}
+
+const TICKS: u64 = 100_000;
+
+/// An isolated iceoryx2 namespace for this test, removed afterwards.
+struct Namespace {
+    cfg: DaemonConfig,
+    root: std::path::PathBuf,
+    file_prefix: String,
+}
+
+impl Namespace {
+    fn new(tag: &str) -> Self {
+        let id = format!("{}-{tag}", std::process::id());
+        let root = std::env::temp_dir().join(format!("gaitd-alloc-{id}"));
+        let mut cfg = DaemonConfig::default();
+        cfg.ipc.service_prefix = format!("alloc-{id}");
+        cfg.ipc.root_path = format!("{}/", root.display());
+        cfg.ipc.file_prefix = format!("ga{}{tag}_", std::process::id());
+        cfg.rt.lock_memory = false;
+        cfg.rt.fifo_priority = 0;
+        let file_prefix = cfg.ipc.file_prefix.clone();
+        Self {
+            cfg,
+            root,
+            file_prefix,
+        }
+    }
+}
+
+impl Drop for Namespace {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.root);
+        if let Ok(dir) = std::fs::read_dir("/dev/shm") {
+            for e in dir.flatten() {
+                if e.file_name()
+                    .to_string_lossy()
+                    .starts_with(&self.file_prefix)
+                {
+                    let _ = std::fs::remove_file(e.path());
+                }
+            }
+        }
+    }
+}
+
+/// The test's client: raw iceoryx2 ports on the daemon's services.
+struct TestClient {
+    commands: Publisher<Ipc, Command, ()>,
+    answers: Subscriber<Ipc, Answer, ()>,
+    status: Subscriber<Ipc, Status, ()>,
+    events: Subscriber<Ipc, Event, ()>,
+    listener: Listener<Ipc>,
+    _node: Node<Ipc>,
+}
+
+impl TestClient {
+    fn open(config: &iceoryx2::config::Config, names: &ServiceNames) -> Self {
+        let node = NodeBuilder::new().config(config).create::<Ipc>().unwrap();
+        let sn = |s: &str| ServiceName::new(s).unwrap();
+        let commands = node
+            .service_builder(&sn(&names.commands))
+            .publish_subscribe::<Command>()
+            .open()
+            .unwrap()
+            .publisher_builder()
+            .create()
+            .unwrap();
+        let answers = node
+            .service_builder(&sn(&names.answers))
+            .publish_subscribe::<Answer>()
+            .open()
+            .unwrap()
+            .subscriber_builder()
+            .create()
+            .unwrap();
+        let status = node
+            .service_builder(&sn(&names.status))
+            .publish_subscribe::<Status>()
+            .open()
+            .unwrap()
+            .subscriber_builder()
+            .create()
+            .unwrap();
+        let events = node
+            .service_builder(&sn(&names.events))
+            .publish_subscribe::<Event>()
+            .open()
+            .unwrap()
+            .subscriber_builder()
+            .create()
+            .unwrap();
+        let listener = node
+            .service_builder(&sn(&names.notify))
+            .event()
+            .open()
+            .unwrap()
+            .listener_builder()
+            .create()
+            .unwrap();
+        Self {
+            commands,
+            answers,
+            status,
+            events,
+            listener,
+            _node: node,
+        }
+    }
+
+    fn send(&self, c: Command) {
+        let n = self
+            .commands
+            .loan_uninit()
+            .unwrap()
+            .write_payload(c)
+            .send()
+            .unwrap();
+        assert_eq!(n, 1, "the daemon subscribes to commands");
+    }
+
+    /// Waits (bounded) for the writer thread to publish the next answer.
+    fn wait_answer(&self) -> Answer {
+        let t0 = std::time::Instant::now();
+        loop {
+            if let Some(s) = self.answers.receive().unwrap() {
+                return *s.payload();
+            }
+            assert!(
+                t0.elapsed() < std::time::Duration::from_secs(10),
+                "no answer"
+            );
+            std::thread::yield_now();
+        }
+    }
+
+    /// Drains status, events and notifications; returns (statuses, events).
+    fn drain(&self) -> (Vec<Status>, Vec<Event>) {
+        let mut st = Vec::new();
+        while let Some(s) = self.status.receive().unwrap() {
+            st.push(*s.payload());
+        }
+        let mut ev = Vec::new();
+        while let Some(s) = self.events.receive().unwrap() {
+            ev.push(*s.payload());
+        }
+        self.listener.try_wait(|_| {}).unwrap();
+        (st, ev)
+    }
+}
+
+/// The command of tick `t` and the verdict the hold controller must give.
+fn command_for(t: u64) -> (Command, Verdict) {
+    let q = [0.0, 0.0, 0.0, 1.0];
+    match t % 6 {
+        0 => (
+            Command::goal(7, t, GoalFrame::Absolute, q),
+            Verdict::Rejected(ReasonCode::PlannerUnavailable),
+        ),
+        1 => (
+            Command::goal(7, t - 1, GoalFrame::Relative, q),
+            Verdict::Rejected(ReasonCode::DuplicateGoalId),
+        ),
+        2 => (
+            Command::cancel(7, 0),
+            Verdict::Rejected(ReasonCode::NoActiveGoal),
+        ),
+        3 => (Command::hold(7), Verdict::Accepted),
+        4 => (Command::reset(7), Verdict::Accepted),
+        _ => (
+            Command::goal(7, t, GoalFrame::Absolute, [f64::NAN, 0.0, 0.0, 0.0]),
+            Verdict::Rejected(ReasonCode::NonFiniteQuaternion),
+        ),
+    }
+}
+
+fn reset_counts() {
+    ALLOCS.store(0, Ordering::Relaxed);
+    BYTES.store(0, Ordering::Relaxed);
+    FREES.store(0, Ordering::Relaxed);
+}
+
+fn assert_no_allocations(what: &str) {
+    let (a, b, f) = (
+        ALLOCS.load(Ordering::Relaxed),
+        BYTES.load(Ordering::Relaxed),
+        FREES.load(Ordering::Relaxed),
+    );
+    println!("{what}: {TICKS} ticks, {a} allocations ({b} bytes), {f} frees on the loop thread");
+    assert_eq!(
+        (a, b, f),
+        (0, 0, 0),
+        "{what}: the loop thread allocated or freed"
+    );
+}
+
+/// The daemon's IPC pieces, as `main` builds them.
+struct Daemon {
+    commands: Subscriber<Ipc, Command, ()>,
+    outbox: outbox::Outbox,
+    writer: outbox::Writer,
+    client: TestClient,
+    shared: Arc<Shared>,
+    _commands_service:
+        iceoryx2::service::port_factory::publish_subscribe::PortFactory<Ipc, Command, ()>,
+    _node: Node<Ipc>,
+}
+
+fn daemon(ns: &Namespace) -> Daemon {
+    let (ice, settings) = ipc::resolve(&ns.cfg.ipc).unwrap();
+    let node = ipc::create_node("gaitd", &ice).unwrap();
+    let services = ipc::create_services(&node, &ns.cfg, &settings.service_prefix).unwrap();
+    let commands = services.command_subscriber(8).unwrap();
+    let ipc::DaemonServices {
+        commands: commands_service,
+        out,
+        names,
+    } = services;
+    let client = TestClient::open(&ice, &names);
+    let shared = Arc::new(Shared::default());
+    let (outbox, writer) = outbox::spawn(out, names, 1, shared.clone(), Vec::new()).unwrap();
+    Daemon {
+        commands,
+        outbox,
+        writer,
+        client,
+        shared,
+        _commands_service: commands_service,
+        _node: node,
+    }
+}
+
+#[test]
+fn the_loop_does_not_allocate_with_the_hold_controller() {
+    let ns = Namespace::new("h");
+    let d = daemon(&ns);
+    let client = d.client;
+    let clock = MockClock::new(1_000_000_000);
+    let controller = HoldController::new(&ns.cfg.hand());
+    let mut rt = Runtime::new(
+        d.commands,
+        d.outbox,
+        controller,
+        clock.clone(),
+        &ns.cfg,
+        42,
+        d.shared.clone(),
+    );
+
+    // Warm-up: connections are set up, histories delivered (iceoryx2
+    // allocates when ports connect), and the first events flow.
+    for t in 1..=1000 {
+        client.send(command_for(t).0);
+        rt.run_once();
+        client.wait_answer();
+        client.drain();
+    }
+    reset_counts();
+    let (mut statuses, mut events) = (0u64, 0u64);
+    let mut last_tick = 0;
+    for t in 1001..=1000 + TICKS {
+        let (cmd, want) = command_for(t);
+        client.send(cmd);
+        // Model 20 µs of work inside the tick: time moves, deadlines hold.
+        counted(|| {
+            rt.run_once();
+            clock.advance(20_000);
+        });
+        let a = client.wait_answer();
+        assert_eq!(a.verdict(), Ok(want), "tick {t}: {cmd:?}");
+        assert_eq!((a.goal_id, a.tick), (cmd.goal_id, t), "tick {t}");
+        let (st, ev) = client.drain();
+        for s in &st {
+            s.check().unwrap();
+            assert!(s.tick > last_tick && s.tick <= t);
+            assert_ne!(s.publish_time_ns, 0, "stamped by the writer");
+            last_tick = s.tick;
+        }
+        statuses += st.len() as u64;
+        events += ev.len() as u64;
+    }
+    assert_no_allocations("hold controller");
+    assert_eq!(rt.stats().overruns(), 0, "mock time never misses a period");
+    // Statuses are latest-value (buffer 1): the client sees most, not all.
+    assert!(statuses > TICKS / 2, "statuses seen: {statuses}");
+    assert!(events > 0);
+    let summary = rt.shutdown();
+    drop(rt);
+    d.writer.join();
+    let (st, ev) = client.drain();
+    assert_eq!(
+        st.last().map(|s| s.daemon_state),
+        Some(shm_schema::DaemonState::Stopped.code())
+    );
+    assert!(
+        ev.iter()
+            .any(|e| e.kind() == Ok(shm_schema::EventKind::DaemonStopping))
+    );
+    assert!(summary.at_rest);
+}
+
+/// A test controller that plans every goal on the planner thread: each new
+/// goal preempts the plan in use, whose box goes back to be dropped there.
+struct PlanningController {
+    link: PlannerLink<u64, TestPlan>,
+    active: Option<Box<TestPlan>>,
+    pending: Option<Box<TestPlan>>,
+    inner: HoldController,
+    plans_received: u64,
+}
+
+/// A plan owning heap memory, like a real one.
+struct TestPlan {
+    steps: Vec<f64>,
+}
+
+struct VecPlanner;
+impl Planner for VecPlanner {
+    type Request = u64;
+    type Plan = TestPlan;
+    fn plan(&mut self, n: &u64) -> Result<TestPlan, ReasonCode> {
+        Ok(TestPlan {
+            steps: (0..(n % 64 + 1)).map(|i| i as f64).collect(),
+        })
+    }
+}
+
+impl Controller for PlanningController {
+    fn command(&mut self, cmd: &ControlCommand, ctx: &mut TickContext<'_>) -> Verdict {
+        match cmd {
+            ControlCommand::Goal(g) => match self.link.submit(g.goal_id) {
+                Ok(_) => {
+                    ctx.events.goal_transition(
+                        g.client_id,
+                        g.goal_id,
+                        GoalState::Planning,
+                        ReasonCode::None,
+                        0.0,
+                    );
+                    Verdict::Accepted
+                }
+                Err(_) => Verdict::Rejected(ReasonCode::NoPlan),
+            },
+            other => self.inner.command(other, ctx),
+        }
+    }
+
+    fn tick(&mut self, ctx: &mut TickContext<'_>, out: &mut ControlOutput) {
+        // Retire what could not be handed back last tick.
+        if let Some(old) = self.pending.take()
+            && let Err(old) = self.link.retire(old)
+        {
+            self.pending = Some(old);
+        }
+        while let Some(reply) = self.link.poll() {
+            if let Ok(plan) = reply.result {
+                self.plans_received += 1;
+                if let Some(old) = self.active.replace(plan)
+                    && let Err(old) = self.link.retire(old)
+                {
+                    self.pending = Some(old);
+                }
+            }
+        }
+        self.inner.tick(ctx, out);
+        out.goal.gaits_planned = self.active.as_ref().map_or(0, |p| p.steps.len() as u32);
+    }
+
+    fn begin_safe_hold(&mut self, _ctx: &mut TickContext<'_>) {}
+
+    fn at_rest(&self) -> bool {
+        true
+    }
+}
+
+#[test]
+fn plans_cross_the_loop_without_allocation() {
+    let ns = Namespace::new("p");
+    let d = daemon(&ns);
+    let client = d.client;
+    let (link, planner_thread) = planner::spawn(VecPlanner, 4, || {}).unwrap();
+    let controller = PlanningController {
+        link,
+        active: None,
+        pending: None,
+        inner: HoldController::new(&ns.cfg.hand()),
+        plans_received: 0,
+    };
+    let clock = MockClock::new(0);
+    let mut rt = Runtime::new(
+        d.commands,
+        d.outbox,
+        controller,
+        clock.clone(),
+        &ns.cfg,
+        43,
+        d.shared.clone(),
+    );
+    let goal_id = Cell::new(0u64);
+    let send_goal = |client: &TestClient| {
+        goal_id.set(goal_id.get() + 1);
+        client.send(Command::goal(
+            9,
+            goal_id.get(),
+            GoalFrame::Absolute,
+            [1.0, 0.0, 0.0, 0.0],
+        ));
+    };
+    // Warm-up: 1000 goals, each planned before the next.
+    for _ in 0..1000 {
+        send_goal(&client);
+        rt.run_once();
+        client.wait_answer();
+        client.drain();
+        while rt.controller().plans_received < goal_id.get() {
+            rt.run_once();
+            std::thread::yield_now();
+        }
+    }
+    reset_counts();
+    let (mut goals_accepted, mut holds_accepted) = (0u64, 0u64);
+    for t in 0..TICKS {
+        // A new goal every 10 ticks preempts the plan in use; a hold between.
+        // Before a goal, tick until the last plan arrived so the planner's
+        // queue never overflows (the planner thread may lag on a busy host).
+        if t % 10 == 0 {
+            let t0 = std::time::Instant::now();
+            while rt.controller().plans_received < goals_accepted + 1000 {
+                counted(|| {
+                    rt.run_once();
+                    clock.advance(5_000);
+                });
+                std::thread::yield_now();
+                assert!(
+                    t0.elapsed() < std::time::Duration::from_secs(10),
+                    "planner stuck"
+                );
+            }
+        }
+        let sent = if t % 10 == 0 {
+            send_goal(&client);
+            true
+        } else if t % 10 == 5 {
+            client.send(Command::hold(9));
+            true
+        } else {
+            false
+        };
+        counted(|| {
+            rt.run_once();
+            clock.advance(5_000);
+        });
+        if sent {
+            let a = client.wait_answer();
+            match (a.command_kind(), a.verdict()) {
+                (Ok(CommandKind::Goal), Ok(Verdict::Accepted)) => goals_accepted += 1,
+                (Ok(CommandKind::Hold), Ok(Verdict::Accepted)) => holds_accepted += 1,
+                other => panic!("unexpected answer {other:?}"),
+            }
+        }
+        client.drain();
+        // Give the planner thread time to answer (not counted).
+        if t % 10 == 0 {
+            std::thread::yield_now();
+        }
+    }
+    assert_no_allocations("planning controller");
+    assert_eq!(holds_accepted, TICKS / 10, "every hold accepted");
+    assert_eq!(goals_accepted, TICKS / 10, "every goal accepted");
+    assert!(
+        rt.controller().plans_received > TICKS / 20,
+        "plans reached the loop: {}",
+        rt.controller().plans_received
+    );
+    drop(rt);
+    d.writer.join();
+    planner_thread.join();
+}
+
+/// The counter itself works (otherwise the tests above prove nothing).
+#[test]
+fn the_counter_sees_an_allocation() {
+    let before = ALLOCS.load(Ordering::Relaxed);
+    let b = counted(|| std::hint::black_box(Box::new(7u64)));
+    assert!(ALLOCS.load(Ordering::Relaxed) > before);
+    drop(b);
+}

@@ -1,0 +1,140 @@
+//! The `gait-trajectory/1` trace format (SPEC §10): JSON lines, SI units,
+//! hand frame. A header line, then one line per control tick:
+//!
+//! ```text
+//! {"format":"gait-trajectory/1","object_radius":0.5,"fingertip_radius":0.1,"mu":0.364,"dt":0.001,...}
+//! {"t":T,"object_q":[w,x,y,z],"phase":"...","fingers":[F0,F1,F2],...}
+//! Fi = {"p":[x,y,z],"q":[w,x,y,z],"contact":true|false,"grip_force":N,"roll":rad}
+//! ```
+//! Keys may be added, never renamed. This module only formats text (no
+//! I/O); writers live in the binaries. Numbers are written in Rust's
+//! shortest round-trip form, so a reader gets the exact `f64` back.
+
+use core::fmt::Write;
+
+use nalgebra::{UnitQuaternion, Vector3};
+
+use crate::HandConfig;
+use crate::executor::{Phase, TickReport};
+use crate::planner::StepKind;
+use crate::state::FingerMode;
+
+/// The format name in the header.
+pub const FORMAT: &str = "gait-trajectory/1";
+
+fn num(out: &mut String, x: f64) {
+    // JSON has no NaN/Inf; the controller never produces them, but a trace
+    // must stay parseable whatever happens.
+    if x.is_finite() {
+        let _ = write!(out, "{x}");
+    } else {
+        out.push_str("null");
+    }
+}
+
+fn vec3(out: &mut String, v: &Vector3<f64>) {
+    out.push('[');
+    for (i, x) in v.iter().enumerate() {
+        if i > 0 {
+            out.push(',');
+        }
+        num(out, *x);
+    }
+    out.push(']');
+}
+
+fn quat(out: &mut String, q: &UnitQuaternion<f64>) {
+    let q = q.quaternion();
+    out.push('[');
+    for (i, x) in [q.w, q.i, q.j, q.k].iter().enumerate() {
+        if i > 0 {
+            out.push(',');
+        }
+        num(out, *x);
+    }
+    out.push(']');
+}
+
+/// Writes the header line (with newline): the four required numbers, the
+/// format, and an echo of the model configuration, plus `extra` key/value
+/// text (already JSON, without braces; may be empty).
+pub fn header(out: &mut String, config: &HandConfig, dt: f64, extra: &str) {
+    let m = &config.model;
+    let _ = write!(
+        out,
+        "{{\"format\":\"{FORMAT}\",\"object_radius\":{},\"fingertip_radius\":{},\"mu\":{},\"dt\":{}",
+        m.object_radius,
+        m.fingertip_radius,
+        config.mu(),
+        dt
+    );
+    let _ = write!(
+        out,
+        ",\"workspace_half_angle_deg\":{},\"roll_limit_deg\":{},\"friction_angle_deg\":{},\"finger_azimuth_deg\":[{},{},{}],\"object_mass\":{}",
+        m.workspace_half_angle_deg,
+        m.roll_limit_deg,
+        m.friction_angle_deg,
+        m.finger_azimuth_deg[0],
+        m.finger_azimuth_deg[1],
+        m.finger_azimuth_deg[2],
+        config.load.object_mass
+    );
+    if !extra.is_empty() {
+        out.push(',');
+        out.push_str(extra);
+    }
+    out.push_str("}\n");
+}
+
+/// Name of what the hand is doing, for the `phase` key.
+pub fn phase_name(phase: Phase, step: Option<StepKind>) -> &'static str {
+    match (phase, step) {
+        (Phase::Moving, Some(StepKind::Roll)) => "roll",
+        (Phase::Moving, Some(StepKind::Rotate)) => "rotate",
+        (Phase::Moving, Some(StepKind::Transfer)) => "transfer",
+        (Phase::Moving, Some(StepKind::Place)) => "place",
+        (Phase::Moving, Some(StepKind::Lift)) => "lift",
+        (Phase::Moving, None) => "moving",
+        (Phase::Stopping, _) => "stopping",
+        (Phase::Planning, _) => "planning",
+        (Phase::Holding, _) => "hold",
+        (Phase::SafeHold, _) => "safe_hold",
+    }
+}
+
+/// Appends one tick's line (with newline) at time `t`.
+pub fn line(out: &mut String, t: f64, r: &TickReport) {
+    let s = &r.setpoint.state;
+    out.push_str("{\"t\":");
+    num(out, t);
+    out.push_str(",\"object_q\":");
+    quat(out, &s.object);
+    let _ = write!(
+        out,
+        ",\"phase\":\"{}\",\"fingers\":[",
+        phase_name(r.phase, r.step_kind)
+    );
+    for (k, f) in s.fingers.iter().enumerate() {
+        if k > 0 {
+            out.push(',');
+        }
+        out.push_str("{\"p\":");
+        vec3(out, &f.center);
+        out.push_str(",\"q\":");
+        quat(out, &f.orientation);
+        let contact = f.mode == FingerMode::Grasping;
+        let _ = write!(out, ",\"contact\":{contact},\"grip_force\":");
+        num(out, if contact { r.grip[k] } else { 0.0 });
+        out.push_str(",\"roll\":");
+        num(out, f.roll);
+        out.push('}');
+    }
+    out.push_str("],\"fc\":");
+    out.push_str(if r.force_closure.0 { "true" } else { "false" });
+    out.push_str(",\"fc_margin\":");
+    num(out, r.force_closure.1);
+    out.push_str(",\"remaining_angle\":");
+    num(out, r.remaining_angle);
+    let _ = write!(out, ",\"gaits\":{}", r.gaits.0);
+    out.push_str("}\n");
+}

@@ -1,0 +1,393 @@
+//! Integer codes of every enumeration that crosses the process boundary.
+//!
+//! On the wire every enum is a `u32`. A reader never trusts another
+//! process's bytes: it decodes with `TryFrom<u32>`, which fails with
+//! [`UnknownCode`] for any value not listed here. Codes are stable within a
+//! schema version; new codes need a new [`SCHEMA_VERSION`](crate::SCHEMA_VERSION).
+
+use core::fmt;
+
+/// A `u32` that is not a valid code of the enum it was read as.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct UnknownCode {
+    /// Name of the enum (e.g. `"Phase"`).
+    pub kind: &'static str,
+    /// The value read.
+    pub code: u32,
+}
+
+impl fmt::Display for UnknownCode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "unknown {} code {}", self.kind, self.code)
+    }
+}
+
+impl core::error::Error for UnknownCode {}
+
+/// One row of an enum's code table (for the layout document).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CodeInfo {
+    /// The integer on the wire.
+    pub code: u32,
+    /// Variant name.
+    pub name: &'static str,
+    /// One-line meaning.
+    pub doc: &'static str,
+}
+
+/// Defines a `#[repr(u32)]` enum with checked decoding, its code table and
+/// `Display`. Every variant carries exactly one doc line.
+macro_rules! code_enum {
+    (
+        $(#[$meta:meta])*
+        pub enum $name:ident {
+            $(
+                #[doc = $doc:literal]
+                $var:ident = $val:literal
+            ),+ $(,)?
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[repr(u32)]
+        pub enum $name {
+            $(
+                #[doc = $doc]
+                $var = $val,
+            )+
+        }
+
+        impl $name {
+            /// Every variant, in code order.
+            pub const ALL: &'static [$name] = &[$($name::$var),+];
+            /// Code table (code, name, meaning) for documentation.
+            pub const TABLE: &'static [$crate::codes::CodeInfo] = &[
+                $($crate::codes::CodeInfo { code: $val, name: stringify!($var), doc: $doc.trim_ascii() }),+
+            ];
+
+            /// The integer written on the wire.
+            pub const fn code(self) -> u32 {
+                self as u32
+            }
+
+            /// The variant's name.
+            pub const fn name(self) -> &'static str {
+                match self {
+                    $($name::$var => stringify!($var)),+
+                }
+            }
+        }
+
+        impl TryFrom<u32> for $name {
+            type Error = $crate::codes::UnknownCode;
+            fn try_from(code: u32) -> Result<Self, Self::Error> {
+                match code {
+                    $($val => Ok($name::$var),)+
+                    _ => Err($crate::codes::UnknownCode { kind: stringify!($name), code }),
+                }
+            }
+        }
+
+        impl From<$name> for u32 {
+            fn from(v: $name) -> u32 {
+                v.code()
+            }
+        }
+
+        impl core::fmt::Display for $name {
+            fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+    };
+}
+
+code_enum! {
+    /// What a [`Command`](crate::Command) asks for. Code 0 is never valid, so
+    /// an all-zero request is rejected.
+    pub enum CommandKind {
+        /// Reorient the object (SPEC §6.4); preempts the active goal.
+        Goal = 1,
+        /// Stop the active goal smoothly, then hold.
+        Cancel = 2,
+        /// Keep the grasp, no motion.
+        Hold = 3,
+        /// Clear a fault and return to hold.
+        Reset = 4,
+    }
+}
+
+code_enum! {
+    /// How a goal's target quaternion is meant.
+    pub enum GoalFrame {
+        /// Target is the object orientation q_o to reach (object → hand frame).
+        Absolute = 1,
+        /// Target is a rotation applied to the current orientation, hand frame: q_goal = q_rel · q_o.
+        Relative = 2,
+    }
+}
+
+code_enum! {
+    /// The immediate answer to a command.
+    pub enum AnswerCode {
+        /// The command was accepted (for goals: it is now the active goal).
+        Accepted = 1,
+        /// The command was refused; the reason code says why.
+        Rejected = 2,
+    }
+}
+
+code_enum! {
+    /// Goal lifecycle (SPEC §6.4).
+    pub enum GoalState {
+        /// No goal has been accepted yet.
+        None = 0,
+        /// Accepted, waiting for the planner.
+        Accepted = 1,
+        /// Being planned off the real-time thread.
+        Planning = 2,
+        /// Plan is being executed.
+        Executing = 3,
+        /// Reached the target (terminal).
+        Succeeded = 4,
+        /// Stopped by a fault or a failed plan (terminal; reason says why).
+        Aborted = 5,
+        /// Stopped by a cancel command (terminal).
+        Canceled = 6,
+        /// Replaced by a newer goal (terminal).
+        Preempted = 7,
+        /// Never started (terminal; reason says why).
+        Rejected = 8,
+    }
+}
+
+impl GoalState {
+    /// Whether the goal is over (no further transitions).
+    pub const fn is_terminal(self) -> bool {
+        matches!(
+            self,
+            GoalState::Succeeded
+                | GoalState::Aborted
+                | GoalState::Canceled
+                | GoalState::Preempted
+                | GoalState::Rejected
+        )
+    }
+}
+
+code_enum! {
+    /// Why a command was rejected or a goal ended. Every terminal state carries one.
+    pub enum ReasonCode {
+        /// No reason (success, or nothing to report).
+        None = 0,
+        /// `kind` is not a known [`CommandKind`].
+        UnknownCommandKind = 1,
+        /// `frame` is not a known [`GoalFrame`].
+        UnknownGoalFrame = 2,
+        /// A goal needs a non-zero `goal_id`.
+        ZeroGoalId = 3,
+        /// `client_id` must be non-zero.
+        ZeroClientId = 4,
+        /// The target quaternion has a NaN or infinite component.
+        NonFiniteQuaternion = 5,
+        /// The target quaternion is (nearly) zero.
+        ZeroQuaternion = 6,
+        /// The target quaternion's norm is not within tolerance of 1.
+        NonUnitQuaternion = 7,
+        /// `limit_mask` has bits beyond the nine defined overrides.
+        BadLimitMask = 8,
+        /// A limit override is NaN or infinite.
+        NonFiniteLimit = 9,
+        /// A limit override is zero or negative.
+        NonPositiveLimit = 10,
+        /// A field that must be zero is not (padding, unused field, unset limit).
+        NonZeroReserved = 11,
+        /// The client already used this goal id.
+        DuplicateGoalId = 12,
+        /// A limit override exceeds the configured limit.
+        LimitAboveConfigured = 13,
+        /// No planner/executor is running in this daemon build.
+        PlannerUnavailable = 14,
+        /// The controller is in a fault; send Reset first.
+        Faulted = 15,
+        /// Cancel named a goal that is not the active one.
+        UnknownGoalId = 16,
+        /// Nothing to cancel.
+        NoActiveGoal = 17,
+        /// The daemon is shutting down.
+        ShuttingDown = 18,
+        /// The planner found no plan for this goal.
+        NoPlan = 19,
+        /// Reset while there is no fault.
+        NotFaulted = 20,
+        /// Replaced by a newer goal.
+        PreemptedByGoal = 21,
+        /// Stopped by a cancel command.
+        CanceledByClient = 22,
+        /// Stopped by a hold command.
+        HoldRequested = 23,
+        /// Stopped because a fault was detected (see the fault code).
+        FaultDetected = 24,
+        /// The target was reached within tolerance.
+        Reached = 25,
+    }
+}
+
+code_enum! {
+    /// What the controller is doing this tick.
+    pub enum Phase {
+        /// Holding the grasp still.
+        Hold = 1,
+        /// A fingertip rolls on the object (object still).
+        Roll = 2,
+        /// The object rotates with the grasping fingertips.
+        Rotate = 3,
+        /// A free finger moves through free space and makes contact.
+        Place = 4,
+        /// A finger breaks contact and leaves to its free space.
+        Lift = 5,
+        /// Motion being brought smoothly to rest (preemption, cancel, hold).
+        Stopping = 6,
+        /// Safe hold after a fault.
+        SafeHold = 7,
+    }
+}
+
+code_enum! {
+    /// State of one finger.
+    pub enum FingerPhase {
+        /// In contact, part of the grasp.
+        Grasping = 1,
+        /// In contact, rolling on the object.
+        Rolling = 2,
+        /// Breaking contact, moving away along the normal.
+        Lifting = 3,
+        /// In its free-space shell (parked or transferring).
+        Free = 4,
+        /// Descending to make contact.
+        Placing = 5,
+    }
+}
+
+code_enum! {
+    /// Force-closure state of the grasp (SPEC §1.3 I1).
+    pub enum GraspState {
+        /// Not computed by this controller.
+        Unknown = 0,
+        /// The grasping fingers are force-closure with margin.
+        ForceClosure = 1,
+        /// The grasping fingers are not force-closure.
+        NotForceClosure = 2,
+    }
+}
+
+code_enum! {
+    /// Fault of the controller or plant (SPEC §6.4, §12).
+    pub enum FaultCode {
+        /// No fault.
+        None = 0,
+        /// Force closure lost (invariant I1).
+        ForceClosureLost = 1,
+        /// A contact or free fingertip left its workspace (I2).
+        WorkspaceViolation = 2,
+        /// A fingertip contact left its hemisphere or the roll limit (I3).
+        FingertipViolation = 3,
+        /// Two fingertips too close (I4).
+        FingertipCollision = 4,
+        /// A grasping contact slipped (I5).
+        Slip = 5,
+        /// A plant measurement is missing.
+        MeasurementMissing = 6,
+        /// A finger does not follow its setpoint.
+        StuckFinger = 7,
+        /// A NaN or infinite value appeared in the state.
+        NonFiniteState = 8,
+    }
+}
+
+code_enum! {
+    /// Kind of an [`Event`](crate::Event).
+    pub enum EventKind {
+        /// A goal changed state (`state`, `reason`, `goal_id`, `client_id`).
+        GoalTransition = 1,
+        /// A finger made contact (`finger`).
+        Place = 2,
+        /// A finger broke contact (`finger`).
+        Lift = 3,
+        /// A finger started rolling (`finger`).
+        Roll = 4,
+        /// A finger substitution gait completed (`finger` = the finger that left).
+        Substitution = 5,
+        /// A finger rewind gait completed.
+        Rewind = 6,
+        /// A fault was detected (`fault`).
+        Fault = 7,
+        /// The fault was cleared by a reset.
+        FaultCleared = 8,
+        /// The loop missed periods (`count` = periods skipped).
+        Overrun = 9,
+        /// Dead client nodes were cleaned up (`count` = how many).
+        ClientsCleaned = 10,
+        /// The daemon started (first event of an instance).
+        DaemonStarted = 11,
+        /// The daemon is shutting down (last event of an instance).
+        DaemonStopping = 12,
+        /// The controller switched to hold on a command (`reason`).
+        Hold = 13,
+    }
+}
+
+code_enum! {
+    /// Lifecycle of the daemon, in [`Status`](crate::Status).
+    pub enum DaemonState {
+        /// The control loop is running.
+        Running = 1,
+        /// Final status: the daemon held the grasp and is exiting.
+        Stopped = 2,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn roundtrip<T>(all: &[T], table: &[CodeInfo])
+    where
+        T: Copy + PartialEq + core::fmt::Debug + TryFrom<u32, Error = UnknownCode> + Into<u32>,
+    {
+        assert_eq!(all.len(), table.len());
+        for (v, row) in all.iter().zip(table) {
+            let c: u32 = (*v).into();
+            assert_eq!(c, row.code);
+            assert_eq!(T::try_from(c).unwrap(), *v);
+            assert!(!row.doc.is_empty());
+        }
+        // Every other code in a wide range is refused.
+        for c in (0..1000u32).chain([u32::MAX, u32::MAX - 1, 1 << 31]) {
+            if table.iter().all(|r| r.code != c) {
+                assert!(T::try_from(c).is_err(), "{c}");
+            }
+        }
+    }
+
+    #[test]
+    fn every_enum_decodes_its_codes_and_refuses_the_rest() {
+        roundtrip(CommandKind::ALL, CommandKind::TABLE);
+        roundtrip(GoalFrame::ALL, GoalFrame::TABLE);
+        roundtrip(AnswerCode::ALL, AnswerCode::TABLE);
+        roundtrip(GoalState::ALL, GoalState::TABLE);
+        roundtrip(ReasonCode::ALL, ReasonCode::TABLE);
+        roundtrip(Phase::ALL, Phase::TABLE);
+        roundtrip(FingerPhase::ALL, FingerPhase::TABLE);
+        roundtrip(GraspState::ALL, GraspState::TABLE);
+        roundtrip(FaultCode::ALL, FaultCode::TABLE);
+        roundtrip(EventKind::ALL, EventKind::TABLE);
+        roundtrip(DaemonState::ALL, DaemonState::TABLE);
+    }
+
+    #[test]
+    fn unknown_code_names_the_enum() {
+        let e = Phase::try_from(99).unwrap_err();
+        assert_eq!(e.to_string(), "unknown Phase code 99");
+    }
+}

@@ -1,0 +1,117 @@
+//! daemon → clients: [`Event`]s, published with history.
+
+use crate::codes::{EventKind, FaultCode, GoalState, ReasonCode, UnknownCode};
+use iceoryx2::prelude::ZeroCopySend;
+
+/// Something that happened: goal transitions, gait events, faults, overruns
+/// (SPEC §7.3). Fields a kind does not use are 0 (`finger`: `NO_FINGER`).
+///
+/// Type name `gaitd::Event.v1`, 88 bytes, alignment 8.
+#[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
+#[repr(C)]
+#[type_name("gaitd::Event.v1")]
+pub struct Event {
+    /// Sequence number within this daemon instance, from 1, no gaps.
+    pub seq: u64,
+    /// Tick at which it happened.
+    pub tick: u64,
+    /// CLOCK_MONOTONIC time of that tick [ns].
+    pub time_ns: u64,
+    /// Daemon instance id.
+    pub instance: u64,
+    /// [`EventKind`] code.
+    pub kind: u32,
+    /// Finger index 0–2, or [`NO_FINGER`](crate::NO_FINGER).
+    pub finger: u32,
+    /// [`GoalState`] code (goal transitions; 0 otherwise).
+    pub state: u32,
+    /// [`ReasonCode`] code.
+    pub reason: u32,
+    /// Goal concerned, 0 if none.
+    pub goal_id: u64,
+    /// That goal's client.
+    pub client_id: u64,
+    /// [`FaultCode`] code.
+    pub fault: u32,
+    /// Padding, 0.
+    pub reserved: u32,
+    /// Kind-specific count (Overrun: missed periods; ClientsCleaned: nodes).
+    pub count: u64,
+    /// Kind-specific value (GoalTransition: remaining angle [rad]).
+    pub value: f64,
+}
+
+const _: () = assert!(core::mem::size_of::<Event>() == 88);
+const _: () = assert!(core::mem::align_of::<Event>() == 8);
+
+impl Event {
+    /// An event of `kind` with every other field 0 / none.
+    pub const fn new(kind: EventKind) -> Self {
+        Self {
+            seq: 0,
+            tick: 0,
+            time_ns: 0,
+            instance: 0,
+            kind: kind.code(),
+            finger: crate::NO_FINGER,
+            state: 0,
+            reason: 0,
+            goal_id: 0,
+            client_id: 0,
+            fault: 0,
+            reserved: 0,
+            count: 0,
+            value: 0.0,
+        }
+    }
+
+    /// Checks every code (a reader never trusts foreign bytes).
+    pub fn check(&self) -> Result<(), UnknownCode> {
+        EventKind::try_from(self.kind)?;
+        GoalState::try_from(self.state)?;
+        ReasonCode::try_from(self.reason)?;
+        FaultCode::try_from(self.fault)?;
+        if self.finger != crate::NO_FINGER && self.finger as usize >= crate::FINGERS {
+            return Err(UnknownCode {
+                kind: "finger",
+                code: self.finger,
+            });
+        }
+        Ok(())
+    }
+
+    /// Decoded [`EventKind`].
+    pub fn kind(&self) -> Result<EventKind, UnknownCode> {
+        EventKind::try_from(self.kind)
+    }
+
+    /// Decoded [`GoalState`].
+    pub fn state(&self) -> Result<GoalState, UnknownCode> {
+        GoalState::try_from(self.state)
+    }
+
+    /// Decoded [`ReasonCode`].
+    pub fn reason(&self) -> Result<ReasonCode, UnknownCode> {
+        ReasonCode::try_from(self.reason)
+    }
+
+    /// Decoded [`FaultCode`].
+    pub fn fault(&self) -> Result<FaultCode, UnknownCode> {
+        FaultCode::try_from(self.fault)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn new_event_checks() {
+        let e = Event::new(EventKind::Overrun);
+        assert_eq!(e.check(), Ok(()));
+        assert_eq!(e.kind(), Ok(EventKind::Overrun));
+        assert!(Event { finger: 3, ..e }.check().is_err());
+        assert!(Event { kind: 0, ..e }.check().is_err());
+        assert!(Event { state: 77, ..e }.check().is_err());
+    }
+}

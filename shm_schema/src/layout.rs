@@ -1,0 +1,530 @@
+//! The documented byte layout of every payload, for C and Python mirrors.
+//!
+//! [`layouts`] lists every field with offset, size, type and unit, taken
+//! from the compiler (`offset_of!`, `size_of`); a test checks that the
+//! fields tile each struct exactly (no gap, no overlap, nothing missing) and
+//! that `LAYOUT.md` equals [`layout_markdown`], so the document cannot drift.
+
+use crate::codes::CodeInfo;
+use crate::*;
+use core::mem::{align_of, offset_of, size_of};
+use iceoryx2::prelude::ZeroCopySend;
+use std::fmt::Write as _;
+
+/// One field of a payload struct.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FieldInfo {
+    /// Field name.
+    pub name: &'static str,
+    /// Byte offset from the start of the struct.
+    pub offset: usize,
+    /// Size in bytes.
+    pub size: usize,
+    /// Rust type (`u64`, `[f64; 4]`, `FingerStatus`).
+    pub ty: String,
+    /// Physical unit or code table ("" if none).
+    pub unit: &'static str,
+    /// Meaning, one line.
+    pub doc: &'static str,
+}
+
+/// One payload struct.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TypeLayout {
+    /// Rust name.
+    pub name: &'static str,
+    /// iceoryx2 type name (compared when a service is opened).
+    pub type_name: &'static str,
+    /// `size_of`.
+    pub size: usize,
+    /// `align_of`.
+    pub align: usize,
+    /// Fields in offset order.
+    pub fields: Vec<FieldInfo>,
+}
+
+fn short_type_name<F>() -> String {
+    // "[shm_schema::status::FingerStatus; 3]" → "[FingerStatus; 3]"
+    let full = core::any::type_name::<F>();
+    let mut out = String::new();
+    let mut word = String::new();
+    for ch in full.chars() {
+        if ch.is_alphanumeric() || ch == '_' || ch == ':' {
+            word.push(ch);
+        } else {
+            out.push_str(word.rsplit("::").next().unwrap_or(""));
+            word.clear();
+            out.push(ch);
+        }
+    }
+    out.push_str(word.rsplit("::").next().unwrap_or(""));
+    out
+}
+
+fn field<T, F>(
+    name: &'static str,
+    offset: usize,
+    _witness: fn(&T) -> &F,
+    unit: &'static str,
+    doc: &'static str,
+) -> FieldInfo {
+    FieldInfo {
+        name,
+        offset,
+        size: size_of::<F>(),
+        ty: short_type_name::<F>(),
+        unit,
+        doc,
+    }
+}
+
+/// `f!(Type, field, unit, doc)`: a [`FieldInfo`] with offset, size and type
+/// from the compiler.
+macro_rules! f {
+    ($t:ty, $field:ident, $unit:expr, $doc:expr) => {
+        field(
+            stringify!($field),
+            offset_of!($t, $field),
+            |s: &$t| &s.$field,
+            $unit,
+            $doc,
+        )
+    };
+}
+
+fn layout<T: ZeroCopySend>(name: &'static str, fields: Vec<FieldInfo>) -> TypeLayout {
+    TypeLayout {
+        name,
+        // SAFETY: the type names are compile-time constants from the derive.
+        type_name: unsafe { <T as ZeroCopySend>::type_name() },
+        size: size_of::<T>(),
+        align: align_of::<T>(),
+        fields,
+    }
+}
+
+/// Every payload type, nested types after the types that use them.
+pub fn layouts() -> Vec<TypeLayout> {
+    vec![
+        layout::<Command>(
+            "Command",
+            vec![
+                f!(Command, kind, "CommandKind", "what is asked"),
+                f!(
+                    Command,
+                    frame,
+                    "GoalFrame",
+                    "goal target meaning (goals only, else 0)"
+                ),
+                f!(Command, client_id, "", "sender's non-zero id"),
+                f!(Command, request_id, "", "any value, echoed in the answer"),
+                f!(
+                    Command,
+                    goal_id,
+                    "",
+                    "goal id (Goal: non-zero; Cancel: 0 = active goal)"
+                ),
+                f!(
+                    Command,
+                    target,
+                    "[w,x,y,z]",
+                    "target unit quaternion (goals only)"
+                ),
+                f!(
+                    Command,
+                    limit_mask,
+                    "bits",
+                    "set overrides: bit 3*kind+order"
+                ),
+                f!(Command, reserved, "", "padding, 0"),
+                f!(
+                    Command,
+                    object_limits,
+                    "rad/s, rad/s², rad/s³",
+                    "object rotation limit overrides (bits 0-2)"
+                ),
+                f!(
+                    Command,
+                    fingertip_limits,
+                    "m/s, m/s², m/s³",
+                    "fingertip translation limit overrides (bits 3-5)"
+                ),
+                f!(
+                    Command,
+                    rolling_limits,
+                    "rad/s, rad/s², rad/s³",
+                    "rolling-rate limit overrides (bits 6-8)"
+                ),
+            ],
+        ),
+        layout::<MotionLimits>(
+            "MotionLimits",
+            vec![
+                f!(
+                    MotionLimits,
+                    velocity,
+                    "unit/s",
+                    "velocity limit, > 0 when set"
+                ),
+                f!(
+                    MotionLimits,
+                    acceleration,
+                    "unit/s²",
+                    "acceleration limit, > 0 when set"
+                ),
+                f!(MotionLimits, jerk, "unit/s³", "jerk limit, > 0 when set"),
+            ],
+        ),
+        layout::<Answer>(
+            "Answer",
+            vec![
+                f!(Answer, client_id, "", "echo of the command's client_id"),
+                f!(Answer, request_id, "", "echo of the command's request_id"),
+                f!(Answer, goal_id, "", "echo of the command's goal_id"),
+                f!(
+                    Answer,
+                    command,
+                    "CommandKind",
+                    "echo of the command's kind (raw)"
+                ),
+                f!(Answer, code, "AnswerCode", "accepted or rejected"),
+                f!(
+                    Answer,
+                    reason,
+                    "ReasonCode",
+                    "why rejected (0 when accepted)"
+                ),
+                f!(Answer, reserved, "", "padding, 0"),
+                f!(Answer, tick, "tick", "daemon tick that handled the command"),
+                f!(Answer, instance, "", "daemon instance id"),
+            ],
+        ),
+        layout::<Status>(
+            "Status",
+            vec![
+                f!(Status, tick, "tick", "tick counter since start"),
+                f!(
+                    Status,
+                    time_ns,
+                    "ns",
+                    "CLOCK_MONOTONIC wake-up time of this tick"
+                ),
+                f!(
+                    Status,
+                    publish_time_ns,
+                    "ns",
+                    "CLOCK_MONOTONIC time just before publishing"
+                ),
+                f!(Status, instance, "", "random id of this daemon run"),
+                f!(
+                    Status,
+                    daemon_state,
+                    "DaemonState",
+                    "running, or stopped (final status)"
+                ),
+                f!(Status, phase, "Phase", "controller phase"),
+                f!(Status, fault, "FaultCode", "current fault, 0 = none"),
+                f!(
+                    Status,
+                    grasp,
+                    "GraspState",
+                    "force closure of the grasping fingers"
+                ),
+                f!(
+                    Status,
+                    grasp_margin,
+                    "rad",
+                    "force-closure margin, 0 when unknown"
+                ),
+                f!(
+                    Status,
+                    object_q,
+                    "[w,x,y,z]",
+                    "object orientation q_o, object → hand"
+                ),
+                f!(
+                    Status,
+                    object_omega,
+                    "rad/s",
+                    "object angular velocity, hand frame"
+                ),
+                f!(Status, goal, "GoalStatus", "current goal and progress"),
+                f!(Status, fingers, "FingerStatus", "fingers f1, f2, f3"),
+                f!(Status, timing, "Timing", "loop timing"),
+                f!(Status, commands, "", "commands received since start"),
+                f!(Status, rejected, "", "commands rejected since start"),
+                f!(Status, clients, "", "client nodes alive"),
+                f!(Status, reserved, "", "padding, 0"),
+            ],
+        ),
+        layout::<GoalStatus>(
+            "GoalStatus",
+            vec![
+                f!(GoalStatus, goal_id, "", "current or last goal, 0 = none"),
+                f!(GoalStatus, client_id, "", "its client"),
+                f!(GoalStatus, state, "GoalState", "goal state"),
+                f!(GoalStatus, reason, "ReasonCode", "reason (terminal states)"),
+                f!(GoalStatus, remaining_angle, "rad", "angle still to rotate"),
+                f!(
+                    GoalStatus,
+                    eta,
+                    "s",
+                    "estimated time to completion, -1 = unknown"
+                ),
+                f!(GoalStatus, gaits_done, "", "gaits completed"),
+                f!(GoalStatus, gaits_planned, "", "gaits in the plan"),
+                f!(
+                    GoalStatus,
+                    active_finger,
+                    "index",
+                    "finger of the current primitive, 0xFFFFFFFF = none"
+                ),
+                f!(GoalStatus, reserved, "", "padding, 0"),
+            ],
+        ),
+        layout::<FingerStatus>(
+            "FingerStatus",
+            vec![
+                f!(FingerStatus, state, "FingerPhase", "finger state"),
+                f!(FingerStatus, reserved, "", "padding, 0"),
+                f!(
+                    FingerStatus,
+                    contact_hand,
+                    "m",
+                    "contact on the object surface, hand frame (0 if no contact)"
+                ),
+                f!(
+                    FingerStatus,
+                    contact_object,
+                    "m",
+                    "contact on the object surface, object frame (0 if no contact)"
+                ),
+                f!(
+                    FingerStatus,
+                    tip_position,
+                    "m",
+                    "fingertip centre p, hand frame"
+                ),
+                f!(
+                    FingerStatus,
+                    tip_orientation,
+                    "[w,x,y,z]",
+                    "fingertip orientation Q_f, fingertip → hand"
+                ),
+                f!(
+                    FingerStatus,
+                    tip_contact,
+                    "unit vector",
+                    "contact on the fingertip m, fingertip frame (0 if no contact)"
+                ),
+                f!(FingerStatus, roll, "rad", "roll τ about the pole axis"),
+                f!(
+                    FingerStatus,
+                    workspace_margin,
+                    "rad",
+                    "angle to the workspace cone boundary, > 0 inside"
+                ),
+                f!(
+                    FingerStatus,
+                    normal_force,
+                    "N",
+                    "intended normal force, 0 if none"
+                ),
+            ],
+        ),
+        layout::<Timing>(
+            "Timing",
+            vec![
+                f!(Timing, period_ns, "ns", "loop period"),
+                f!(
+                    Timing,
+                    compute_last_ns,
+                    "ns",
+                    "compute time of the previous tick"
+                ),
+                f!(
+                    Timing,
+                    compute_p50_ns,
+                    "ns",
+                    "compute time median since start"
+                ),
+                f!(Timing, compute_p99_ns, "ns", "compute time p99 since start"),
+                f!(Timing, compute_max_ns, "ns", "compute time max since start"),
+                f!(Timing, jitter_last_ns, "ns", "wake-up jitter of this tick"),
+                f!(
+                    Timing,
+                    jitter_p99_ns,
+                    "ns",
+                    "wake-up jitter p99 since start"
+                ),
+                f!(
+                    Timing,
+                    jitter_max_ns,
+                    "ns",
+                    "wake-up jitter max since start"
+                ),
+                f!(Timing, overruns, "periods", "missed periods since start"),
+                f!(
+                    Timing,
+                    jitter_hist,
+                    "counts",
+                    "bucket 0: < 1 µs; i: [2^(i-1), 2^i) µs; 15: ≥ 16.384 ms"
+                ),
+            ],
+        ),
+        layout::<Event>(
+            "Event",
+            vec![
+                f!(Event, seq, "", "sequence number, from 1, no gaps"),
+                f!(Event, tick, "tick", "tick at which it happened"),
+                f!(Event, time_ns, "ns", "CLOCK_MONOTONIC time of that tick"),
+                f!(Event, instance, "", "daemon instance id"),
+                f!(Event, kind, "EventKind", "what happened"),
+                f!(Event, finger, "index", "finger 0-2, 0xFFFFFFFF = none"),
+                f!(Event, state, "GoalState", "new goal state (transitions)"),
+                f!(Event, reason, "ReasonCode", "reason"),
+                f!(Event, goal_id, "", "goal concerned, 0 = none"),
+                f!(Event, client_id, "", "that goal's client"),
+                f!(Event, fault, "FaultCode", "fault (Fault events)"),
+                f!(Event, reserved, "", "padding, 0"),
+                f!(
+                    Event,
+                    count,
+                    "",
+                    "Overrun: missed periods; ClientsCleaned: nodes"
+                ),
+                f!(Event, value, "", "GoalTransition: remaining angle [rad]"),
+            ],
+        ),
+    ]
+}
+
+/// Every code table: (enum name, rows).
+pub fn code_tables() -> Vec<(&'static str, &'static [CodeInfo])> {
+    vec![
+        ("CommandKind", CommandKind::TABLE),
+        ("GoalFrame", GoalFrame::TABLE),
+        ("AnswerCode", AnswerCode::TABLE),
+        ("GoalState", GoalState::TABLE),
+        ("ReasonCode", ReasonCode::TABLE),
+        ("Phase", Phase::TABLE),
+        ("FingerPhase", FingerPhase::TABLE),
+        ("GraspState", GraspState::TABLE),
+        ("FaultCode", FaultCode::TABLE),
+        ("EventKind", EventKind::TABLE),
+        ("DaemonState", DaemonState::TABLE),
+    ]
+}
+
+/// The layout document (`shm_schema/LAYOUT.md`).
+pub fn layout_markdown() -> String {
+    let mut s = String::new();
+    let names = ServiceNames::new(DEFAULT_PREFIX);
+    let _ = writeln!(
+        s,
+        "# gaitd shared-memory schema v{SCHEMA_VERSION}\n\n\
+         Generated from `shm_schema` by `cargo test -p shm_schema` (set `GAITD_BLESS=1` to\n\
+         rewrite it); a test fails when this file and the code disagree.\n\n\
+         All payloads are `#[repr(C)]`, little-endian as the host, with explicit padding\n\
+         (fields named `reserved`, always 0). Enums travel as `u32` codes (tables below);\n\
+         readers must refuse unknown codes. iceoryx2 {ICEORYX2_VERSION} compares the type name,\n\
+         size and alignment when a service is opened: a C or Python mirror must use the\n\
+         same type names. Quaternions are `[w, x, y, z]` Hamilton, unit norm.\n\n\
+         ## Services (prefix `{DEFAULT_PREFIX}`, configurable)\n\n\
+         | service | pattern | payload | notes |\n|---|---|---|---|\n\
+         | `{}` | publish-subscribe | `Command` | client → daemon, one publisher per client |\n\
+         | `{}` | publish-subscribe | `Answer` | one per command, match `client_id` + `request_id` |\n\
+         | `{}` | publish-subscribe | `Status` | every tick, history 1, latest value |\n\
+         | `{}` | publish-subscribe | `Event` | with history |\n\
+         | `{}` | event | — | wake-ups, ids below |\n",
+        names.commands, names.answers, names.status, names.events, names.notify
+    );
+    let _ = writeln!(
+        s,
+        "Notification ids on `{}`: {} = status published, {} = event published, \
+         {} = answer sent, {} = daemon node found dead.\n",
+        names.notify, EVENT_ID_STATUS, EVENT_ID_EVENT, EVENT_ID_ANSWER, EVENT_ID_DAEMON_DEAD
+    );
+    s.push_str("## Payloads\n\n");
+    for t in layouts() {
+        let _ = writeln!(
+            s,
+            "### `{}` (`{}`, {} bytes, align {})\n\n\
+             | offset | size | field | type | unit | meaning |\n|---:|---:|---|---|---|---|",
+            t.name, t.type_name, t.size, t.align
+        );
+        for f in &t.fields {
+            let _ = writeln!(
+                s,
+                "| {} | {} | `{}` | `{}` | {} | {} |",
+                f.offset, f.size, f.name, f.ty, f.unit, f.doc
+            );
+        }
+        s.push('\n');
+    }
+    s.push_str("## Codes\n\n");
+    for (name, rows) in code_tables() {
+        let _ = writeln!(
+            s,
+            "### `{name}`\n\n| code | name | meaning |\n|---:|---|---|"
+        );
+        for r in rows {
+            let _ = writeln!(s, "| {} | `{}` | {} |", r.code, r.name, r.doc);
+        }
+        s.push('\n');
+    }
+    s.truncate(s.trim_end().len());
+    s.push('\n');
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fields_tile_every_struct_exactly() {
+        for t in layouts() {
+            let mut end = 0;
+            for f in &t.fields {
+                assert_eq!(
+                    f.offset, end,
+                    "{}.{}: gap or overlap before it",
+                    t.name, f.name
+                );
+                assert_eq!(f.offset % t.align.min(f.size.max(1)).min(8), 0);
+                end = f.offset + f.size;
+            }
+            assert_eq!(end, t.size, "{}: fields do not cover the struct", t.name);
+            assert!(t.type_name.starts_with("gaitd::"), "{}", t.type_name);
+            assert!(
+                t.type_name.ends_with(&format!(".v{SCHEMA_VERSION}")),
+                "{}",
+                t.type_name
+            );
+        }
+    }
+
+    #[test]
+    fn type_names_are_short() {
+        assert_eq!(short_type_name::<[FingerStatus; 3]>(), "[FingerStatus; 3]");
+        assert_eq!(short_type_name::<u64>(), "u64");
+    }
+
+    #[test]
+    fn layout_document_is_current() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/LAYOUT.md");
+        let want = layout_markdown();
+        let have = std::fs::read_to_string(path).unwrap_or_default();
+        if have != want {
+            if std::env::var_os("GAITD_BLESS").is_some() {
+                std::fs::write(path, &want).unwrap();
+            } else {
+                panic!(
+                    "{path} is out of date: run `GAITD_BLESS=1 cargo test -p shm_schema` \
+                     and commit the result"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,254 @@
+//! daemon → clients: [`Status`], published every tick (latest value).
+
+use crate::codes::{
+    DaemonState, FaultCode, FingerPhase, GoalState, GraspState, Phase, ReasonCode, UnknownCode,
+};
+use iceoryx2::prelude::ZeroCopySend;
+
+/// Number of fingers.
+pub const FINGERS: usize = 3;
+
+/// Number of buckets of the coarse wake-up jitter histogram.
+pub const JITTER_BUCKETS: usize = 16;
+
+/// Upper edge of jitter bucket `i` in ns: bucket 0 counts jitter < 1 µs,
+/// bucket i (1 ≤ i < 15) counts [2^(i−1), 2^i) µs, bucket 15 counts ≥ 16.384 ms.
+pub const fn jitter_bucket_upper_ns(i: usize) -> u64 {
+    1000 << i
+}
+
+/// The bucket of a wake-up jitter value [ns].
+pub const fn jitter_bucket(jitter_ns: u64) -> usize {
+    let us = jitter_ns / 1000;
+    if us == 0 {
+        return 0;
+    }
+    let b = (64 - us.leading_zeros()) as usize;
+    if b >= JITTER_BUCKETS {
+        JITTER_BUCKETS - 1
+    } else {
+        b
+    }
+}
+
+/// Marker for "no finger" in finger-index fields.
+pub const NO_FINGER: u32 = u32::MAX;
+
+/// The active goal and its progress.
+#[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
+#[repr(C)]
+#[type_name("gaitd::GoalStatus.v1")]
+pub struct GoalStatus {
+    /// Id of the current (or last) goal, 0 if none.
+    pub goal_id: u64,
+    /// Its client's id.
+    pub client_id: u64,
+    /// [`GoalState`] code.
+    pub state: u32,
+    /// [`ReasonCode`] code (set in terminal states).
+    pub reason: u32,
+    /// Angle still to rotate to the target [rad].
+    pub remaining_angle: f64,
+    /// Estimated time to completion [s]; −1 when unknown.
+    pub eta: f64,
+    /// Gaits completed for this goal.
+    pub gaits_done: u32,
+    /// Gaits in the current plan.
+    pub gaits_planned: u32,
+    /// Finger moved by the current primitive, or [`NO_FINGER`].
+    pub active_finger: u32,
+    /// Padding, 0.
+    pub reserved: u32,
+}
+
+/// One finger (SPEC §7.3). Contact fields are meaningful while the finger
+/// touches (Grasping, Rolling); they are 0 otherwise.
+#[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
+#[repr(C)]
+#[type_name("gaitd::FingerStatus.v1")]
+pub struct FingerStatus {
+    /// [`FingerPhase`] code.
+    pub state: u32,
+    /// Padding, 0.
+    pub reserved: u32,
+    /// Contact point on the object surface, hand frame [m].
+    pub contact_hand: [f64; 3],
+    /// Contact point on the object surface, object frame [m].
+    pub contact_object: [f64; 3],
+    /// Fingertip sphere centre p, hand frame [m].
+    pub tip_position: [f64; 3],
+    /// Fingertip orientation Q_f [w, x, y, z] (fingertip → hand frame).
+    pub tip_orientation: [f64; 4],
+    /// Contact point on the fingertip, fingertip frame, unit vector m.
+    pub tip_contact: [f64; 3],
+    /// Roll τ about the fingertip pole axis [rad].
+    pub roll: f64,
+    /// Angle from the contact (or lifted tip direction) to its workspace
+    /// cone boundary, positive inside [rad].
+    pub workspace_margin: f64,
+    /// Normal force the controller intends at the contact [N]; 0 when not
+    /// in contact or not computed.
+    pub normal_force: f64,
+}
+
+/// Loop timing (SPEC §7.2, §11). Percentiles are refreshed every
+/// [`TIMING_REFRESH_TICKS`] ticks; last and max every tick.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
+#[repr(C)]
+#[type_name("gaitd::Timing.v1")]
+pub struct Timing {
+    /// Loop period [ns].
+    pub period_ns: u64,
+    /// Compute time of the previous tick (wake-up to end of work) [ns].
+    pub compute_last_ns: u64,
+    /// Compute time median since start [ns].
+    pub compute_p50_ns: u64,
+    /// Compute time 99th percentile since start [ns].
+    pub compute_p99_ns: u64,
+    /// Compute time maximum since start [ns].
+    pub compute_max_ns: u64,
+    /// Wake-up jitter (wake time − deadline) of this tick [ns].
+    pub jitter_last_ns: u64,
+    /// Wake-up jitter 99th percentile since start [ns].
+    pub jitter_p99_ns: u64,
+    /// Wake-up jitter maximum since start [ns].
+    pub jitter_max_ns: u64,
+    /// Missed periods since start (skipped, never made up in a burst).
+    pub overruns: u64,
+    /// Coarse wake-up jitter histogram since start (see [`jitter_bucket`]).
+    pub jitter_hist: [u64; JITTER_BUCKETS],
+}
+
+/// How often the timing percentiles are recomputed [ticks].
+pub const TIMING_REFRESH_TICKS: u64 = 100;
+
+/// The daemon's state, published every tick with latest-value semantics
+/// (SPEC §7.3).
+///
+/// Type name `gaitd::Status.v1`, 872 bytes, alignment 8.
+#[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
+#[repr(C)]
+#[type_name("gaitd::Status.v1")]
+pub struct Status {
+    /// Tick counter since daemon start.
+    pub tick: u64,
+    /// CLOCK_MONOTONIC time of this tick's wake-up [ns].
+    pub time_ns: u64,
+    /// CLOCK_MONOTONIC time just before publishing [ns] (for latency measurements).
+    pub publish_time_ns: u64,
+    /// Random id of this daemon run; changes when the daemon restarts.
+    pub instance: u64,
+    /// [`DaemonState`] code.
+    pub daemon_state: u32,
+    /// [`Phase`] code.
+    pub phase: u32,
+    /// [`FaultCode`] code.
+    pub fault: u32,
+    /// [`GraspState`] code (force closure of the grasping fingers).
+    pub grasp: u32,
+    /// Force-closure margin [rad] (angle margin of SPEC §3); 0 when unknown.
+    pub grasp_margin: f64,
+    /// Object orientation q_o [w, x, y, z] (object → hand frame).
+    pub object_q: [f64; 4],
+    /// Object angular velocity, hand frame [rad/s].
+    pub object_omega: [f64; 3],
+    /// Active goal and progress.
+    pub goal: GoalStatus,
+    /// Fingers f1, f2, f3.
+    pub fingers: [FingerStatus; FINGERS],
+    /// Loop timing.
+    pub timing: Timing,
+    /// Commands received since start.
+    pub commands: u64,
+    /// Commands rejected since start.
+    pub rejected: u64,
+    /// Client nodes alive (seen by housekeeping, about once a second).
+    pub clients: u32,
+    /// Padding, 0.
+    pub reserved: u32,
+}
+
+const _: () = assert!(core::mem::size_of::<GoalStatus>() == 56);
+const _: () = assert!(core::mem::size_of::<FingerStatus>() == 160);
+const _: () = assert!(core::mem::size_of::<Timing>() == 200);
+const _: () = assert!(core::mem::size_of::<Status>() == 872);
+const _: () = assert!(core::mem::align_of::<Status>() == 8);
+
+impl Status {
+    /// Checks every code in the status (a reader never trusts foreign bytes).
+    pub fn check(&self) -> Result<(), UnknownCode> {
+        DaemonState::try_from(self.daemon_state)?;
+        Phase::try_from(self.phase)?;
+        FaultCode::try_from(self.fault)?;
+        GraspState::try_from(self.grasp)?;
+        GoalState::try_from(self.goal.state)?;
+        ReasonCode::try_from(self.goal.reason)?;
+        for f in &self.fingers {
+            FingerPhase::try_from(f.state)?;
+        }
+        Ok(())
+    }
+
+    /// Decoded [`DaemonState`].
+    pub fn daemon_state(&self) -> Result<DaemonState, UnknownCode> {
+        DaemonState::try_from(self.daemon_state)
+    }
+
+    /// Decoded [`Phase`].
+    pub fn phase(&self) -> Result<Phase, UnknownCode> {
+        Phase::try_from(self.phase)
+    }
+
+    /// Decoded [`FaultCode`].
+    pub fn fault(&self) -> Result<FaultCode, UnknownCode> {
+        FaultCode::try_from(self.fault)
+    }
+
+    /// Decoded [`GraspState`].
+    pub fn grasp(&self) -> Result<GraspState, UnknownCode> {
+        GraspState::try_from(self.grasp)
+    }
+
+    /// Decoded [`GoalState`] of the current goal.
+    pub fn goal_state(&self) -> Result<GoalState, UnknownCode> {
+        GoalState::try_from(self.goal.state)
+    }
+
+    /// Decoded [`ReasonCode`] of the current goal.
+    pub fn goal_reason(&self) -> Result<ReasonCode, UnknownCode> {
+        ReasonCode::try_from(self.goal.reason)
+    }
+}
+
+impl FingerStatus {
+    /// Decoded [`FingerPhase`].
+    pub fn phase(&self) -> Result<FingerPhase, UnknownCode> {
+        FingerPhase::try_from(self.state)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn jitter_buckets_are_powers_of_two_microseconds() {
+        assert_eq!(jitter_bucket(0), 0);
+        assert_eq!(jitter_bucket(999), 0);
+        assert_eq!(jitter_bucket(1000), 1);
+        assert_eq!(jitter_bucket(1999), 1);
+        assert_eq!(jitter_bucket(2000), 2);
+        assert_eq!(jitter_bucket(16_383_999), 14);
+        assert_eq!(jitter_bucket(16_384_000), 15);
+        assert_eq!(jitter_bucket(u64::MAX), 15);
+        for i in 0..JITTER_BUCKETS - 1 {
+            assert_eq!(jitter_bucket(jitter_bucket_upper_ns(i) - 1), i);
+            assert_eq!(jitter_bucket(jitter_bucket_upper_ns(i)), i + 1);
+        }
+    }
+
+    #[test]
+    fn zeroed_status_is_refused() {
+        assert!(Status::default().check().is_err());
+    }
+}

@@ -1,0 +1,255 @@
+//! End to end, separate processes: gaitd (stand-in hold controller until
+//! issue 4's executor) and the client library.
+
+use gaitd_client::{
+    Command, DaemonState, FingerPhase, GoalFrame, GoalSpec, GoalState, LimitKind, LimitOrder,
+    Phase, ReasonCode, Verdict,
+};
+use gaitd_tests::TestDaemon;
+use std::time::Duration;
+
+const T: Duration = Duration::from_secs(5);
+
+#[test]
+fn status_flows_every_tick_with_the_paper_start() {
+    let d = TestDaemon::start("status");
+    let mut c = d.client();
+    let first = c.wait_status(T).unwrap();
+    let mut last = first;
+    for _ in 0..20 {
+        let s = c.wait_status(T).unwrap();
+        assert!(s.tick > last.tick, "ticks increase");
+        assert_eq!(s.instance, first.instance);
+        last = s;
+    }
+    let s = last;
+    s.check().unwrap();
+    assert_eq!(s.daemon_state(), Ok(DaemonState::Running));
+    assert_eq!(s.phase(), Ok(Phase::Hold));
+    assert_eq!(s.goal_state(), Ok(GoalState::None));
+    assert_eq!(s.timing.period_ns, 1_000_000);
+    assert!(
+        s.time_ns <= s.publish_time_ns,
+        "published after the tick started"
+    );
+    for f in &s.fingers {
+        assert_eq!(f.phase(), Ok(FingerPhase::Grasping));
+        let r = f.contact_hand.iter().map(|x| x * x).sum::<f64>().sqrt();
+        assert!((r - 0.5).abs() < 1e-12, "contact on the sphere of radius R");
+    }
+    assert_ne!(c.daemon_pid(), None, "daemon node visible");
+}
+
+#[test]
+fn commands_are_answered() {
+    let d = TestDaemon::start("commands");
+    let mut c = d.client();
+    assert_eq!(c.hold(T).unwrap(), Verdict::Accepted);
+    assert_eq!(c.reset(T).unwrap(), Verdict::Accepted);
+    assert_eq!(
+        c.cancel(None, T).unwrap(),
+        Verdict::Rejected(ReasonCode::NoActiveGoal)
+    );
+    // No executor in this build: goals are refused with a specific reason,
+    // and the refusal is also the goal's outcome.
+    let goal = GoalSpec::axis_angle([0.0, 0.0, 1.0], 1.0, GoalFrame::Relative).unwrap();
+    let t = c.reorient(&goal, T).unwrap();
+    assert_eq!(t.verdict, Verdict::Rejected(ReasonCode::PlannerUnavailable));
+    let o = c.wait_outcome(t.goal_id, T).unwrap();
+    assert_eq!(
+        (o.state, o.reason),
+        (GoalState::Rejected, ReasonCode::PlannerUnavailable)
+    );
+    let s = c.wait_status(T).unwrap();
+    assert_eq!((s.commands, s.rejected), (4, 2));
+}
+
+/// Every kind of bad input gets its reason; the daemon keeps running.
+#[test]
+fn bad_inputs_are_rejected_with_reasons() {
+    let d = TestDaemon::start("bad");
+    let mut c = d.client();
+    let me = c.client_id();
+    let q = [1.0, 0.0, 0.0, 0.0];
+    let goal = |id: u64, q: [f64; 4]| Command::goal(me, id, GoalFrame::Absolute, q);
+    let cases: Vec<(Command, ReasonCode)> = vec![
+        (
+            goal(1, [f64::NAN, 0.0, 0.0, 0.0]),
+            ReasonCode::NonFiniteQuaternion,
+        ),
+        (
+            goal(2, [f64::INFINITY, 0.0, 0.0, 0.0]),
+            ReasonCode::NonFiniteQuaternion,
+        ),
+        (
+            goal(3, [0.0, f64::NEG_INFINITY, 0.0, 0.0]),
+            ReasonCode::NonFiniteQuaternion,
+        ),
+        (goal(4, [0.0; 4]), ReasonCode::ZeroQuaternion),
+        (
+            goal(5, [1e300, 0.0, 0.0, 1e300]),
+            ReasonCode::NonUnitQuaternion,
+        ),
+        (goal(6, [0.5, 0.5, 0.0, 0.0]), ReasonCode::NonUnitQuaternion),
+        (
+            Command {
+                kind: 0,
+                ..goal(7, q)
+            },
+            ReasonCode::UnknownCommandKind,
+        ),
+        (
+            Command {
+                kind: 99,
+                ..goal(8, q)
+            },
+            ReasonCode::UnknownCommandKind,
+        ),
+        (
+            Command {
+                frame: 7,
+                ..goal(9, q)
+            },
+            ReasonCode::UnknownGoalFrame,
+        ),
+        (goal(0, q), ReasonCode::ZeroGoalId),
+        (
+            Command {
+                client_id: 0,
+                ..goal(10, q)
+            },
+            ReasonCode::ZeroClientId,
+        ),
+        (
+            Command {
+                reserved: 5,
+                ..goal(11, q)
+            },
+            ReasonCode::NonZeroReserved,
+        ),
+        (
+            Command {
+                limit_mask: 1 << 12,
+                ..goal(12, q)
+            },
+            ReasonCode::BadLimitMask,
+        ),
+        (
+            goal(13, q).with_limit(LimitKind::Object, LimitOrder::Velocity, -1.0),
+            ReasonCode::NonPositiveLimit,
+        ),
+        (
+            goal(14, q).with_limit(LimitKind::Rolling, LimitOrder::Jerk, 0.0),
+            ReasonCode::NonPositiveLimit,
+        ),
+        (
+            goal(15, q).with_limit(LimitKind::Fingertip, LimitOrder::Acceleration, f64::NAN),
+            ReasonCode::NonFiniteLimit,
+        ),
+        (
+            goal(16, q).with_limit(LimitKind::Object, LimitOrder::Jerk, 1e9),
+            ReasonCode::LimitAboveConfigured,
+        ),
+        (goal(17, q), ReasonCode::PlannerUnavailable),
+        (goal(17, q), ReasonCode::DuplicateGoalId),
+        (
+            Command {
+                target: q,
+                ..Command::hold(me)
+            },
+            ReasonCode::NonZeroReserved,
+        ),
+    ];
+    for (i, (cmd, want)) in cases.iter().enumerate() {
+        let a = c.command(*cmd, T).unwrap();
+        assert_eq!(
+            a.verdict(),
+            Ok(Verdict::Rejected(*want)),
+            "case {i}: {cmd:?}"
+        );
+        assert_eq!(a.goal_id, cmd.goal_id, "answer echoes the goal id");
+    }
+    let s = c.wait_status(T).unwrap();
+    assert_eq!(s.rejected, cases.len() as u64);
+    assert_eq!(s.daemon_state(), Ok(DaemonState::Running));
+
+    // A flood of garbage: some sends may be refused (queue full), the
+    // daemon never stops ticking.
+    let before = c.wait_status(T).unwrap().tick;
+    let mut busy = 0;
+    for i in 0..2000u64 {
+        let junk = Command {
+            kind: (i % 7) as u32,
+            frame: (i % 5) as u32,
+            target: [f64::from_bits(i.wrapping_mul(0x9e37_79b9_7f4a_7c15)); 4],
+            ..Command::ZERO
+        };
+        match c.send_command(junk) {
+            Ok(_) => {}
+            Err(gaitd_client::Error::Busy) => busy += 1,
+            Err(e) => panic!("{e}"),
+        }
+    }
+    std::thread::sleep(Duration::from_millis(200));
+    let after = c.wait_status(T).unwrap();
+    assert!(after.tick > before + 50, "the loop kept ticking");
+    assert!(after.rejected >= s.rejected + 2000 - busy);
+    assert_eq!(c.hold(T).unwrap(), Verdict::Accepted, "still answering");
+}
+
+#[test]
+fn gaitctl_status_and_watch_show_the_daemon() {
+    let d = TestDaemon::start("gaitctl");
+    let out = d.gaitctl().args(["status", "--json"]).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["phase"], "Hold");
+    assert_eq!(v["daemon_state"], "Running");
+    assert_eq!(v["fingers"].as_array().unwrap().len(), 3);
+
+    let out = d
+        .gaitctl()
+        .args(["watch", "--frames", "3"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("\x1b[H"), "refreshes in place");
+    assert!(text.contains("phase Hold"), "{text}");
+    assert!(text.matches("tick compute").count() == 3, "three frames");
+
+    let out = d.gaitctl().arg("hold").output().unwrap();
+    assert!(out.status.success());
+    let out = d
+        .gaitctl()
+        .args([
+            "reorient",
+            "--axis",
+            "0,0,1",
+            "--angle-deg",
+            "-30",
+            "--relative",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "rejected until the executor lands"
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("PlannerUnavailable"));
+    let out = d.gaitctl().arg("events").output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("DaemonStarted") && text.contains("Hold"),
+        "{text}"
+    );
+}
