@@ -115,6 +115,11 @@ pub struct LoadConfig {
     pub disturbance_force: f64,
     /// Extra torque [N·m] the grasp must resist about any axis.
     pub disturbance_torque: f64,
+    /// Least normal force a grasping finger presses with [N] (keeps the
+    /// contact sensed and loaded, e.g. a finger just placed).
+    pub min_grip: f64,
+    /// Largest normal force a finger may be commanded [N].
+    pub max_grip: f64,
 }
 
 impl Default for LoadConfig {
@@ -124,6 +129,8 @@ impl Default for LoadConfig {
             gravity: [0.0, 0.0, -9.81],
             disturbance_force: 0.5,
             disturbance_torque: 0.0,
+            min_grip: 1.0,
+            max_grip: 100.0,
         }
     }
 }
@@ -571,6 +578,15 @@ impl HandConfig {
             0.0,
             1000.0,
             "in [0, 1000] 1/s",
+        )?;
+
+        in_closed("load.min_grip", l.min_grip, 0.0, 1e4, "in [0, 1e4] N")?;
+        in_range(
+            "load.max_grip",
+            l.max_grip,
+            l.min_grip,
+            1e5,
+            "> load.min_grip and at most 1e5 N",
         )?;
 
         let lim = &self.limits;

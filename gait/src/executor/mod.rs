@@ -24,6 +24,7 @@
 //! ever freed on the control thread.
 
 pub mod feedback;
+pub mod grip;
 pub mod lifecycle;
 pub mod runner;
 
@@ -189,6 +190,8 @@ pub struct TickReport {
     pub eta: f64,
     /// Normal force per finger [N].
     pub grip: [f64; 3],
+    /// Whether the grip had to be capped at `load.max_grip`.
+    pub grip_capped: bool,
     /// Force-closure flag and margin of the commanded grasp.
     pub force_closure: (bool, f64),
     /// Workspace slack per finger [rad] (negative: outside).
@@ -202,6 +205,7 @@ pub struct TickReport {
 pub struct Executor {
     limits: LimitsConfig,
     checker: InvariantChecker,
+    grip: grip::GripModel,
     feedback: Feedback,
     runner: StepRunner,
     plan: Option<Box<Plan>>,
@@ -264,6 +268,7 @@ impl Executor {
         Ok(Self {
             limits: config.limits,
             checker: InvariantChecker::new(config)?,
+            grip: grip::GripModel::new(config),
             feedback: Feedback::new(&config.feedback, config.model.object_radius),
             runner,
             plan: None,
@@ -296,6 +301,7 @@ impl Executor {
                 gaits: (0, 0),
                 eta: 0.0,
                 grip: [0.0; 3],
+                grip_capped: false,
                 force_closure: (false, 0.0),
                 workspace_slack: [0.0; 3],
                 fault: None,
@@ -787,5 +793,8 @@ impl Executor {
             _ => 0.0,
         };
         r.fault = self.fault;
+        let g = self.grip.grip(&self.setpoint.state);
+        r.grip = g.normal;
+        r.grip_capped = g.capped;
     }
 }
