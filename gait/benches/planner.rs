@@ -20,6 +20,9 @@ fn pct(sorted: &[f64], p: f64) -> f64 {
 
 fn run(label: &str, n: usize, random_start: bool) {
     let mut cfg = HandConfig::default();
+    if let Ok(b) = std::env::var("GAIT_PAIR_MARGIN") {
+        cfg.planner.pair_margin_deg = b.parse().unwrap();
+    }
     if let Ok(b) = std::env::var("GAIT_BUDGET") {
         cfg.planner.max_expansions = b.parse().unwrap();
     }

@@ -198,9 +198,12 @@ pub struct PlannerConfig {
     /// Directions tried when the object must first rotate about another
     /// axis (paper Theory 1 fails, SPEC §4.3).
     pub escape_axes: u32,
-    /// Extra pair separation [deg] beyond the force-closure boundary (with
-    /// its margin) that the roll from a three-finger start aims for.
-    pub start_roll_extra_deg: f64,
+    /// Extra separation [deg] beyond the force-closure boundary (with its
+    /// margin) of every pair the planner makes, and the extra the roll
+    /// from a three-finger start aims for. Pairs near the boundary need
+    /// huge grip forces to hold any load (SPEC §3.3; the MuJoCo oracle's
+    /// pitfall 5), so wider pairs make executable plans.
+    pub pair_margin_deg: f64,
     /// Weight of the search's time-to-go estimate: 1 is plain A* (shortest
     /// plans), larger is greedier (fewer nodes, slightly longer plans).
     pub heuristic_weight: f64,
@@ -214,8 +217,8 @@ impl Default for PlannerConfig {
             branching: 3,
             max_expansions: 3000,
             escape_axes: 64,
-            start_roll_extra_deg: 1.0,
             heuristic_weight: 1.3,
+            pair_margin_deg: 1.0,
         }
     }
 }
@@ -527,14 +530,15 @@ impl HandConfig {
             4096.0,
             "in [4, 4096]",
         )?;
-        in_closed(
-            "planner.start_roll_extra_deg",
-            p.start_roll_extra_deg,
+        // > 0: the roll from a three-finger start must end strictly inside
+        // the force-closure margin (SPEC §4.3).
+        in_range(
+            "planner.pair_margin_deg",
+            p.pair_margin_deg,
             0.0,
-            20.0,
-            "in [0°, 20°]",
+            30.0,
+            "in (0°, 30°]",
         )?;
-
         in_closed(
             "planner.heuristic_weight",
             p.heuristic_weight,

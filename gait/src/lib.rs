@@ -20,6 +20,7 @@ pub mod rolling;
 pub mod sim;
 pub mod sphere;
 pub mod state;
+pub mod trace;
 
 pub use config::{ConfigError, HandConfig};
 pub use state::{FINGERS, FingerMode, FingerState, HandState};

@@ -36,7 +36,7 @@ fn feasible(cfg: &HandConfig, normals: &[Vector3<f64>], soft: bool) -> Option<f6
         normals,
         cfg.model.object_radius + cfg.model.fingertip_radius,
     );
-    let grip = g.grip(&s);
+    let grip = g.grip(&s, &Vector3::zeros());
     if grip.capped {
         return None;
     }

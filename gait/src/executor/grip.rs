@@ -4,7 +4,10 @@
 //! `gait/tests/grip_vs_socp.rs`).
 //!
 //! Contacts at p_i = R n_i push along the inward normal −n_i. The external
-//! force E (weight m g plus a disturbance) acts through O. Each contact
+//! force E (weight m g plus a disturbance) acts through O; the contacts must
+//! also supply the torque T = I α that accelerates the object (a solid
+//! sphere, I = (2/5) m R²) — in a two-finger grasp its component along the
+//! grasp line only torsional friction can give. Each contact
 //! force is a squeeze part (internal: zero net force and torque) plus a
 //! load part (the least-norm forces that balance E):
 //! - two soft contacts: the squeeze is ±F along the chord u = (p₂ − p₁)/|·|;
@@ -111,8 +114,9 @@ impl GripModel {
         if self.disturbance > 0.0 { 7 } else { 1 }
     }
 
-    /// Grip forces of the grasping fingers of `state`.
-    pub fn grip(&self, state: &HandState) -> Grip {
+    /// Grip forces of the grasping fingers of `state`, when the object must
+    /// also be given the torque `torque` [N·m] (I α: accelerating it).
+    pub fn grip(&self, state: &HandState, torque: &Vector3<f64>) -> Grip {
         let mut idx = [0usize; 3];
         let mut n = [Vector3::zeros(); 3];
         let mut k = 0;
@@ -124,16 +128,16 @@ impl GripModel {
             }
         }
         match k {
-            2 => self.pair(idx[0], idx[1], &n[0], &n[1], None),
+            2 => self.pair(idx[0], idx[1], &n[0], &n[1], None, torque),
             3 => {
                 // The three contacts together, or a pair that holds on its
                 // own with the third pressing lightly (the middle of a
                 // substitution): whichever needs the least largest force.
-                let mut best = self.triple(idx, &n);
+                let mut best = self.triple(idx, &n, torque);
                 for (a, b, c) in [(0, 1, 2), (0, 2, 1), (1, 2, 0)] {
                     if n[a].dot(&n[b]) <= self.cos_fc {
                         let third = (idx[c], n[c]);
-                        let g = self.pair(idx[a], idx[b], &n[a], &n[b], Some(third));
+                        let g = self.pair(idx[a], idx[b], &n[a], &n[b], Some(third), torque);
                         if (best.capped && !g.capped)
                             || (g.capped == best.capped && max3(&g.normal) < max3(&best.normal))
                         {
@@ -187,6 +191,7 @@ impl GripModel {
         n1: &Vector3<f64>,
         n2: &Vector3<f64>,
         third: Option<(usize, Vector3<f64>)>,
+        torque: &Vector3<f64>,
     ) -> Grip {
         let r = self.radius;
         let (p1, p2) = (n1 * r, n2 * r);
@@ -197,7 +202,8 @@ impl GripModel {
         // The third finger's preload is part of the load the pair holds.
         let preload = third.map_or(Vector3::zeros(), |(_, n3)| -n3 * self.min_grip);
         let parts = |e: &Vector3<f64>| {
-            let t = c.cross(e);
+            // Contacts supply −E and the torque: d × Δ + τ = c × E + T.
+            let t = c.cross(e) + torque;
             let t_perp = t - u * t.dot(&u);
             let delta = t_perp.cross(&d) / (dn * dn);
             let g1 = -e * 0.5 - delta * 0.5;
@@ -244,7 +250,7 @@ impl GripModel {
         out
     }
 
-    fn triple(&self, idx: [usize; 3], n: &[Vector3<f64>; 3]) -> Grip {
+    fn triple(&self, idx: [usize; 3], n: &[Vector3<f64>; 3], torque: &Vector3<f64>) -> Grip {
         let r = self.radius;
         let p = [n[0] * r, n[1] * r, n[2] * r];
         // Grasp map of three hard contacts: force and torque about O.
@@ -268,7 +274,7 @@ impl GripModel {
             };
         };
         let load_parts = |e: &Vector3<f64>| {
-            let w = Vector6::new(-e.x, -e.y, -e.z, 0.0, 0.0, 0.0);
+            let w = Vector6::new(-e.x, -e.y, -e.z, torque.x, torque.y, torque.z);
             let f = g.transpose() * (inv * w);
             let v: [Vector3<f64>; 3] =
                 std::array::from_fn(|i| Vector3::new(f[3 * i], f[3 * i + 1], f[3 * i + 2]));

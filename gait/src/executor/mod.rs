@@ -231,6 +231,10 @@ pub struct Executor {
     fault: Option<(FaultKind, u8)>,
     /// In safe hold: still braking along the interrupted step.
     braking: bool,
+    /// Commanded object angular acceleration [rad/s²].
+    object_acceleration: Vector3<f64>,
+    /// Object moment of inertia (solid sphere) [kg m²].
+    inertia: f64,
     events: EventQueue,
     report: TickReport,
     tick: u64,
@@ -290,6 +294,8 @@ impl Executor {
             prev_measurement: None,
             fault: None,
             braking: false,
+            object_acceleration: Vector3::zeros(),
+            inertia: 0.4 * config.load.object_mass * config.model.object_radius.powi(2),
             events: EventQueue::default(),
             report: TickReport {
                 tick: 0,
@@ -674,6 +680,7 @@ impl Executor {
         };
         if !moving {
             self.setpoint = rest(self.setpoint.state);
+            self.object_acceleration = Vector3::zeros();
             return;
         }
         let status = match self.runner.advance() {
@@ -686,6 +693,10 @@ impl Executor {
             }
         };
         let path = self.runner.state();
+        self.object_acceleration = match self.current_step().map(|s| s.motion) {
+            Some(Motion::Rotate { axis, .. }) => axis * path.acceleration[0],
+            _ => Vector3::zeros(),
+        };
         let Some(sp) = self
             .current_step()
             .map(|s| (s.eval(&path.position, &path.velocity), s.kind))
@@ -793,7 +804,10 @@ impl Executor {
             _ => 0.0,
         };
         r.fault = self.fault;
-        let g = self.grip.grip(&self.setpoint.state);
+        let g = self.grip.grip(
+            &self.setpoint.state,
+            &(self.object_acceleration * self.inertia),
+        );
         r.grip = g.normal;
         r.grip_capped = g.capped;
     }

@@ -51,7 +51,7 @@ impl Candidates {
                 pa.iter()
                     .map(|c| {
                         (0..pb.len())
-                            .filter(|&j| g.is_fc_pair(c, &pb[j]))
+                            .filter(|&j| g.is_good_pair(c, &pb[j]))
                             .map(|j| j as u16)
                             .collect()
                     })

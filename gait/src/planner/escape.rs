@@ -30,7 +30,7 @@ pub fn theory1(
 ) -> bool {
     let sep = g.cos_sep_contact - BOUNDARY_EPS;
     cand.points[free].iter().any(|c| {
-        c.dot(ca) <= sep && c.dot(cb) <= sep && (g.is_fc_pair(c, ca) || g.is_fc_pair(c, cb))
+        c.dot(ca) <= sep && c.dot(cb) <= sep && (g.is_good_pair(c, ca) || g.is_good_pair(c, cb))
     })
 }
 
@@ -111,7 +111,7 @@ pub fn roll_escapes(
         let sep = g.cos_sep_contact - BOUNDARY_EPS;
         let mut targets: Vec<(f64, Vector3<f64>)> = cand.points[x]
             .iter()
-            .filter(|t| g.is_fc_pair(t, &cy) && t.dot(&cy) <= sep)
+            .filter(|t| g.is_good_pair(t, &cy) && t.dot(&cy) <= sep)
             .filter(|t| theory1(g, cand, free, t, &cy))
             .map(|t| (-t.dot(&cx), *t))
             .collect();

@@ -43,6 +43,10 @@ pub struct Geometry {
     pub fc_min_angle: f64,
     /// cos of `fc_min_angle`.
     pub cos_fc: f64,
+    /// cos of the least angle of the pairs the planner makes:
+    /// `fc_min_angle` + `planner.pair_margin_deg` (a wider pair needs far
+    /// less grip force to hold the load).
+    pub cos_fc_plan: f64,
     /// Minimum distance between fingertip centres, 2r + clearance.
     pub min_center_distance: f64,
     /// cos of the smallest angle between two contacts (both at R + r) that
@@ -90,6 +94,9 @@ impl Geometry {
             roll_limit: (m.roll_limit_deg - m.roll_margin_deg).to_radians(),
             fc_min_angle: fc_min,
             cos_fc: fc_min.cos(),
+            cos_fc_plan: (fc_min + config.planner.pair_margin_deg.to_radians())
+                .min(std::f64::consts::PI)
+                .cos(),
             min_center_distance: dmin,
             cos_sep_contact: cos_sep(rho_c, rho_c),
             cos_sep_hover: cos_sep(rho_c, rho_t),
@@ -100,6 +107,12 @@ impl Geometry {
     /// (Fact 3: angle ≥ π − 2θ + margin).
     pub fn is_fc_pair(&self, a: &Vector3<f64>, b: &Vector3<f64>) -> bool {
         a.dot(b) <= self.cos_fc - BOUNDARY_EPS
+    }
+
+    /// Whether two contact normals are a pair the planner may make: Fact 3
+    /// with the force-closure margin plus the planner's pair margin.
+    pub fn is_good_pair(&self, a: &Vector3<f64>, b: &Vector3<f64>) -> bool {
+        a.dot(b) <= self.cos_fc_plan - BOUNDARY_EPS
     }
 
     /// Whether a contact normal lies in finger `k`'s workspace cone (with margin).

@@ -226,7 +226,7 @@ impl Planner {
             &self.geom,
             &self.timing,
             start,
-            self.config.planner.start_roll_extra_deg.to_radians(),
+            self.config.planner.pair_margin_deg.to_radians(),
         );
         if starts.is_empty() {
             return Err(PlanError::NoTwoFingerGrasp);

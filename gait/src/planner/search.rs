@@ -436,7 +436,7 @@ impl<'a> Problem<'a> {
             .iter()
             .enumerate()
             .filter(|(_, c)| {
-                self.geom.is_fc_pair(c, partner) && others.iter().all(|o| c.dot(o) <= sep)
+                self.geom.is_good_pair(c, partner) && others.iter().all(|o| c.dot(o) <= sep)
             })
             .map(|(i, c)| {
                 let travel = self.timing.transfer_cos(from.dot(c));

@@ -5,8 +5,12 @@ mod bench;
 mod common;
 mod control;
 mod events;
+mod offline;
+mod plan;
+mod plot;
 mod reorient;
 mod status;
+mod tracefile;
 mod watch;
 
 use clap::{Parser, Subcommand};
@@ -40,6 +44,12 @@ enum Cmd {
     Events(events::Args),
     /// Latency benchmarks against the running daemon.
     Bench(bench::Args),
+    /// Plan and execute offline (no daemon) on the embedded kinematic hand;
+    /// export a gait-trajectory/1 trace.
+    Plan(plan::Args),
+    /// Draw a trace: contact paths on the sphere, rotation, force closure,
+    /// finger states (SVG or PNG).
+    Plot(plot::Args),
     /// Internal: the echo side of the bench's iceoryx2 ping-pong.
     #[command(hide = true, name = "__pong")]
     Pong(bench::PongArgs),
@@ -56,6 +66,8 @@ fn main() -> ExitCode {
         Cmd::Reset => control::reset(&cli.conn),
         Cmd::Events(a) => events::run(&cli.conn, &a),
         Cmd::Bench(a) => bench::run(&cli.conn, &a),
+        Cmd::Plan(a) => return offline_exit(plan::run(&a)),
+        Cmd::Plot(a) => return offline_exit(plot::run(&a)),
         Cmd::Pong(a) => bench::pong(&a),
     };
     match result {
@@ -65,4 +77,12 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// Exit code of an offline subcommand (no daemon involved).
+fn offline_exit(r: Result<ExitCode, String>) -> ExitCode {
+    r.unwrap_or_else(|e| {
+        eprintln!("gaitctl: {e}");
+        ExitCode::from(2)
+    })
 }
