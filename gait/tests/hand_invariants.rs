@@ -301,6 +301,9 @@ fn planned_states_never_need_the_conic() {
             "{spread}: {:?}",
             r.force_closure
         );
+        // Finger 2 may lift exactly when the pair is past 140° + 2°.
+        let lift = ch.model().lift_slack(&s, 2).unwrap();
+        assert!((lift - (spread - 142.0).to_radians()).abs() < 1e-9);
     }
     for _ in 0..5_000 {
         let mut s = HandState::paper_start(&c);

@@ -37,6 +37,13 @@
 //! must have rank 6 (otherwise some disturbance cannot be held:
 //! [`GraspError::Infeasible`]).
 //!
+//! Orders of magnitude at the default load (0.1 kg, F_d = 0.5 N): the
+//! paper's start grasp needs 1.69 N per finger (peak 1.98 N), an antipodal
+//! soft pair 2.54 N, a soft pair 143° apart (3° inside Fact 3) 108 N —
+//! near the force-closure boundary the equal-spring response uses friction
+//! poorly, so grip forces grow quickly; keep pairs well inside the margin
+//! or lower F_d.
+//!
 //! Only the 6 equilibrium rows of the constraint matrix change with the
 //! contacts; the scenario data go into the right-hand side. It is an SOCP
 //! solved with Clarabel, built once per (contact kinds, scenario count) and
