@@ -72,12 +72,12 @@ pub struct ModelConfig {
     pub roll_margin_deg: f64,
     /// How far a grasping fingertip centre may be from the contact sphere
     /// |p| = R + r before the contact counts as broken (SPEC §1.3 I5,
-    /// object centre fixed) [m].
+    /// object centre fixed) \[m\].
     pub contact_tolerance: f64,
     /// Largest per-step difference |R Δ_o − r Δ_f| between the arcs
     /// travelled by the two contact points of a grasping finger, and
     /// (divided by r) the largest spin about the normal per step in a
-    /// two-finger grasp, before the step counts as slipping (SPEC §1.3 I5) [m].
+    /// two-finger grasp, before the step counts as slipping (SPEC §1.3 I5) \[m\].
     pub slip_tolerance: f64,
 }
 

@@ -173,4 +173,17 @@ fn invariant_check_allocations() {
         conic > 0 && conic_allocs <= conic,
         "conic path allocates more than documented"
     );
+
+    // Without the conic fallback nothing allocates, whatever the state.
+    checker.set_conic_fallback(false);
+    let (_, n, _) = count(|| {
+        for s in &states {
+            let _ = checker.check(s).unwrap();
+        }
+    });
+    println!(
+        "invariant check without conic fallback: {} checks, {n} allocations",
+        states.len()
+    );
+    assert_eq!(n, 0);
 }

@@ -104,11 +104,15 @@ impl Oracle {
 fn force_closure_verdict_matches_the_conic_oracle() {
     let mut rng = common::rng(21);
     let mut ch = InvariantChecker::new(&cfg()).unwrap();
+    let mut fast = InvariantChecker::new(&cfg()).unwrap();
+    fast.set_conic_fallback(false);
     let mut oracle = Oracle::new();
-    let (mut checked, mut by_method) = (0, [0usize; 4]);
+    let (mut checked, mut by_method) = (0, [0usize; 5]);
     while checked < 10_000 {
         let three = rng.random_bool(0.6);
-        let n: [Vector3<f64>; 3] = core::array::from_fn(|k| in_cone(&mut rng, k, 1.2));
+        // Half the states inside the workspace cones, half anywhere.
+        let spread = if rng.random_bool(0.5) { 1.2 } else { PI };
+        let n: [Vector3<f64>; 3] = core::array::from_fn(|k| in_cone(&mut rng, k, spread));
         let mut s = HandState::paper_start(&cfg());
         for (f, nk) in s.fingers.iter_mut().zip(n) {
             *f = touching(&mut rng, nk, 0.3, 0.0);
@@ -141,19 +145,32 @@ fn force_closure_verdict_matches_the_conic_oracle() {
             fc.check.pass, expected,
             "{fc:?} pairs {pairs:?} triple {tri}"
         );
+        // Without the conic fallback the verdict is the same.
+        let quick = fast.force_closure(&s);
+        assert_eq!(quick.check.pass, expected, "{quick:?}");
+        if fc.check.pass {
+            assert_eq!(fc, quick);
+        }
         by_method[match fc.method {
             FcMethod::Fact3 { .. } => 0,
             FcMethod::Fact4 => 1,
-            FcMethod::Conic => 2,
-            _ => 3,
+            FcMethod::Planar => 2,
+            FcMethod::Conic => {
+                // The conic runs only where no certificate exists.
+                assert!(!fc.check.pass);
+                3
+            }
+            _ => 4,
         }] += 1;
         checked += 1;
     }
     println!(
-        "I1 vs oracle: {checked} states; decided by Fact 3 {}, Fact 4 {}, conic {}, other {}",
-        by_method[0], by_method[1], by_method[2], by_method[3]
+        "I1 vs oracle: {checked} states; passed by Fact 3 {}, Fact 4 {}, planar {}; \
+         conic (failing states) {}, other {}",
+        by_method[0], by_method[1], by_method[2], by_method[3], by_method[4]
     );
-    assert_eq!(by_method[3], 0);
+    assert_eq!(by_method[4], 0);
+    assert_eq!(fast.conic_solves(), 0);
 }
 
 #[test]
@@ -284,6 +301,9 @@ fn planned_states_never_need_the_conic() {
             "{spread}: {:?}",
             r.force_closure
         );
+        // Finger 2 may lift exactly when the pair is past 140° + 2°.
+        let lift = ch.model().lift_slack(&s, 2).unwrap();
+        assert!((lift - (spread - 142.0).to_radians()).abs() < 1e-9);
     }
     for _ in 0..5_000 {
         let mut s = HandState::paper_start(&c);

@@ -1,6 +1,6 @@
 //! Exact force-closure test and margin t* (SPEC.md §3.2) with Clarabel.
 //!
-//! For contacts i = 1..k with force vectors f_i = (f_n, f_1, f_2 [, s])
+//! For contacts i = 1..k with force vectors f_i = (f_n, f_1, f_2 \[, s\])
 //! (s = τ_n μ/μ_t for soft contacts) and the normalised grasp map G of
 //! [`super::contact`]:
 //!
@@ -16,7 +16,7 @@
 //! In Clarabel's form (min qᵀx, A x + s = b, s ∈ K) the variables are
 //! x = (f_1, …, f_k, t), q = −e_t, and the rows are: 6 + 1 zero-cone rows
 //! (G f = 0, Σ f_n = 1), then per contact a second-order cone
-//! s = (μ f_n − t, f_1, f_2 [, s]). Only A changes with the contacts and μ;
+//! s = (μ f_n − t, f_1, f_2 \[, s\]). Only A changes with the contacts and μ;
 //! its pattern is fixed per contact-kind sequence, so a [`ConicSolver`]
 //! builds the problem once and re-solves with `update_A` (see the crate
 //! docs for the measured allocations per re-solve).
@@ -248,7 +248,7 @@ impl ConicSolver {
     }
 
     /// The internal force of the last successful solve, in variable order
-    /// (per contact f_n, f_1, f_2 [, s]; then t). `None` before any solve.
+    /// (per contact f_n, f_1, f_2 \[, s\]; then t). `None` before any solve.
     pub fn last_solution(&self) -> Option<&[f64]> {
         self.problem
             .as_ref()

@@ -75,9 +75,9 @@ impl Contact {
 pub struct Friction {
     /// Coulomb coefficient μ = tan θ (> 0).
     pub mu: f64,
-    /// Torsional coefficient μ_t [m] (> 0; SPEC default 0.1 · r · μ).
+    /// Torsional coefficient μ_t \[m\] (> 0; SPEC default 0.1 · r · μ).
     pub mu_torsion: f64,
-    /// Object radius R [m], used to normalise torques.
+    /// Object radius R \[m\], used to normalise torques.
     pub object_radius: f64,
 }
 
@@ -91,7 +91,7 @@ impl Friction {
         }
     }
 
-    /// The same friction with the friction angle reduced by `delta` [rad]:
+    /// The same friction with the friction angle reduced by `delta` \[rad\]:
     /// μ' = tan(θ − δ), μ_t scaled by μ'/μ (the SPEC ratio μ_t ∝ μ is kept).
     /// Force closure at θ − δ/2 is force closure "with angle margin δ" in
     /// the sense of Fact 3 (SPEC §1.3 I1): the separation bound π − 2θ grows
@@ -159,7 +159,7 @@ impl ContactFrame {
 pub const RANK_TOLERANCE: f64 = 1e-6;
 
 /// Columns of the normalised grasp map for one contact, in variable order
-/// (f_n, f_1, f_2 [, s]). Unused trailing columns are zero.
+/// (f_n, f_1, f_2 \[, s\]). Unused trailing columns are zero.
 pub fn grasp_columns(contact: &Contact, friction: &Friction) -> [Vector6<f64>; 4] {
     let fr = ContactFrame::new(&contact.normal);
     let col = |f: Vector3<f64>, m: Vector3<f64>| Vector6::new(f.x, f.y, f.z, m.x, m.y, m.z);

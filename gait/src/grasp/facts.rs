@@ -14,7 +14,7 @@ use nalgebra::{Rotation3, Unit, Vector3};
 
 use super::contact::ContactFrame;
 
-/// Angle between two vectors in [0, π], accurate at 0 and π.
+/// Angle between two vectors in \[0, π\], accurate at 0 and π.
 pub fn angle_between(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
     a.cross(b).norm().atan2(a.dot(b))
 }
@@ -43,7 +43,7 @@ pub fn fact1_region_contains(p: &Vector3<f64>, q: &Vector3<f64>, theta: f64) -> 
 pub struct Cap {
     /// Unit centre direction.
     pub centre: Vector3<f64>,
-    /// Half angle [rad].
+    /// Half angle \[rad\].
     pub half_angle: f64,
 }
 
@@ -89,7 +89,7 @@ pub fn fact3_bound(theta: f64, margin: f64) -> f64 {
     PI - 2.0 * theta + margin
 }
 
-/// Fact 3 slack [rad]: angle(p1, p2) − (π − 2θ + margin). Two soft-finger
+/// Fact 3 slack \[rad\]: angle(p1, p2) − (π − 2θ + margin). Two soft-finger
 /// contacts are force-closure with angle margin `margin` iff it is > 0
 /// (|p1 − p2| ≥ 2R cos θ is the paper's form, at margin 0).
 pub fn fact3_slack(p1: &Vector3<f64>, p2: &Vector3<f64>, theta: f64, margin: f64) -> f64 {
@@ -135,7 +135,7 @@ pub fn fact3_shortest_fix(
     ]
 }
 
-/// Fact 4 slack [rad] of three hard contacts with friction angle θ:
+/// Fact 4 slack \[rad\] of three hard contacts with friction angle θ:
 /// min(π/2 − largest angle of the chordal triangle,
 ///     θ − asin(h)), h the distance from O to the triangle's plane on the
 /// unit sphere. The second term is the tilt margin of the in-plane forces

@@ -21,7 +21,7 @@
 //!       f⁰ − G⁺ δw ∈ K  and  f⁰_n,i − (G⁺ δw)_n,i ≤ F  ∀ i,   ∀ δw ∈ D
 //! ```
 //!
-//! with K the product of friction cones ‖(f_1, f_2 [, s])‖ ≤ μ f_n. The
+//! with K the product of friction cones ‖(f_1, f_2 \[, s\])‖ ≤ μ f_n. The
 //! constraint set is convex in δw, so it suffices to impose it at the
 //! vertices of a polytope containing D: the octahedra {|d|₁ ≤ √3 F_d} ⊇
 //! {|d|₂ ≤ F_d} (vertices ±√3 F_d e_a), and likewise for torques — 6
@@ -36,6 +36,13 @@
 //! contacts), checked in the tests against ε = 0. With a disturbance, G
 //! must have rank 6 (otherwise some disturbance cannot be held:
 //! [`GraspError::Infeasible`]).
+//!
+//! Orders of magnitude at the default load (0.1 kg, F_d = 0.5 N): the
+//! paper's start grasp needs 1.69 N per finger (peak 1.98 N), an antipodal
+//! soft pair 2.54 N, a soft pair 143° apart (3° inside Fact 3) 108 N —
+//! near the force-closure boundary the equal-spring response uses friction
+//! poorly, so grip forces grow quickly; keep pairs well inside the margin
+//! or lower F_d.
 //!
 //! Only the 6 equilibrium rows of the constraint matrix change with the
 //! contacts; the scenario data go into the right-hand side. It is an SOCP
@@ -62,11 +69,11 @@ pub const TIE_BREAK: f64 = 1e-3;
 /// The load the grasp must hold (SPEC §3.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Load {
-    /// Weight m·g of the object, hand frame [N].
+    /// Weight m·g of the object, hand frame \[N\].
     pub weight: Vector3<f64>,
-    /// Disturbance force magnitude F_d [N], any direction, through O.
+    /// Disturbance force magnitude F_d \[N\], any direction, through O.
     pub disturbance_force: f64,
-    /// Disturbance torque magnitude T_d [N·m], any axis, about O.
+    /// Disturbance torque magnitude T_d \[N·m\], any axis, about O.
     pub disturbance_torque: f64,
 }
 
@@ -97,7 +104,7 @@ impl Load {
         if f * t == 1 { 1 } else { 1 + f * t }
     }
 
-    /// External wrench (force [N], torque about O [N·m]) of scenario `s`:
+    /// External wrench (force \[N\], torque about O \[N·m\]) of scenario `s`:
     /// s = 0 is the weight alone, then weight plus octahedron vertices.
     pub fn scenario(&self, s: usize) -> (Vector3<f64>, Vector3<f64>) {
         let w = self.weight;
@@ -126,23 +133,23 @@ impl Load {
 /// The force one contact applies to the object.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ContactForce {
-    /// Commanded normal (grip) force f_n [N], ≥ 0.
+    /// Commanded normal (grip) force f_n \[N\], ≥ 0.
     pub normal: f64,
     /// Total contact force on the object in the weight-only scenario,
-    /// hand frame [N]: f_n (−n) + tangential part.
+    /// hand frame \[N\]: f_n (−n) + tangential part.
     pub force: Vector3<f64>,
     /// Torsional moment τ_n about the inward normal −n, weight-only
-    /// scenario [N·m] (0 for hard contacts).
+    /// scenario \[N·m\] (0 for hard contacts).
     pub torsion: f64,
 }
 
 /// Summary of one optimisation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ForceSolution {
-    /// The largest commanded normal force max_i f⁰_n,i [N].
+    /// The largest commanded normal force max_i f⁰_n,i \[N\].
     pub max_normal: f64,
     /// The largest normal force over the weight-only and all disturbance
-    /// scenarios [N] (the optimised F: what the fingers must be able to
+    /// scenarios \[N\] (the optimised F: what the fingers must be able to
     /// apply).
     pub peak_normal: f64,
     /// Interior-point iterations.

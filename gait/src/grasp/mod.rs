@@ -7,6 +7,10 @@
 //!   than R sin θ), and the shortest way to Fact 3 (paper Fig. 1).
 //! - [`contact`]: contact frames, friction, the normalised grasp map G and
 //!   its numerical rank.
+//! - [`planar`]: a fast certificate for three hard contacts (explicit
+//!   internal forces found by clipping nine half-planes in the contact
+//!   plane), exact up to vanishing margins; what the per-tick check uses
+//!   before falling back to the conic test.
 //! - [`conic`]: the exact test and margin t* of SPEC §3.2 for any number of
 //!   hard or soft contacts (Clarabel SOCP, built once, re-solved).
 //! - [`forces`]: grip forces that hold the weight plus a disturbance margin
@@ -35,6 +39,7 @@ pub mod conic;
 pub mod contact;
 pub mod facts;
 pub mod forces;
+pub mod planar;
 mod socp;
 
 pub use conic::{ClosureMargin, ConicSolver, closure_margin};

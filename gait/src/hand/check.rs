@@ -10,6 +10,7 @@ use super::report::{
     SlipReport, Unit,
 };
 use crate::grasp::facts::angle_between;
+use crate::grasp::planar::three_hard_certificate;
 use crate::grasp::{ClosureMargin, ConicSolver, Contact, ContactKind};
 use crate::state::{FingerMode, FingerState, HandState};
 use crate::{ConfigError, HandConfig};
@@ -46,9 +47,12 @@ type ConicCache = (
 /// - I1: force closure *with margin* δ = `model.fc_margin_deg`: two
 ///   grasping fingers by Fact 3 (soft, separation > π − 2θ + δ); three by,
 ///   in order, "some pair passes Fact 3 on its own", Fact 4 at θ − δ/2,
-///   and only if neither decides, the exact conic test at θ − δ/2
-///   (t* > 0). Friction angle θ − δ/2 is what makes the three tests one
-///   notion of "margin δ". Fewer than two grasping fingers fail.
+///   the planar certificate ([`crate::grasp::planar`]) at θ − δ/2, and if
+///   none of them certifies force closure, the exact conic test at
+///   θ − δ/2 (t* > 0) — unless the conic fallback is switched off
+///   ([`InvariantChecker::set_conic_fallback`]), in which case the state
+///   fails I1. Friction angle θ − δ/2 is what makes all tests one notion
+///   of "margin δ". Fewer than two grasping fingers fail.
 /// - I2: contacts and free fingertip directions within β − workspace
 ///   margin of d_k; free fingertip centres in R + r < |p| ≤ R + r + δR.
 /// - I3: fingertip contact in the closed hemisphere; |τ| ≤ γ (the roll
@@ -61,19 +65,28 @@ type ConicCache = (
 /// Closed limits pass within [`super::SLACK_TOLERANCE`] of the boundary;
 /// force closure and the inner shell bound are strict.
 ///
-/// # Cost
-/// The closed forms cost well under a microsecond and never allocate. The
-/// conic test runs only for three fingers when no pair passes Fact 3 and
-/// Fact 4 fails; it re-solves a prebuilt Clarabel problem (see the
-/// benchmarks for its cost, and the `grasp` module docs for its one small
-/// allocation per solve inside clarabel). Its result is cached while the
-/// three contact normals stay bit-for-bit the same.
+/// # Cost (`cargo bench -p gait --bench hand`)
+/// A whole check costs about 0.3–0.5 µs (median) when a closed form
+/// decides, and at most a few µs when the planar certificate has to run;
+/// none of it allocates. The planar certificate finds every force-closure
+/// triple the conic test finds (no miss on the seeded sweeps; it can only
+/// miss grasps whose margin vanishes) — and on those sweeps no
+/// force-closure triple even needed it beyond a Fact 3 pair or Fact 4 —
+/// so the conic test runs only on three-finger states that are *not*
+/// force-closure with margin, i.e. that already violate I1, to say by how
+/// much. It re-solves a prebuilt Clarabel problem: about 60–100 µs and one
+/// 404-byte allocation inside clarabel per solve (the `grasp` module
+/// docs); the result is cached while the three contact normals stay bit
+/// for bit the same. A real-time caller that needs a hard bound switches
+/// the fallback off: then nothing ever allocates, the verdict is the same,
+/// and a failing three-finger state reports the best closed-form slack.
 #[derive(Debug)]
 pub struct InvariantChecker {
     model: HandModel,
     conic: ConicSolver,
     cache: Option<ConicCache>,
     conic_solves: u64,
+    conic_fallback: bool,
 }
 
 fn finger_finite(f: &FingerState) -> bool {
@@ -100,7 +113,8 @@ pub fn validate_state(state: &HandState) -> Result<(), StateError> {
 
 impl InvariantChecker {
     /// Validates `config`, builds the model and the conic problem for three
-    /// hard contacts (the only allocation of the checker's life).
+    /// hard contacts (allocates; afterwards only a conic re-solve does, see
+    /// the type docs).
     pub fn new(config: &HandConfig) -> Result<Self, ConfigError> {
         let model = HandModel::new(config)?;
         let mut conic = ConicSolver::new(model.margin_friction());
@@ -113,7 +127,20 @@ impl InvariantChecker {
             conic,
             cache: None,
             conic_solves: 0,
+            conic_fallback: true,
         })
+    }
+
+    /// Whether three-finger states without a closed-form or planar
+    /// certificate go to the conic test (default) or simply fail I1 (no
+    /// solver on the path: bounded cost, never allocates).
+    pub fn set_conic_fallback(&mut self, on: bool) {
+        self.conic_fallback = on;
+    }
+
+    /// See [`Self::set_conic_fallback`].
+    pub fn conic_fallback(&self) -> bool {
+        self.conic_fallback
     }
 
     /// The model.
@@ -199,6 +226,26 @@ impl InvariantChecker {
                 grasping,
             };
         }
+        let theta = m.friction_angle() - 0.5 * m.fc_margin();
+        if let Some(margin) = three_hard_certificate(&n, theta) {
+            return ForceClosureCheck {
+                check: Check::open(margin, Unit::Radian),
+                method: FcMethod::Planar,
+                grasping,
+            };
+        }
+        let closed_best = best.0.max(f4);
+        if !self.conic_fallback {
+            return ForceClosureCheck {
+                check: Check {
+                    pass: false,
+                    slack: closed_best.min(0.0),
+                    unit: Unit::Radian,
+                },
+                method: FcMethod::NoCertificate,
+                grasping,
+            };
+        }
         let result = match &self.cache {
             Some((key, r)) if bits_equal(key, &n) => *r,
             _ => {
@@ -208,7 +255,6 @@ impl InvariantChecker {
                 r
             }
         };
-        let closed_best = best.0.max(f4);
         let (check, method) = match result {
             Ok(ClosureMargin {
                 rank, t_star: None, ..
@@ -222,7 +268,7 @@ impl InvariantChecker {
             Err(_) => (
                 Check {
                     pass: false,
-                    slack: closed_best,
+                    slack: closed_best.min(0.0),
                     unit: Unit::Radian,
                 },
                 FcMethod::ConicFailed,

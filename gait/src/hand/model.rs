@@ -26,7 +26,7 @@ pub enum Bound {
     Margin,
 }
 
-/// Absolute tolerance [rad or m] that closed limits allow for rounding:
+/// Absolute tolerance \[rad or m\] that closed limits allow for rounding:
 /// a closed constraint passes when its slack is ≥ −SLACK_TOLERANCE.
 pub const SLACK_TOLERANCE: f64 = 1e-9;
 
@@ -87,22 +87,22 @@ impl HandModel {
         &self.config
     }
 
-    /// Object radius R [m].
+    /// Object radius R \[m\].
     pub fn object_radius(&self) -> f64 {
         self.object_radius
     }
 
-    /// Fingertip radius r [m].
+    /// Fingertip radius r \[m\].
     pub fn fingertip_radius(&self) -> f64 {
         self.fingertip_radius
     }
 
-    /// Fingertip-centre distance of a touching finger, R + r [m].
+    /// Fingertip-centre distance of a touching finger, R + r \[m\].
     pub fn contact_radius(&self) -> f64 {
         self.contact_radius
     }
 
-    /// Outer radius of the free-space shell, R + r + δR [m].
+    /// Outer radius of the free-space shell, R + r + δR \[m\].
     pub fn shell_outer_radius(&self) -> f64 {
         self.shell_outer
     }
@@ -112,7 +112,7 @@ impl HandModel {
         self.base[finger % FINGERS]
     }
 
-    /// Workspace half angle β, or β − margin [rad].
+    /// Workspace half angle β, or β − margin \[rad\].
     pub fn workspace_angle(&self, bound: Bound) -> f64 {
         match bound {
             Bound::Limit => self.workspace,
@@ -120,7 +120,7 @@ impl HandModel {
         }
     }
 
-    /// Roll limit γ, or γ − margin [rad].
+    /// Roll limit γ, or γ − margin \[rad\].
     pub fn roll_limit(&self, bound: Bound) -> f64 {
         match bound {
             Bound::Limit => self.roll_limit,
@@ -128,12 +128,12 @@ impl HandModel {
         }
     }
 
-    /// Friction angle θ [rad].
+    /// Friction angle θ \[rad\].
     pub fn friction_angle(&self) -> f64 {
         self.theta
     }
 
-    /// Force-closure angle margin δ (on the separation of Fact 3) [rad].
+    /// Force-closure angle margin δ (on the separation of Fact 3) \[rad\].
     pub fn fc_margin(&self) -> f64 {
         self.fc_margin
     }
@@ -150,54 +150,54 @@ impl HandModel {
         self.friction_margin
     }
 
-    /// Smallest allowed distance between fingertip centres, 2r + clearance [m].
+    /// Smallest allowed distance between fingertip centres, 2r + clearance \[m\].
     pub fn min_fingertip_distance(&self) -> f64 {
         self.min_distance
     }
 
-    /// I2 workspace: (β [− margin]) − angle(c, d_k) [rad] for a direction
+    /// I2 workspace: (β \[− margin\]) − angle(c, d_k) \[rad\] for a direction
     /// `c` (contact normal or free fingertip direction; any length > 0).
     pub fn workspace_slack(&self, finger: usize, c: &Vector3<f64>, bound: Bound) -> f64 {
         self.workspace_angle(bound) - angle_between(c, &self.base_direction(finger))
     }
 
-    /// I2 free space, radial part [m]: min(|p| − (R + r), R + r + δR − |p|).
+    /// I2 free space, radial part \[m\]: min(|p| − (R + r), R + r + δR − |p|).
     /// The inner bound is open (|p| = R + r is touching, not free).
     pub fn shell_slack(&self, p: &Vector3<f64>) -> f64 {
         let d = p.norm();
         (d - self.contact_radius).min(self.shell_outer - d)
     }
 
-    /// I3 fingertip hemisphere: π/2 − angle(m, e_z) = asin(m_z) [rad] for
+    /// I3 fingertip hemisphere: π/2 − angle(m, e_z) = asin(m_z) \[rad\] for
     /// the fingertip contact `m` (fingertip frame). The boundary (the
     /// fingertip equator) is allowed.
     pub fn hemisphere_slack(&self, m: &Vector3<f64>) -> f64 {
         FRAC_PI_2 - angle_between(m, &Vector3::z())
     }
 
-    /// I3 roll: (γ [− margin]) − |τ| [rad].
+    /// I3 roll: (γ \[− margin\]) − |τ| \[rad\].
     pub fn roll_slack(&self, roll: f64, bound: Bound) -> f64 {
         self.roll_limit(bound) - roll.abs()
     }
 
-    /// I4: |p_i − p_j| − (2r + clearance) [m].
+    /// I4: |p_i − p_j| − (2r + clearance) \[m\].
     pub fn collision_slack(&self, p_i: &Vector3<f64>, p_j: &Vector3<f64>) -> f64 {
         (p_i - p_j).norm() - self.min_distance
     }
 
     /// I5 (object centre fixed, fingertip on the object): contact tolerance
-    /// − ||p| − (R + r)| [m] for a grasping fingertip centre `p`.
+    /// − ||p| − (R + r)| \[m\] for a grasping fingertip centre `p`.
     pub fn contact_slack(&self, p: &Vector3<f64>) -> f64 {
         self.config.model.contact_tolerance - (p.norm() - self.contact_radius).abs()
     }
 
     /// I1 for two soft contacts: Fact 3 with the angle margin δ,
-    /// angle(n_i, n_j) − (π − 2θ + δ) [rad]; force-closure iff > 0.
+    /// angle(n_i, n_j) − (π − 2θ + δ) \[rad\]; force-closure iff > 0.
     pub fn pair_fc_slack(&self, n_i: &Vector3<f64>, n_j: &Vector3<f64>) -> f64 {
         fact3_slack(n_i, n_j, self.theta, self.fc_margin)
     }
 
-    /// Fact 4 slack at the margin friction angle θ − δ/2 [rad]; the three
+    /// Fact 4 slack at the margin friction angle θ − δ/2 \[rad\]; the three
     /// hard contacts are force-closure with margin if it is > 0.
     pub fn fact4_slack(&self, n: &[Vector3<f64>; 3]) -> f64 {
         fact4_slack(&n[0], &n[1], &n[2], self.theta - 0.5 * self.fc_margin)
@@ -223,7 +223,7 @@ impl HandModel {
 
     /// Whether `finger` may lift (SPEC §1.3 I1): it is grasping, and the
     /// other grasping fingers are exactly two that pass Fact 3 with margin.
-    /// Returns their slack [rad], or `None` when lifting is not possible at
+    /// Returns their slack \[rad\], or `None` when lifting is not possible at
     /// all (not grasping, or not exactly two would remain).
     pub fn lift_slack(&self, state: &HandState, finger: usize) -> Option<f64> {
         if state.fingers.get(finger)?.mode != FingerMode::Grasping {

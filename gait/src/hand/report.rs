@@ -111,7 +111,14 @@ pub enum FcMethod {
     },
     /// Fact 4 at the margin friction angle θ − δ/2.
     Fact4,
-    /// The exact conic test (SPEC §3.2) at θ − δ/2; slack is t*.
+    /// The planar certificate (explicit internal forces) at θ − δ/2; slack
+    /// is the angular margin of the forces found \[rad\].
+    Planar,
+    /// No certificate and the conic fallback is off: counted as not
+    /// force-closure; slack is the best closed-form slack (≤ 0) \[rad\].
+    NoCertificate,
+    /// The exact conic test (SPEC §3.2) at θ − δ/2; slack is t*. Reached
+    /// only when no closed form or certificate shows force closure.
     Conic,
     /// The grasp map has rank < 6 (coincident contacts).
     RankDeficient,
@@ -137,17 +144,17 @@ pub struct FingerReport {
     /// Grasping or free.
     pub mode: FingerMode,
     /// I2: workspace cone with margin, of the contact normal (grasping) or
-    /// of the fingertip-centre direction (free) [rad].
+    /// of the fingertip-centre direction (free) \[rad\].
     pub workspace: Check,
-    /// I2: free fingers only, radial slack inside the shell [m] (open at
+    /// I2: free fingers only, radial slack inside the shell \[m\] (open at
     /// R + r).
     pub shell: Option<Check>,
     /// I5 object-centre part: grasping fingers only, contact tolerance −
-    /// ||p| − (R + r)| [m].
+    /// ||p| − (R + r)| \[m\].
     pub contact: Option<Check>,
-    /// I3: grasping fingers only, fingertip hemisphere asin(m_z) [rad].
+    /// I3: grasping fingers only, fingertip hemisphere asin(m_z) \[rad\].
     pub hemisphere: Option<Check>,
-    /// I3: γ − |τ| [rad].
+    /// I3: γ − |τ| \[rad\].
     pub roll: Check,
 }
 
@@ -161,7 +168,7 @@ pub struct InvariantReport {
     pub force_closure: ForceClosureCheck,
     /// I2, I3, I5 (contact) per finger.
     pub fingers: [FingerReport; FINGERS],
-    /// I4 per pair of [`PAIRS`], fingertip distance − (2r + clearance) [m].
+    /// I4 per pair of [`PAIRS`], fingertip distance − (2r + clearance) \[m\].
     pub collisions: [Check; 3],
 }
 
@@ -220,9 +227,9 @@ impl InvariantReport {
 /// I5 between two consecutive states, per finger grasping in both.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SlipCheck {
-    /// Slip tolerance − |R Δ_o − r Δ_f| [m].
+    /// Slip tolerance − |R Δ_o − r Δ_f| \[m\].
     pub arc: Check,
-    /// Two-finger grasps only: slip tolerance / r − |spin| [rad].
+    /// Two-finger grasps only: slip tolerance / r − |spin| \[rad\].
     pub spin: Option<Check>,
 }
 
