@@ -43,6 +43,9 @@
 //! # }
 //! ```
 //!
+//! A [`Client`] is bound to the thread that created it (iceoryx2 ports are
+//! not `Send`); create one per thread that talks to the daemon.
+//!
 //! A daemon restart is handled: [`Client::command`] and the calls built on
 //! it reconnect once when the daemon's status went stale; any caller can
 //! also use [`Client::ensure_connected`] or [`Client::reconnect`].

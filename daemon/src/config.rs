@@ -405,6 +405,13 @@ impl DaemonConfig {
             .into());
         }
         self.daemon.validate()?;
+        // Clients treat a daemon whose status is older than 1 s as gone.
+        if f64::from(self.daemon.status_every) / hz > 0.5 {
+            return Err(KeyError::Invalid {
+                key: "daemon.status_every",
+                why: "status must be published at least every 0.5 s (status_every / control.tick_hz)",
+            });
+        }
         self.ipc.validate()?;
         self.rt.validate()
     }

@@ -9,7 +9,8 @@
 //! - [`controller`]: the seam where the controller plugs in ([`hold`] is
 //!   the stand-in until issue 4's executor lands);
 //! - [`intake`], [`convert`], [`events`]: commands in, status and events out;
-//! - [`ipc`]: iceoryx2 services and ports;
+//! - [`ipc`]: iceoryx2 services and ports; [`outbox`]: the writer thread
+//!   that publishes what the loop produced (the loop never publishes);
 //! - [`planner`], [`handoff`]: the planner thread and its lock-free link;
 //! - [`housekeeping`]: dead-node cleanup, client bookkeeping, rate-limited
 //!   warnings, `STATUS=`;

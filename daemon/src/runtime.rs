@@ -213,6 +213,9 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
 
     /// Runs until `stop` is set, then shuts down (see module docs).
     pub fn run(&mut self, stop: &AtomicBool) -> Summary {
+        // Deadlines start now, not at construction (set-up in between must
+        // not count as missed periods).
+        self.ticker = Ticker::new(self.clock.now(), self.settings.period);
         self.events.push(Event::new(EventKind::DaemonStarted));
         while !stop.load(Ordering::Acquire) {
             let stopping = || stop.load(Ordering::Acquire);

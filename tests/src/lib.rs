@@ -5,8 +5,15 @@ use std::process::Command;
 use std::sync::OnceLock;
 
 /// The repository root (parent of this crate).
+///
+/// Taken from `CARGO_MANIFEST_DIR` at run time (cargo sets it for test
+/// binaries) before the compile-time value: when several checkouts share
+/// one target directory, this library's artifact may have been compiled in
+/// another checkout.
 pub fn repo_root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    std::env::var_os("CARGO_MANIFEST_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")))
         .parent()
         .expect("tests/ has a parent")
         .to_path_buf()
@@ -137,6 +144,15 @@ impl TestDaemon {
             cmd.env(k, v);
         }
         self.child = Some(cmd.spawn().expect("spawn gaitd"));
+    }
+
+    /// Waits until the daemon logged that it is ready (its services exist).
+    pub fn wait_ready(&self, timeout: std::time::Duration) {
+        let t0 = std::time::Instant::now();
+        while !self.log().contains("gaitd: ready") {
+            assert!(t0.elapsed() < timeout, "gaitd not ready:\n{}", self.log());
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
     }
 
     /// The process id.

@@ -253,3 +253,62 @@ fn gaitctl_status_and_watch_show_the_daemon() {
         "{text}"
     );
 }
+
+#[test]
+fn no_daemon_is_a_clear_error() {
+    let d = TestDaemon::new("nodaemon", "");
+    let t0 = std::time::Instant::now();
+    let err =
+        gaitd_client::Client::connect(d.options().timeout(Duration::from_millis(300))).unwrap_err();
+    assert!(
+        t0.elapsed() < Duration::from_secs(5),
+        "the timeout is honoured"
+    );
+    assert!(
+        matches!(err, gaitd_client::Error::NoDaemon { .. }),
+        "{err:?}"
+    );
+    let msg = err.to_string();
+    assert!(
+        msg.contains("no gaitd running") && msg.contains(&d.prefix),
+        "{msg}"
+    );
+}
+
+/// `gaitctl bench` runs end to end (small counts; figures are not asserted).
+#[test]
+fn gaitctl_bench_reports_every_figure() {
+    let d = TestDaemon::start("bench");
+    let out = d
+        .gaitctl()
+        .args([
+            "bench",
+            "--goals",
+            "5",
+            "--statuses",
+            "50",
+            "--pings",
+            "50",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for k in [
+        "goal_to_answer_us",
+        "status_publish_to_receive_us",
+        "iceoryx2_one_way_us",
+        "iceoryx2_periodic_one_way_us",
+    ] {
+        assert!(v[k]["n"].as_u64().is_some_and(|n| n > 0), "{k}: {v}");
+        assert!(v[k]["p50"].as_f64().unwrap() > 0.0, "{k}");
+    }
+    assert!(v["tick_compute_ns"]["max"].as_u64().unwrap() > 0);
+    assert!(v["daemon"]["rss_kb"].as_u64().unwrap() > 0);
+    assert_eq!(v["jitter_histogram_window"].as_array().unwrap().len(), 16);
+}

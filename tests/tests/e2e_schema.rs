@@ -108,6 +108,8 @@ fn a_stale_service_of_another_schema_is_replaced_at_start() {
         .create()
         .unwrap();
     d.spawn();
+    // A client racing the start-up could still open the stale service.
+    d.wait_ready(Duration::from_secs(10));
     let mut c = d.client();
     let s = c.wait_status(Duration::from_secs(5)).unwrap();
     s.check().unwrap();

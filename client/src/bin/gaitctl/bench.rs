@@ -8,7 +8,10 @@
 //!   before publishing) to reception by this process busy-polling, beside a
 //!   bare iceoryx2 one-way latency measured in the same run between this
 //!   process and a child (`gaitctl __pong`), also busy-polling, with a
-//!   payload of the status's size;
+//!   payload of the status's size — both as ping-pong (back-to-back) and
+//!   as a periodic publisher at the daemon's rate, which is the like-for-like
+//!   reference (a publisher that sleeps between sends is slower to deliver
+//!   than one in a hot loop: caches and CPU wake-up, measured here);
 //! - tick compute time p50/p99/max and missed periods from the status;
 //!   the wake-up jitter histogram of the bench window; daemon RSS.
 
@@ -50,6 +53,12 @@ pub struct PongArgs {
     /// iceoryx2 file prefix.
     #[arg(long)]
     file_prefix: String,
+    /// Publish periodically every this many µs instead of echoing.
+    #[arg(long)]
+    periodic_us: Option<u64>,
+    /// With --periodic-us: how many samples.
+    #[arg(long, default_value_t = 0)]
+    count: u64,
 }
 
 /// Ping-pong payload, the size of a [`Status`] so both measure the same copy.
@@ -120,6 +129,30 @@ pub fn pong(a: &PongArgs) -> gaitd_client::Result<ExitCode> {
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<ipc::Service>()
         .map_err(ice("node"))?;
+    if let Some(period_us) = a.periodic_us {
+        let svc = pair(&node, &format!("{}/periodic", a.service))?;
+        let tx = svc.publisher_builder().create().map_err(ice("publisher"))?;
+        println!("ready");
+        // Give the subscriber's connection a moment, then publish on
+        // absolute deadlines like the daemon's loop.
+        std::thread::sleep(Duration::from_millis(50));
+        let start = Instant::now();
+        let period = Duration::from_micros(period_us);
+        let mut p = BenchPing {
+            seq: 0,
+            t_send: 0,
+            t_echo: 0,
+            pad: [0; 106],
+        };
+        for k in 1..=a.count {
+            let deadline = start + period * k as u32;
+            std::thread::sleep(deadline.saturating_duration_since(Instant::now()));
+            p.seq = k;
+            p.t_send = monotonic_ns();
+            tx.send_copy(p).map_err(ice("send"))?;
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
     let ping = pair(&node, &format!("{}/ping", a.service))?;
     let pong = pair(&node, &format!("{}/pong", a.service))?;
     let rx = ping
@@ -235,6 +268,76 @@ fn ping_pong(
     Ok((one_way, half_rtt))
 }
 
+/// Latencies [µs] of `n` samples from a child publishing every `period_us`.
+fn periodic(
+    n: usize,
+    period_us: u64,
+    root: &str,
+    file_prefix: &str,
+) -> gaitd_client::Result<Vec<f64>> {
+    let service = format!("gaitctl-bench-{}", std::process::id());
+    let config = ice_config(root, file_prefix)?;
+    let node = NodeBuilder::new()
+        .config(&config)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .map_err(ice("node"))?;
+    let svc = pair(&node, &format!("{service}/periodic"))?;
+    let rx = svc
+        .subscriber_builder()
+        .create()
+        .map_err(ice("subscriber"))?;
+    let exe = std::env::current_exe().map_err(|e| gaitd_client::Error::Ipc {
+        what: "current exe",
+        why: e.to_string(),
+    })?;
+    let mut child = Process::new(exe)
+        .args([
+            "__pong",
+            "--service",
+            &service,
+            "--root",
+            root,
+            "--file-prefix",
+            file_prefix,
+        ])
+        .args([
+            "--periodic-us",
+            &period_us.to_string(),
+            "--count",
+            &(n + 100).to_string(),
+        ])
+        .stdout(Stdio::null())
+        .spawn()
+        .map_err(|e| gaitd_client::Error::Ipc {
+            what: "spawn periodic publisher",
+            why: e.to_string(),
+        })?;
+    let mut lat = Vec::with_capacity(n);
+    let mut last = Instant::now();
+    loop {
+        if let Some(s) = rx.receive().map_err(ice("receive"))? {
+            let now = monotonic_ns();
+            let p = *s.payload();
+            // The first 100 warm up and are not counted.
+            if p.seq > 100 {
+                lat.push(us(now.saturating_sub(p.t_send)));
+            }
+            last = Instant::now();
+            if lat.len() >= n {
+                break;
+            }
+        } else if last.elapsed() > Duration::from_secs(2) {
+            break;
+        } else {
+            std::hint::spin_loop();
+        }
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    Ok(lat)
+}
+
 fn rss_kb(pid: i32) -> Option<(u64, u64)> {
     let text = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
     let field = |name: &str| {
@@ -300,6 +403,13 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let settings = c.settings().clone();
     let (mut one_way, mut half_rtt) =
         ping_pong(a.pings, &settings.root_path, &settings.file_prefix)?;
+    let period_us = (last.timing.period_ns / 1000).max(1);
+    let mut periodic_lat = periodic(
+        a.statuses,
+        period_us,
+        &settings.root_path,
+        &settings.file_prefix,
+    )?;
 
     let t = &last.timing;
     let hist: Vec<_> = (0..JITTER_BUCKETS)
@@ -311,10 +421,14 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let rss = c.daemon_pid().and_then(rss_kb);
     let status_s = summary(&mut status_lat);
     let pp_s = summary(&mut one_way);
-    let ratio = match (status_s["p50"].as_f64(), pp_s["p50"].as_f64()) {
-        (Some(s), Some(p)) if p > 0.0 => Some(s / p),
-        _ => None,
-    };
+    let periodic_s = summary(&mut periodic_lat);
+    let ratio =
+        |reference: &serde_json::Value| match (status_s["p50"].as_f64(), reference["p50"].as_f64())
+        {
+            (Some(s), Some(p)) if p > 0.0 => Some(s / p),
+            _ => None,
+        };
+    let (ratio_pp, ratio_periodic) = (ratio(&pp_s), ratio(&periodic_s));
     let report = json!({
         "machine": {
             "cpus": std::thread::available_parallelism().map_or(0, |n| n.get()),
@@ -332,9 +446,10 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         "goal_to_first_motion_ticks": null,
         "status_publish_to_receive_us": status_s,
         "status_tick_to_receive_us": summary(&mut tick_lat),
-        "iceoryx2_one_way_us": pp_s,
-        "iceoryx2_half_round_trip_us": summary(&mut half_rtt),
-        "status_vs_iceoryx2_p50_ratio": ratio,
+        "iceoryx2_one_way_us": pp_s,        "iceoryx2_half_round_trip_us": summary(&mut half_rtt),
+        "iceoryx2_periodic_one_way_us": periodic_s,
+        "status_vs_iceoryx2_pingpong_p50_ratio": ratio_pp,
+        "status_vs_iceoryx2_periodic_p50_ratio": ratio_periodic,
         "tick_compute_ns": {
             "p50": t.compute_p50_ns, "p99": t.compute_p99_ns, "max": t.compute_max_ns,
             "since": "daemon start",
@@ -392,13 +507,17 @@ fn print_table(r: &serde_json::Value) {
         "bare iceoryx2 round trip / 2",
         &r["iceoryx2_half_round_trip_us"],
     );
+    row(
+        "bare iceoryx2 periodic one-way",
+        &r["iceoryx2_periodic_one_way_us"],
+    );
     println!("goal verdicts: {}", r["goal_verdicts"]);
     println!("goal -> first motion: n/a (no executor in this daemon build)");
+    let x = |k: &str| r[k].as_f64().map_or("-".into(), |x| format!("{x:.2}x"));
     println!(
-        "status / bare iceoryx2 (p50): {}",
-        r["status_vs_iceoryx2_p50_ratio"]
-            .as_f64()
-            .map_or("-".into(), |x| format!("{x:.2}x (target <= 2x)"))
+        "status / bare iceoryx2 (p50): {} vs ping-pong, {} vs periodic publisher (target <= 2x)",
+        x("status_vs_iceoryx2_pingpong_p50_ratio"),
+        x("status_vs_iceoryx2_periodic_p50_ratio")
     );
     let c = &r["tick_compute_ns"];
     println!(
