@@ -269,9 +269,14 @@ impl Executor {
             expected: "a finite positive rate",
         })?;
         let sp = rest(start);
+        // The closed forms and the planar certificate decide every case the
+        // conic test would (gait::hand docs); the conic solve allocates and
+        // costs ~70 µs, so it stays off the tick.
+        let mut checker = InvariantChecker::new(config)?;
+        checker.set_conic_fallback(false);
         Ok(Self {
             limits: config.limits,
-            checker: InvariantChecker::new(config)?,
+            checker,
             grip: grip::GripModel::new(config),
             feedback: Feedback::new(&config.feedback, config.model.object_radius),
             runner,
