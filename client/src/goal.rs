@@ -50,9 +50,32 @@ impl GoalSpec {
 
     /// A goal given as axis and angle [rad].
     pub fn axis_angle(axis: [f64; 3], angle: f64, frame: GoalFrame) -> Result<Self> {
+        if frame == GoalFrame::AxisAngle {
+            return Self::turn(axis, angle);
+        }
         Ok(Self {
             target: quat_from_axis_angle(axis, angle)?,
             frame,
+            limits: Vec::new(),
+        })
+    }
+
+    /// Turn the object by `angle` [rad] about the hand-frame `axis` from its
+    /// current orientation — any angle: 2π is a full turn, not a no-op
+    /// (frame [`GoalFrame::AxisAngle`]).
+    pub fn turn(axis: [f64; 3], angle: f64) -> Result<Self> {
+        let n = axis.iter().map(|a| a * a).sum::<f64>().sqrt();
+        if !(n.is_finite() && n > 1e-12) {
+            return Err(Error::Invalid("rotation axis must be finite and non-zero"));
+        }
+        if !(angle.is_finite() && angle.abs() <= shm_schema::MAX_AXIS_ANGLE) {
+            return Err(Error::Invalid(
+                "rotation angle must be finite and at most 64π",
+            ));
+        }
+        Ok(Self {
+            target: [angle, axis[0] / n, axis[1] / n, axis[2] / n],
+            frame: GoalFrame::AxisAngle,
             limits: Vec::new(),
         })
     }

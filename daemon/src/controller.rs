@@ -28,6 +28,14 @@ pub enum GoalTarget {
     /// A rotation (hand frame) applied to the orientation at acceptance:
     /// q_goal = q_rel · q_o.
     Relative(UnitQuaternion<f64>),
+    /// Turn by `angle` about the hand-frame `axis` (any angle: a full turn
+    /// is a full turn) from the orientation when planning starts.
+    Rotation {
+        /// Unit axis.
+        axis: Vector3<f64>,
+        /// Angle [rad].
+        angle: f64,
+    },
 }
 
 /// A reorientation goal that passed every check the daemon can make.

@@ -45,10 +45,14 @@ pub fn control_command(
     Ok(match *cmd {
         ValidCommand::Goal(ref g) => {
             let [w, x, y, z] = g.target;
-            let q = UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z));
+            let q = || UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z));
             let target = match g.frame {
-                GoalFrame::Absolute => GoalTarget::Absolute(q),
-                GoalFrame::Relative => GoalTarget::Relative(q),
+                GoalFrame::Absolute => GoalTarget::Absolute(q()),
+                GoalFrame::Relative => GoalTarget::Relative(q()),
+                GoalFrame::AxisAngle => GoalTarget::Rotation {
+                    axis: Vector3::new(x, y, z).normalize(),
+                    angle: w,
+                },
             };
             ControlCommand::Goal(Goal {
                 client_id: g.client_id,

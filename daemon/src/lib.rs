@@ -6,8 +6,9 @@
 //! - [`config`]: the TOML file, every key validated by name;
 //! - [`clock`], [`ticker`]: injected time and absolute-deadline wake-ups;
 //! - [`runtime`]: the real-time loop and its phases, shutdown;
-//! - [`controller`]: the seam where the controller plugs in ([`hold`] is
-//!   the stand-in until issue 4's executor lands);
+//! - [`controller`]: the seam where the controller plugs in;
+//!   [`gait_controller`] is the real one (planner, executor, kinematic
+//!   hand), [`hold`] a still stand-in the tests use;
 //! - [`intake`], [`convert`], [`events`]: commands in, status and events out;
 //! - [`ipc`]: iceoryx2 services and ports; [`outbox`]: the writer thread
 //!   that publishes what the loop produced (the loop never publishes);
@@ -22,6 +23,7 @@ pub mod config;
 pub mod controller;
 pub mod convert;
 pub mod events;
+pub mod gait_controller;
 pub mod handoff;
 pub mod histogram;
 pub mod hold;

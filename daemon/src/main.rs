@@ -10,7 +10,7 @@ use anyhow::{Context, Result};
 use clap::Parser;
 use gaitd::clock::MonotonicClock;
 use gaitd::config::{DEFAULT_CONFIG_PATH, DaemonConfig};
-use gaitd::hold::HoldController;
+use gaitd::gait_controller::{GaitController, GaitPlanner};
 use gaitd::housekeeping::{self, HousekeepingSetup};
 use gaitd::logging::{self, LogFormat};
 use gaitd::runtime::{Runtime, Shared};
@@ -101,11 +101,16 @@ fn main() -> Result<()> {
     })
     .context("starting the housekeeping thread")?;
 
-    // Stand-in until issue 4's executor: holds the paper's start grasp.
-    let controller = HoldController::new(&cfg.hand());
-    warn!(
-        "no planner/executor in this build: reorientation goals are rejected (PlannerUnavailable)"
-    );
+    // The planner thread, then the controller: planner + executor + the
+    // embedded kinematic hand (SPEC §6.2, §7.2).
+    let planner = gait::planner::Planner::new(&cfg.hand()).context("building the planner")?;
+    let background = cfg.rt.background_cpus.clone();
+    let (link, planner_thread) = gaitd::planner::spawn(GaitPlanner(planner), 4, move || {
+        let _ = gaitd::rt::pin_current_thread(&background);
+    })
+    .context("starting the planner thread")?;
+    let controller = GaitController::new(&cfg.hand(), 1.0 / cfg.control.tick_hz, link)
+        .context("building the controller")?;
     let instance = gaitd::new_instance_id();
     let mut runtime = Runtime::new(
         commands,
@@ -163,6 +168,7 @@ fn main() -> Result<()> {
     writer.join();
     hk.join();
     drop(runtime);
+    planner_thread.join();
     drop(services.commands);
     drop(node);
     Ok(())

@@ -559,6 +559,114 @@ fn plans_cross_the_loop_without_allocation() {
     planner_thread.join();
 }
 
+/// The real controller (planner thread, executor, kinematic hand) in the
+/// real loop: goals (absolute, relative, full turns), preemption by newer
+/// goals mid-motion, cancels and holds, over 10⁵ ticks that include
+/// rolling, gaits and status publishing — no allocation or free on the
+/// loop thread.
+#[test]
+fn the_loop_does_not_allocate_with_the_gait_controller() {
+    use gaitd::gait_controller::{GaitController, GaitPlanner};
+    let ns = Namespace::new("g");
+    let d = daemon(&ns);
+    let client = d.client;
+    let hand = ns.cfg.hand();
+    let planner = gait::planner::Planner::new(&hand).unwrap();
+    let (link, planner_thread) = planner::spawn(GaitPlanner(planner), 4, || {}).unwrap();
+    let controller = GaitController::new(&hand, 1e-3, link).unwrap();
+    let clock = MockClock::new(0);
+    let mut rt = Runtime::new(
+        d.commands,
+        d.outbox,
+        controller,
+        clock.clone(),
+        &ns.cfg,
+        44,
+        d.shared.clone(),
+    );
+    // Warm-up (not counted): ports connect, histories flow, one goal runs.
+    client.send(Command::goal(
+        5,
+        1,
+        GoalFrame::AxisAngle,
+        [1.0, 0.0, 0.0, 1.0],
+    ));
+    for _ in 0..200 {
+        rt.run_once();
+        clock.advance(1_000_000);
+        client.drain();
+    }
+    reset_counts();
+    let targets = [
+        (GoalFrame::AxisAngle, [std::f64::consts::TAU, 0.0, 0.0, 1.0]),
+        (GoalFrame::Absolute, [0.5, 0.5, -0.5, 0.5]),
+        (GoalFrame::Relative, [0.0, 1.0, 0.0, 0.0]),
+        (GoalFrame::AxisAngle, [2.5, 1.0, 1.0, 0.0]),
+        (GoalFrame::Absolute, [0.0, 0.6, 0.0, 0.8]),
+    ];
+    let mut goal_id = 1;
+    let (mut placed, mut lifted, mut rolled, mut succeeded, mut preempted) = (0, 0, 0, 0, 0);
+    let mut next = 100;
+    let mut k = 0usize;
+    for t in 0..TICKS {
+        // Something new arrives now and then: mostly goals (some preempting
+        // the one in motion after 1.5 s, others after 7 s, when most have
+        // finished), sometimes a cancel or a hold.
+        if t == next {
+            k += 1;
+            next += if k.is_multiple_of(3) { 1500 } else { 7000 };
+            let cmd = match k % 7 {
+                5 => Command::cancel(5, 0),
+                6 => Command::hold(5),
+                _ => {
+                    goal_id += 1;
+                    let (frame, q) = targets[k % targets.len()];
+                    Command::goal(5, goal_id, frame, q)
+                }
+            };
+            client.send(cmd);
+        }
+        counted(|| {
+            rt.run_once();
+            clock.advance(1_000_000);
+        });
+        let (_, ev) = client.drain();
+        for e in &ev {
+            match e.kind() {
+                Ok(shm_schema::EventKind::Place) => placed += 1,
+                Ok(shm_schema::EventKind::Lift) => lifted += 1,
+                Ok(shm_schema::EventKind::Roll) => rolled += 1,
+                Ok(shm_schema::EventKind::GoalTransition) => match GoalState::try_from(e.state) {
+                    Ok(GoalState::Succeeded) => succeeded += 1,
+                    Ok(GoalState::Preempted) => preempted += 1,
+                    _ => {}
+                },
+                _ => {}
+            }
+        }
+        // While a plan is being made, let the planner thread run (ticks go
+        // on meanwhile, as in the daemon).
+        if rt.controller().phase() == gait::executor::Phase::Planning {
+            std::thread::sleep(std::time::Duration::from_micros(50));
+        }
+    }
+    println!(
+        "gait controller: {placed} placements, {lifted} lifts, {rolled} rolls, {succeeded} goals reached, {preempted} preempted"
+    );
+    assert_no_allocations("gait controller");
+    assert!(
+        placed > 20 && lifted > 20 && rolled > 0,
+        "gaits and rolling ran"
+    );
+    assert!(
+        succeeded > 3 && preempted > 3,
+        "goals finished and were preempted"
+    );
+    drop(rt);
+    d.writer.join();
+    planner_thread.join();
+}
+
 /// The counter itself works (otherwise the tests above prove nothing).
 #[test]
 fn the_counter_sees_an_allocation() {

@@ -41,7 +41,7 @@ fn main() {
         exec.command(Command::Goal {
             id,
             target: GoalTarget::Orientation(planning::haar(&mut rng)),
-            speed: 1.0,
+            limits: None,
         });
         let mut ticks = 0u64;
         loop {

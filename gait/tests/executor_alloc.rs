@@ -99,7 +99,7 @@ fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool;
                     Command::Goal {
                         id,
                         target: GoalTarget::Orientation(planning::haar(&mut rng)),
-                        speed: 1.0,
+                        limits: None,
                     }
                 }
             };

@@ -28,7 +28,7 @@ fn inject(fault: InjectedFault, lead: u64, seed: u64) -> (u64, Option<(FaultKind
     rig.command(Command::Goal {
         id: 1,
         target: GoalTarget::Orientation(planning::haar(&mut rng)),
-        speed: 1.0,
+        limits: None,
     });
     for _ in 0..lead {
         rig.tick();
@@ -91,7 +91,7 @@ fn every_fault_ends_in_safe_hold_within_two_ticks() {
                         axis: Vector3::z(),
                         angle: 0.5
                     },
-                    speed: 1.0
+                    limits: None
                 }),
                 gait::executor::Answer::Rejected(gait::executor::Reason::FaultActive)
             );
@@ -108,7 +108,7 @@ fn a_stuck_finger_is_caught_while_it_should_move() {
     rig.command(Command::Goal {
         id: 1,
         target: GoalTarget::Orientation(planning::haar(&mut rng)),
-        speed: 1.0,
+        limits: None,
     });
     let finger = loop {
         rig.tick();
@@ -150,7 +150,7 @@ fn reset_after_the_fault_clears_resumes_goals() {
             axis: Vector3::y(),
             angle: 1.0,
         },
-        speed: 1.0,
+        limits: None,
     });
     rig.run_until_idle(100_000);
     assert_eq!(rig.stats.goals.last(), Some(&(7, GoalState::Succeeded)));

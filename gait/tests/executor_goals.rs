@@ -42,7 +42,7 @@ fn paper_scenario_full_turns_about_z_and_x() {
             rig.command(Command::Goal {
                 id,
                 target,
-                speed: 1.0
+                limits: None
             }),
             gait::executor::Answer::Accepted
         );
@@ -66,7 +66,7 @@ fn random_goals_from_the_paper_start() {
         rig.command(Command::Goal {
             id,
             target: GoalTarget::Orientation(goal),
-            speed: 1.0,
+            limits: None,
         });
         rig.run_until_idle(100_000);
         let err = rig.exec.setpoint().state.object.angle_to(&goal);

@@ -53,7 +53,7 @@ fn interruptions_keep_the_stream_continuous_and_valid() {
                 rig.command(Command::Goal {
                     id,
                     target: GoalTarget::Orientation(goal),
-                    speed: 1.0,
+                    limits: None,
                 });
                 last_goal = Some((id, goal));
             }
@@ -65,7 +65,7 @@ fn interruptions_keep_the_stream_continuous_and_valid() {
     rig.command(Command::Goal {
         id,
         target: GoalTarget::Orientation(goal),
-        speed: 1.0,
+        limits: None,
     });
     last_goal = Some((id, goal)).or(last_goal);
     rig.run_until_idle(200_000);
@@ -106,7 +106,7 @@ fn a_goal_preempts_the_initial_roll() {
     rig.command(Command::Goal {
         id: 1,
         target: GoalTarget::Orientation(planning::haar(&mut rng)),
-        speed: 1.0,
+        limits: None,
     });
     // Tick into the roll to a two-finger grasp.
     let mut ticks = 0;
@@ -123,7 +123,7 @@ fn a_goal_preempts_the_initial_roll() {
     rig.command(Command::Goal {
         id: 2,
         target: GoalTarget::Orientation(goal),
-        speed: 1.0,
+        limits: None,
     });
     rig.run_until_idle(100_000);
     let s = &rig.stats;

@@ -124,6 +124,8 @@ code_enum! {
         Absolute = 1,
         /// Target is a rotation applied to the current orientation, hand frame: q_goal = q_rel · q_o.
         Relative = 2,
+        /// Target is `[angle, x, y, z]`: turn the object by `angle` [rad] about the hand-frame axis (x, y, z) from its orientation at acceptance; any angle (2π is a full turn, not a no-op).
+        AxisAngle = 3,
     }
 }
 
@@ -230,6 +232,8 @@ code_enum! {
         FaultDetected = 24,
         /// The target was reached within tolerance.
         Reached = 25,
+        /// An axis-angle target has a non-finite or zero axis, or a non-finite or huge (> 64π) angle.
+        BadAxisAngle = 26,
     }
 }
 

@@ -236,7 +236,10 @@ impl Command {
         if self.goal_id == 0 {
             return Err(ReasonCode::ZeroGoalId);
         }
-        check_unit_quaternion(&self.target)?;
+        match frame {
+            GoalFrame::AxisAngle => check_axis_angle(&self.target)?,
+            GoalFrame::Absolute | GoalFrame::Relative => check_unit_quaternion(&self.target)?,
+        }
         let limits = self.validate_limits()?;
         Ok(GoalRequest {
             client_id: self.client_id,
@@ -269,6 +272,22 @@ impl Command {
         }
         Ok(LimitOverrides { values: out })
     }
+}
+
+/// Largest angle an axis-angle goal may ask for [rad] (32 turns).
+pub const MAX_AXIS_ANGLE: f64 = 64.0 * core::f64::consts::PI;
+
+/// Checks an axis-angle target `[angle, x, y, z]`: finite angle of at most
+/// [`MAX_AXIS_ANGLE`], finite axis of norm in [1e-6, 1e6].
+pub fn check_axis_angle(t: &[f64; 4]) -> Result<(), ReasonCode> {
+    if t.iter().any(|c| !c.is_finite()) || t[0].abs() > MAX_AXIS_ANGLE {
+        return Err(ReasonCode::BadAxisAngle);
+    }
+    let n2 = t[1] * t[1] + t[2] * t[2] + t[3] * t[3];
+    if !(1e-12..=1e12).contains(&n2) {
+        return Err(ReasonCode::BadAxisAngle);
+    }
+    Ok(())
 }
 
 /// Checks that `q` is a finite, non-zero quaternion of norm 1 ±

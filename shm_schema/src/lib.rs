@@ -39,8 +39,8 @@ pub use codes::{
     GraspState, Phase, ReasonCode, UnknownCode,
 };
 pub use command::{
-    Command, GoalRequest, LimitKind, LimitOrder, LimitOverrides, MotionLimits, ValidCommand,
-    check_unit_quaternion, limit_bit,
+    Command, GoalRequest, LimitKind, LimitOrder, LimitOverrides, MAX_AXIS_ANGLE, MotionLimits,
+    ValidCommand, check_axis_angle, check_unit_quaternion, limit_bit,
 };
 pub use event::Event;
 pub use status::{FINGERS, FingerStatus, GoalStatus, NO_FINGER, Status, Timing};

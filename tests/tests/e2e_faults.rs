@@ -11,11 +11,21 @@ const T: Duration = Duration::from_secs(5);
 fn a_client_killed_mid_session_does_not_disturb_the_daemon() {
     let d = TestDaemon::start("client-killed");
     let mut c = d.client();
-    // Another client process, connected and reading, then killed hard.
+    // Another client process sends a long goal and waits for it, then is
+    // killed hard while the goal runs.
     let mut other = d
         .gaitctl()
-        .args(["events", "--follow", "--duration", "60"])
+        .args([
+            "reorient",
+            "--axis",
+            "0,0,1",
+            "--angle-deg",
+            "200",
+            "--relative",
+            "--wait",
+        ])
         .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
     let t0 = Instant::now();
@@ -23,6 +33,13 @@ fn a_client_killed_mid_session_does_not_disturb_the_daemon() {
         assert!(
             t0.elapsed() < Duration::from_secs(10),
             "the other client never showed up"
+        );
+    }
+    let t0 = Instant::now();
+    while c.wait_status(T).unwrap().goal.state != shm_schema::GoalState::Executing.code() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(10),
+            "the goal never started"
         );
     }
     let before = c.wait_status(T).unwrap();
@@ -48,6 +65,18 @@ fn a_client_killed_mid_session_does_not_disturb_the_daemon() {
     assert!(after.tick > before.tick);
     assert_eq!(after.instance, before.instance);
     assert_eq!(after.clients, 1, "only this client is left");
+    // The dead client's goal goes on to the end.
+    let t0 = Instant::now();
+    loop {
+        let s = c.wait_status(T).unwrap();
+        if s.goal.state == shm_schema::GoalState::Succeeded.code() {
+            break;
+        }
+        assert!(
+            t0.elapsed() < Duration::from_secs(60),
+            "the goal never finished"
+        );
+    }
     assert_eq!(c.hold(T).unwrap(), Verdict::Accepted);
 }
 
@@ -80,7 +109,7 @@ fn daemon_killed_and_restarted_clients_reconnect() {
     // A fresh client connects too, and events flow from the new instance.
     let mut fresh = d.client();
     assert_eq!(fresh.wait_status(T).unwrap().instance, s.instance);
-    assert_eq!(fresh.reset(T).unwrap(), Verdict::Accepted);
+    assert_eq!(fresh.hold(T).unwrap(), Verdict::Accepted);
     assert!(d.running());
 }
 

@@ -52,11 +52,9 @@ fn python_client_sends_commands_and_reads_status() {
         assert!((r.as_f64().unwrap() - 0.5).abs() < 1e-12);
     }
     assert_eq!(v["hold"]["code"], "Accepted");
-    // Until issue 4's executor lands the daemon refuses goals with this reason.
-    assert_eq!(v["goal"]["code"], "Rejected");
-    assert_eq!(v["goal"]["reason"], "PlannerUnavailable");
+    assert_eq!(v["goal"]["code"], "Accepted");
     assert_eq!(v["goal"]["goal_id"], 1);
     assert_eq!(v["nan_goal"]["reason"], "NonFiniteQuaternion");
     assert_eq!(v["status_after"]["commands"], 3);
-    assert_eq!(v["status_after"]["rejected"], 2);
+    assert_eq!(v["status_after"]["rejected"], 1);
 }

@@ -85,10 +85,19 @@ pub enum FaultKind {
     FingerTracking = 4,
     /// A contact point drifted on the object (slip).
     ContactDrift = 5,
-    /// A commanded state broke an invariant of SPEC §1.3.
-    Invariant = 6,
     /// The trajectory generator refused an input.
     Trajectory = 7,
+    /// I1: the commanded grasp is not force-closure.
+    ForceClosure = 8,
+    /// I2: a contact or free fingertip outside its workspace or shell.
+    Workspace = 9,
+    /// I3: a fingertip contact outside its hemisphere, or the roll limit.
+    Fingertip = 10,
+    /// I4: two fingertips too close.
+    Collision = 11,
+    /// I5: a grasping fingertip off the contact sphere, or the state is not
+    /// finite.
+    Contact = 12,
 }
 
 /// What happened, for clients (SPEC §7.3 events).
@@ -112,6 +121,17 @@ pub enum Event {
         /// Its kind.
         kind: crate::planner::StepKind,
         /// The finger it concerns (Place/Lift/Transfer/Roll), or 255.
+        finger: u8,
+    },
+    /// A plan step ended where it was planned to (not cut short by a stop).
+    StepDone {
+        /// Goal id.
+        id: u64,
+        /// Index in the plan.
+        index: u32,
+        /// Its kind.
+        kind: crate::planner::StepKind,
+        /// The finger it concerns, or 255.
         finger: u8,
     },
     /// A fault was detected; the hand is in safe hold.

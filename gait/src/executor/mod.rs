@@ -101,8 +101,10 @@ pub enum Command {
         id: u64,
         /// Where to.
         target: GoalTarget,
-        /// Fraction of the configured motion limits to use, in (0, 1].
-        speed: f64,
+        /// Motion limits for this goal (`None`: the configured ones). Each
+        /// must be positive; the caller keeps them within the configured
+        /// limits.
+        limits: Option<LimitsConfig>,
     },
     /// Stop the active goal smoothly, then hold.
     Cancel,
@@ -165,7 +167,7 @@ struct ActiveGoal {
     target: GoalTarget,
     /// The orientation the goal ends at (resolved when planning starts).
     end: UnitQuaternion<f64>,
-    speed: f64,
+    limits: LimitsConfig,
     state: GoalState,
 }
 
@@ -399,7 +401,7 @@ impl Executor {
     /// Takes a command (SPEC §6.4). Never blocks, never allocates.
     pub fn command(&mut self, cmd: Command) -> Answer {
         match cmd {
-            Command::Goal { id, target, speed } => self.new_goal(id, target, speed),
+            Command::Goal { id, target, limits } => self.new_goal(id, target, limits),
             Command::Cancel => {
                 if self.goal.is_none() && self.pending.is_none() {
                     return Answer::Rejected(Reason::None);
@@ -417,8 +419,16 @@ impl Executor {
         }
     }
 
-    fn new_goal(&mut self, id: u64, target: GoalTarget, speed: f64) -> Answer {
-        if !(target.is_valid() && speed.is_finite() && speed > 0.0 && speed <= 1.0) {
+    fn new_goal(&mut self, id: u64, target: GoalTarget, limits: Option<LimitsConfig>) -> Answer {
+        let limits = limits.unwrap_or(self.limits);
+        let positive = [limits.object, limits.fingertip, limits.rolling]
+            .iter()
+            .all(|l| {
+                [l.velocity, l.acceleration, l.jerk]
+                    .iter()
+                    .all(|x| x.is_finite() && *x > 0.0)
+            });
+        if !(target.is_valid() && positive) {
             return Answer::Rejected(Reason::InvalidTarget);
         }
         if self.phase == Phase::SafeHold {
@@ -431,7 +441,7 @@ impl Executor {
             id,
             target,
             end: target.resolve(&self.setpoint.state.object),
-            speed,
+            limits,
             state: GoalState::Accepted,
         };
         self.goal_event(id, GoalState::Accepted, Reason::None);
@@ -610,14 +620,14 @@ impl Executor {
     }
 
     fn begin_step(&mut self) {
-        let speed = self.goal.map_or(1.0, |g| g.speed);
+        let limits = self.goal.map_or(self.limits, |g| g.limits);
         let Some(plan) = self.plan.as_deref() else {
             return;
         };
         let Some(step) = plan.steps.get(self.step) else {
             return;
         };
-        self.runner.start(step, &self.limits, speed);
+        self.runner.start(step, &limits);
         self.time_after_step = (self.time_after_step - step.duration).max(0.0);
         let event = Event::Step {
             id: self.goal.map_or(0, |g| g.id),
@@ -727,8 +737,17 @@ impl Executor {
             self.braking = false;
             return;
         }
-        if !stopped_early && matches!(kind, StepKind::Place | StepKind::Lift) {
-            self.gaits_done += 1;
+        if !stopped_early {
+            if matches!(kind, StepKind::Place | StepKind::Lift) {
+                self.gaits_done += 1;
+            }
+            let finger = self.current_step().map_or(NO_FINGER, step_finger);
+            self.events.push(Event::StepDone {
+                id: self.goal.map_or(0, |g| g.id),
+                index: self.step as u32,
+                kind,
+                finger,
+            });
         }
         if self.phase == Phase::Stopping && (stopped_early || self.stop_after_step) {
             self.finish_stop(self.after_stop);
@@ -765,18 +784,27 @@ impl Executor {
                 for (k, f) in r.fingers.iter().enumerate() {
                     self.report.workspace_slack[k] = f.workspace.slack;
                 }
-                if !r.ok() && self.fault.is_none() {
-                    let finger = match r.first_violation().map(|v| v.subject) {
-                        Some(crate::hand::Subject::Finger(k)) => k,
-                        Some(crate::hand::Subject::Pair(k, _)) => k,
-                        _ => NO_FINGER,
+                if let Some(v) = r.first_violation()
+                    && self.fault.is_none()
+                {
+                    use crate::hand::{Invariant as I, Subject};
+                    let finger = match v.subject {
+                        Subject::Finger(k) | Subject::Pair(k, _) => k,
+                        Subject::Grasp => NO_FINGER,
                     };
-                    self.enter_fault(FaultKind::Invariant, finger);
+                    let kind = match v.invariant {
+                        I::ForceClosure => FaultKind::ForceClosure,
+                        I::Workspace | I::FreeSpace => FaultKind::Workspace,
+                        I::Hemisphere | I::Roll => FaultKind::Fingertip,
+                        I::Collision => FaultKind::Collision,
+                        I::Contact | I::Slip | I::Spin => FaultKind::Contact,
+                    };
+                    self.enter_fault(kind, finger);
                 }
             }
             Err(_) => {
                 if self.fault.is_none() {
-                    self.enter_fault(FaultKind::Invariant, NO_FINGER);
+                    self.enter_fault(FaultKind::Contact, NO_FINGER);
                 }
             }
         }

@@ -52,16 +52,15 @@ impl StepRunner {
         })
     }
 
-    /// Prepares `step` from rest at parameter 0, scaling `limits` by
-    /// `speed` ∈ (0, 1] (per-goal overrides).
-    pub fn start(&mut self, step: &Step, limits: &LimitsConfig, speed: f64) {
+    /// Prepares `step` from rest at parameter 0 under `limits`.
+    pub fn start(&mut self, step: &Step, limits: &LimitsConfig) {
         let d = step.dofs();
         let mut inp = Input::new([1.0; MAX_DOFS], [1.0; MAX_DOFS], [1.0; MAX_DOFS]);
         for i in 0..MAX_DOFS {
             let l = limit(limits, d.kind[i]);
-            inp.max_velocity[i] = l.velocity * speed;
-            inp.max_acceleration[i] = l.acceleration * speed;
-            inp.max_jerk[i] = l.jerk * speed;
+            inp.max_velocity[i] = l.velocity;
+            inp.max_acceleration[i] = l.acceleration;
+            inp.max_jerk[i] = l.jerk;
             inp.target_position[i] = d.length[i];
             inp.enabled[i] = i < d.count && d.length[i] > 0.0;
         }

@@ -104,7 +104,7 @@ impl OfflineRun {
         let answer = self.exec.command(Command::Goal {
             id,
             target,
-            speed: 1.0,
+            limits: None,
         });
         if answer != gait::executor::Answer::Accepted {
             return Err(format!("goal refused: {answer:?}"));

@@ -1,0 +1,405 @@
+//! The real controller: the planner, the executor and the embedded
+//! kinematic hand behind the daemon's [`Controller`] seam (SPEC §6, §7.2).
+//!
+//! Per tick, on the loop thread: read the plant, drain the planner's
+//! replies into the executor, tick the executor, write the setpoint to the
+//! plant, turn the executor's events into wire events, and report. Plans
+//! are made on the planner thread ([`GaitPlanner`]); the executor hands
+//! back every plan it no longer needs and this controller retires it to the
+//! planner thread, so nothing is allocated or freed here.
+
+use crate::controller::{
+    ControlCommand, ControlOutput, Controller, FingerReport, GoalReport, GoalTarget, TickContext,
+};
+use crate::hold::workspace_margin;
+use crate::planner::{Planner, PlannerLink};
+use gait::executor::{self, Command, Event, Executor, FaultKind, PlanRequest, Reason, TickReport};
+use gait::planner::{Plan, StepKind};
+use gait::sim::{KinematicHand, Plant};
+use gait::{FINGERS, FingerMode, HandConfig, HandState};
+use nalgebra::Vector3;
+use shm_schema::{
+    EventKind, FaultCode, FingerPhase, GoalState, GraspState, Phase, ReasonCode, Verdict,
+};
+
+/// Plans on the planner thread (SPEC §4).
+#[derive(Debug)]
+pub struct GaitPlanner(pub gait::planner::Planner);
+
+impl Planner for GaitPlanner {
+    type Request = PlanRequest;
+    type Plan = Plan;
+    fn plan(&mut self, r: &PlanRequest) -> Result<Plan, ReasonCode> {
+        r.target
+            .plan(&self.0, &r.start)
+            .map_err(|_| ReasonCode::NoPlan)
+    }
+}
+
+/// Goals in flight whose ids the executor knows by a number of its own.
+const GOAL_SLOTS: usize = 32;
+/// Plan requests in flight (sequence number → executor goal).
+const REQUEST_SLOTS: usize = 8;
+
+/// The daemon's controller (module docs).
+pub struct GaitController {
+    config: HandConfig,
+    exec: Executor,
+    plant: KinematicHand,
+    link: PlannerLink<PlanRequest, Plan>,
+    /// Executor goal id → (client id, goal id).
+    goals: [(u64, u64, u64); GOAL_SLOTS],
+    next_goal: u64,
+    requests: [(u64, u64); REQUEST_SLOTS],
+    /// Plans waiting for room in the retire ring.
+    retiring: Option<Box<Plan>>,
+    /// The last Place finished (for substitution events).
+    last_place: Option<u8>,
+    safe_hold_requested: bool,
+}
+
+impl std::fmt::Debug for GaitController {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GaitController")
+            .field("phase", &self.exec.phase())
+            .finish()
+    }
+}
+
+impl GaitController {
+    /// The hand at the paper's start grasp, ticking every `dt`; plans go
+    /// through `link`.
+    pub fn new(
+        config: &HandConfig,
+        dt: f64,
+        link: PlannerLink<PlanRequest, Plan>,
+    ) -> Result<Self, gait::ConfigError> {
+        let start = HandState::paper_start(config);
+        Ok(Self {
+            config: *config,
+            exec: Executor::new(config, dt, start)?,
+            plant: KinematicHand::new(start, dt),
+            link,
+            goals: [(0, 0, 0); GOAL_SLOTS],
+            next_goal: 1,
+            requests: [(0, 0); REQUEST_SLOTS],
+            retiring: None,
+            last_place: None,
+            safe_hold_requested: false,
+        })
+    }
+
+    /// The executor's phase.
+    pub fn phase(&self) -> executor::Phase {
+        self.exec.phase()
+    }
+
+    /// The embedded plant (tests inject faults through it).
+    pub fn plant_mut(&mut self) -> &mut KinematicHand {
+        &mut self.plant
+    }
+
+    fn wire_goal(&self, id: u64) -> (u64, u64) {
+        self.goals
+            .iter()
+            .find(|g| g.0 == id)
+            .map_or((0, id), |g| (g.1, g.2))
+    }
+
+    fn retire(&mut self, plan: Option<Box<Plan>>) {
+        let Some(plan) = plan else { return };
+        if let Err(p) = self.link.retire(plan) {
+            // Ring full: keep it for the next tick (never drop it here).
+            if let Some(old) = self.retiring.replace(p) {
+                // Two backed up: the older one must still not be freed on
+                // the loop; put it back in the ring next tick.
+                self.retiring = Some(old);
+            }
+        }
+    }
+
+    fn pump_planner(&mut self) {
+        if let Some(p) = self.retiring.take() {
+            self.retire(Some(p));
+        }
+        if let Some(req) = self.exec.take_plan_request() {
+            match self.link.submit(req) {
+                Ok(seq) => {
+                    let slot = (seq as usize) % REQUEST_SLOTS;
+                    self.requests[slot] = (seq, req.goal);
+                }
+                Err(_) => {
+                    // The planner is swamped: the goal fails rather than waits.
+                    let old = self
+                        .exec
+                        .deliver_plan(req.goal, Err(gait::planner::PlanError::SearchExhausted));
+                    self.retire(old);
+                }
+            }
+        }
+        while let Some(reply) = self.link.poll() {
+            let slot = (reply.seq as usize) % REQUEST_SLOTS;
+            let (seq, goal) = self.requests[slot];
+            if seq != reply.seq {
+                if let Ok(p) = reply.result {
+                    self.retire(Some(p));
+                }
+                continue;
+            }
+            let result = reply
+                .result
+                .map_err(|_| gait::planner::PlanError::SearchExhausted);
+            let old = self.exec.deliver_plan(goal, result);
+            self.retire(old);
+        }
+    }
+
+    fn forward_events(&mut self, ctx: &mut TickContext<'_>, remaining: f64) {
+        while let Some(e) = self.exec.pop_event() {
+            match e {
+                Event::Goal { id, state, reason } => {
+                    let (client, goal) = self.wire_goal(id);
+                    let reason = match (state, reason) {
+                        (executor::GoalState::Succeeded, _) => ReasonCode::Reached,
+                        _ => reason_code(reason),
+                    };
+                    ctx.events
+                        .goal_transition(client, goal, goal_state(state), reason, remaining);
+                }
+                Event::Step {
+                    id, kind, finger, ..
+                } => {
+                    let (client, goal) = self.wire_goal(id);
+                    match kind {
+                        StepKind::Lift => {
+                            ctx.events
+                                .gait(EventKind::Lift, finger.into(), goal, client)
+                        }
+                        StepKind::Roll => {
+                            ctx.events
+                                .gait(EventKind::Roll, finger.into(), goal, client)
+                        }
+                        _ => {}
+                    }
+                }
+                Event::StepDone {
+                    id, kind, finger, ..
+                } => {
+                    let (client, goal) = self.wire_goal(id);
+                    match kind {
+                        StepKind::Place => {
+                            ctx.events
+                                .gait(EventKind::Place, finger.into(), goal, client);
+                            self.last_place = Some(finger);
+                        }
+                        // A lift right after another finger was placed
+                        // completes a substitution (paper §2.1).
+                        StepKind::Lift if self.last_place.take().is_some_and(|p| p != finger) => {
+                            ctx.events
+                                .gait(EventKind::Substitution, finger.into(), goal, client);
+                        }
+                        _ => {}
+                    }
+                }
+                Event::Fault { kind, .. } => ctx.events.fault(fault_code(kind)),
+                Event::FaultCleared => ctx
+                    .events
+                    .push(shm_schema::Event::new(EventKind::FaultCleared)),
+            }
+        }
+    }
+
+    fn output(&self, r: &TickReport, out: &mut ControlOutput) {
+        let hand = r.setpoint.state;
+        let active = self.exec.plan().and_then(|p| {
+            matches!(r.phase, executor::Phase::Moving | executor::Phase::Stopping)
+                .then(|| p.steps.get(self.exec.step_index()))
+                .flatten()
+        });
+        let active_finger = active.and_then(|s| match s.motion {
+            gait::planner::Motion::Free(m) => Some(m.finger),
+            gait::planner::Motion::RollSegment { finger, .. } => Some(finger),
+            gait::planner::Motion::Roll { rolls, .. } => rolls[0].map(|r| r.finger),
+            gait::planner::Motion::Rotate { .. } => None,
+        });
+        out.hand = hand;
+        out.object_omega = r.setpoint.object_rate;
+        out.phase = match (r.phase, r.step_kind) {
+            (executor::Phase::Moving, Some(StepKind::Roll)) => Phase::Roll,
+            (executor::Phase::Moving, Some(StepKind::Rotate)) => Phase::Rotate,
+            (executor::Phase::Moving, Some(StepKind::Place | StepKind::Transfer)) => Phase::Place,
+            (executor::Phase::Moving, Some(StepKind::Lift)) => Phase::Lift,
+            (executor::Phase::Stopping, _) => Phase::Stopping,
+            (executor::Phase::SafeHold, _) => Phase::SafeHold,
+            _ => Phase::Hold,
+        };
+        out.fault = r.fault.map_or(FaultCode::None, |(k, _)| fault_code(k));
+        let (goal_id, state, reason) = r
+            .goal
+            .map_or((0, None, Reason::None), |(id, s, why)| (id, Some(s), why));
+        let (client_id, wire_goal) = if goal_id == 0 {
+            (0, 0)
+        } else {
+            self.wire_goal(goal_id)
+        };
+        out.goal = GoalReport {
+            goal_id: wire_goal,
+            client_id,
+            state: state.map_or(GoalState::None, goal_state),
+            reason: match state {
+                Some(executor::GoalState::Succeeded) => ReasonCode::Reached,
+                _ => reason_code(reason),
+            },
+            remaining_angle: r.remaining_angle,
+            eta: matches!(r.phase, executor::Phase::Moving | executor::Phase::Stopping)
+                .then_some(r.eta),
+            gaits_done: r.gaits.0,
+            gaits_planned: r.gaits.1,
+            active_finger,
+        };
+        for k in 0..FINGERS {
+            let f = &hand.fingers[k];
+            let phase = match (f.mode, active.map(|s| s.kind), active_finger == Some(k)) {
+                (FingerMode::Grasping, Some(StepKind::Roll), true) => FingerPhase::Rolling,
+                (_, Some(StepKind::Lift), true) => FingerPhase::Lifting,
+                (_, Some(StepKind::Place), true) => FingerPhase::Placing,
+                (FingerMode::Grasping, _, _) => FingerPhase::Grasping,
+                (FingerMode::Free, _, _) => FingerPhase::Free,
+            };
+            out.fingers[k] = FingerReport {
+                phase,
+                workspace_margin: workspace_margin(&self.config, &hand, k),
+                normal_force: r.grip[k],
+            };
+        }
+        out.grasp = if r.force_closure.0 {
+            GraspState::ForceClosure
+        } else {
+            GraspState::NotForceClosure
+        };
+        out.grasp_margin = r.force_closure.1;
+    }
+}
+
+fn goal_state(s: executor::GoalState) -> GoalState {
+    match s {
+        executor::GoalState::Accepted => GoalState::Accepted,
+        executor::GoalState::Planning => GoalState::Planning,
+        executor::GoalState::Executing => GoalState::Executing,
+        executor::GoalState::Succeeded => GoalState::Succeeded,
+        executor::GoalState::Aborted => GoalState::Aborted,
+        executor::GoalState::Canceled => GoalState::Canceled,
+        executor::GoalState::Preempted => GoalState::Preempted,
+        executor::GoalState::Rejected => GoalState::Rejected,
+    }
+}
+
+fn reason_code(r: Reason) -> ReasonCode {
+    match r {
+        Reason::None => ReasonCode::None,
+        Reason::InvalidTarget => ReasonCode::NonUnitQuaternion,
+        Reason::FaultActive => ReasonCode::Faulted,
+        Reason::NoPlan | Reason::InvalidStart | Reason::Stale => ReasonCode::NoPlan,
+        Reason::Fault => ReasonCode::FaultDetected,
+        Reason::CancelCommand => ReasonCode::CanceledByClient,
+        Reason::HoldCommand => ReasonCode::HoldRequested,
+        Reason::NewerGoal => ReasonCode::PreemptedByGoal,
+        Reason::DuplicateId => ReasonCode::DuplicateGoalId,
+    }
+}
+
+fn fault_code(k: FaultKind) -> FaultCode {
+    match k {
+        FaultKind::MissingMeasurement => FaultCode::MeasurementMissing,
+        FaultKind::BadMeasurement => FaultCode::NonFiniteState,
+        FaultKind::ObjectTracking | FaultKind::ContactDrift => FaultCode::Slip,
+        FaultKind::FingerTracking => FaultCode::StuckFinger,
+        FaultKind::Trajectory | FaultKind::Contact => FaultCode::NonFiniteState,
+        FaultKind::ForceClosure => FaultCode::ForceClosureLost,
+        FaultKind::Workspace => FaultCode::WorkspaceViolation,
+        FaultKind::Fingertip => FaultCode::FingertipViolation,
+        FaultKind::Collision => FaultCode::FingertipCollision,
+    }
+}
+
+impl Controller for GaitController {
+    fn command(&mut self, cmd: &ControlCommand, ctx: &mut TickContext<'_>) -> Verdict {
+        if self.safe_hold_requested {
+            return Verdict::Rejected(ReasonCode::ShuttingDown);
+        }
+        let answer = match *cmd {
+            ControlCommand::Goal(g) => {
+                let id = self.next_goal;
+                self.next_goal += 1;
+                self.goals[(id as usize) % GOAL_SLOTS] = (id, g.client_id, g.goal_id);
+                let object = self.exec.setpoint().state.object;
+                let target = match g.target {
+                    GoalTarget::Absolute(q) => executor::GoalTarget::Orientation(q),
+                    GoalTarget::Relative(q) => executor::GoalTarget::Orientation(q * object),
+                    GoalTarget::Rotation { axis, angle } => {
+                        executor::GoalTarget::Rotation { axis, angle }
+                    }
+                };
+                self.exec.command(Command::Goal {
+                    id,
+                    target,
+                    limits: Some(g.limits),
+                })
+            }
+            ControlCommand::Cancel { goal_id, .. } => {
+                let active = self.exec.report().goal;
+                let matches = goal_id == 0
+                    || active.is_some_and(|(id, s, _)| {
+                        !s.is_terminal() && self.wire_goal(id).1 == goal_id
+                    });
+                if !matches {
+                    return Verdict::Rejected(ReasonCode::UnknownGoalId);
+                }
+                self.exec.command(Command::Cancel)
+            }
+            ControlCommand::Hold { client_id } => {
+                let mut e = shm_schema::Event::new(EventKind::Hold);
+                e.client_id = client_id;
+                e.reason = ReasonCode::HoldRequested.code();
+                ctx.events.push(e);
+                self.exec.command(Command::Hold)
+            }
+            ControlCommand::Reset { .. } => {
+                if self.exec.phase() != executor::Phase::SafeHold {
+                    return Verdict::Rejected(ReasonCode::NotFaulted);
+                }
+                self.exec.command(Command::Reset)
+            }
+        };
+        self.forward_events(ctx, self.exec.report().remaining_angle);
+        match answer {
+            executor::Answer::Accepted => Verdict::Accepted,
+            executor::Answer::Rejected(Reason::None) => Verdict::Rejected(ReasonCode::NoActiveGoal),
+            executor::Answer::Rejected(r) => Verdict::Rejected(reason_code(r)),
+        }
+    }
+
+    fn tick(&mut self, ctx: &mut TickContext<'_>, out: &mut ControlOutput) {
+        self.pump_planner();
+        let m = self.plant.read();
+        let r = *self.exec.tick(m.as_ref());
+        self.plant.write(&r.setpoint);
+        self.pump_planner();
+        self.forward_events(ctx, r.remaining_angle);
+        self.output(&r, out);
+    }
+
+    fn begin_safe_hold(&mut self, ctx: &mut TickContext<'_>) {
+        self.safe_hold_requested = true;
+        self.exec.command(Command::Hold);
+        self.forward_events(ctx, self.exec.report().remaining_angle);
+    }
+
+    fn at_rest(&self) -> bool {
+        let v = self.exec.setpoint();
+        matches!(
+            self.exec.phase(),
+            executor::Phase::Holding | executor::Phase::Planning | executor::Phase::SafeHold
+        ) && v.finger_velocity.iter().all(|x| *x == Vector3::zeros())
+    }
+}

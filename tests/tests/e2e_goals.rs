@@ -1,0 +1,122 @@
+//! Goals end to end (SPEC §6.4): daemon with the simulated hand and the
+//! client library in separate processes — a full turn executed, a goal
+//! preempted by a newer one, a cancel and a hold mid-motion.
+
+use gaitd_client::{GoalSpec, GoalState, ReasonCode, Verdict};
+use gaitd_tests::TestDaemon;
+use std::time::{Duration, Instant};
+
+const T: Duration = Duration::from_secs(5);
+const LONG: Duration = Duration::from_secs(90);
+
+/// Angle between two unit quaternions [rad].
+fn angle(a: [f64; 4], b: [f64; 4]) -> f64 {
+    let d: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
+    2.0 * d.abs().min(1.0).acos()
+}
+
+fn wait_executing(c: &mut gaitd_client::Client) {
+    let t0 = Instant::now();
+    while c.wait_status(T).unwrap().goal.state != GoalState::Executing.code() {
+        assert!(t0.elapsed() < Duration::from_secs(10), "never executing");
+    }
+}
+
+#[test]
+fn a_full_turn_is_a_full_turn() {
+    let d = TestDaemon::start("turn");
+    let mut c = d.client();
+    let start = c.wait_status(T).unwrap().object_q;
+    let t = c
+        .reorient(
+            &GoalSpec::turn([0.0, 0.0, 1.0], std::f64::consts::TAU).unwrap(),
+            T,
+        )
+        .unwrap();
+    assert_eq!(t.verdict, Verdict::Accepted);
+    // Half-way it is turned away from where it started.
+    wait_executing(&mut c);
+    let mut farthest: f64 = 0.0;
+    let o = loop {
+        let s = c.wait_status(T).unwrap();
+        farthest = farthest.max(angle(s.object_q, start));
+        if GoalState::try_from(s.goal.state).is_ok_and(|g| g.is_terminal()) {
+            break c.wait_outcome(t.goal_id, T).unwrap();
+        }
+    };
+    assert_eq!(
+        (o.state, o.reason),
+        (GoalState::Succeeded, ReasonCode::Reached)
+    );
+    let end = c.wait_status(T).unwrap();
+    assert!(angle(end.object_q, start) < 1e-6, "back where it started");
+    assert!(farthest > 3.0, "it really turned (saw {farthest} rad away)");
+    assert!(end.goal.gaits_done >= 6, "gaits: {}", end.goal.gaits_done);
+}
+
+#[test]
+fn a_newer_goal_preempts_the_running_one() {
+    let d = TestDaemon::start("preempt");
+    let mut c = d.client();
+    let first = c
+        .reorient(&GoalSpec::turn([1.0, 0.0, 0.0], 3.0).unwrap(), T)
+        .unwrap();
+    wait_executing(&mut c);
+    std::thread::sleep(Duration::from_millis(700));
+    let target = [0.5f64.sqrt(), 0.0, 0.5f64.sqrt(), 0.0];
+    let second = c.reorient(&GoalSpec::absolute(target), T).unwrap();
+    assert_eq!(second.verdict, Verdict::Accepted);
+    let o1 = c.wait_outcome(first.goal_id, T).unwrap();
+    assert_eq!(
+        (o1.state, o1.reason),
+        (GoalState::Preempted, ReasonCode::PreemptedByGoal)
+    );
+    let o2 = c.wait_outcome(second.goal_id, LONG).unwrap();
+    assert_eq!(
+        (o2.state, o2.reason),
+        (GoalState::Succeeded, ReasonCode::Reached)
+    );
+    let s = c.wait_status(T).unwrap();
+    assert!(
+        angle(s.object_q, target) < 1e-6,
+        "at the second goal: {:?}",
+        s.object_q
+    );
+}
+
+#[test]
+fn cancel_and_hold_stop_smoothly_and_hold() {
+    let d = TestDaemon::start("cancel");
+    let mut c = d.client();
+    for (i, hold) in [false, true].into_iter().enumerate() {
+        let t = c
+            .reorient(&GoalSpec::turn([0.0, 1.0, 0.0], 2.5).unwrap(), T)
+            .unwrap();
+        wait_executing(&mut c);
+        std::thread::sleep(Duration::from_millis(600 + 300 * i as u64));
+        let v = if hold {
+            c.hold(T).unwrap()
+        } else {
+            c.cancel(None, T).unwrap()
+        };
+        assert_eq!(v, Verdict::Accepted);
+        let o = c.wait_outcome(t.goal_id, LONG).unwrap();
+        let why = if hold {
+            ReasonCode::HoldRequested
+        } else {
+            ReasonCode::CanceledByClient
+        };
+        assert_eq!((o.state, o.reason), (GoalState::Canceled, why));
+        // At rest, holding, with a force-closure grasp.
+        let t0 = Instant::now();
+        loop {
+            let s = c.wait_status(T).unwrap();
+            let still = s.object_omega.iter().all(|w| *w == 0.0);
+            if still && s.phase == shm_schema::Phase::Hold.code() {
+                assert_eq!(s.grasp, shm_schema::GraspState::ForceClosure.code());
+                break;
+            }
+            assert!(t0.elapsed() < Duration::from_secs(10), "never came to rest");
+        }
+    }
+}
