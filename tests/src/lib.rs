@@ -242,3 +242,20 @@ impl Drop for TestDaemon {
         let _ = std::fs::remove_dir_all(&self.dir);
     }
 }
+
+/// The Python of the test oracles: `GAITD_ORACLE_PYTHON`, else
+/// `<repo>/.venv-oracles/bin/python` (made by `.ci/install`). Panics with
+/// instructions if neither exists: the oracle tests must not pass silently.
+pub fn oracle_python() -> PathBuf {
+    let p = std::env::var_os("GAITD_ORACLE_PYTHON")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| repo_root().join(".venv-oracles/bin/python"));
+    assert!(
+        p.exists(),
+        "Python for the oracle tests not found at {}: run `bash .ci/install` \
+         (creates .venv-oracles with ruckig, mujoco, numpy and iceoryx2==0.10.0) \
+         or set GAITD_ORACLE_PYTHON",
+        p.display()
+    );
+    p
+}

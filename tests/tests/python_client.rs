@@ -6,26 +6,12 @@
 //! Python comes from `GAITD_ORACLE_PYTHON` or `<repo>/.venv-oracles/bin/python`
 //! (made by `.ci/install`); the test fails with instructions if neither exists.
 
-use gaitd_tests::{TestDaemon, repo_root};
-use std::path::PathBuf;
+use gaitd_tests::{TestDaemon, oracle_python, repo_root};
 use std::process::Command;
-
-fn python() -> PathBuf {
-    let p = std::env::var_os("GAITD_ORACLE_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| repo_root().join(".venv-oracles/bin/python"));
-    assert!(
-        p.exists(),
-        "Python for the iceoryx2 client test not found at {}: run `bash .ci/install` \
-         (creates .venv-oracles with iceoryx2==0.10.0) or set GAITD_ORACLE_PYTHON",
-        p.display()
-    );
-    p
-}
 
 #[test]
 fn python_client_sends_commands_and_reads_status() {
-    let py = python();
+    let py = oracle_python();
     let d = TestDaemon::start("python");
     let _wait_until_up = d.client();
     let out = Command::new(py)

@@ -233,6 +233,8 @@ pub struct Executor {
     fault: Option<(FaultKind, u8)>,
     /// In safe hold: still braking along the interrupted step.
     braking: bool,
+    /// Object rotation the plan still has to do after the current step [rad].
+    rotation_after_step: f64,
     /// Commanded object angular acceleration [rad/s²].
     object_acceleration: Vector3<f64>,
     /// Object moment of inertia (solid sphere) [kg m²].
@@ -248,6 +250,14 @@ fn rest(state: HandState) -> Setpoint {
         object_rate: Vector3::zeros(),
         finger_velocity: [Vector3::zeros(); 3],
         finger_rate: [Vector3::zeros(); 3],
+    }
+}
+
+/// The object rotation a step makes [rad].
+fn step_rotation(step: &Step) -> f64 {
+    match step.motion {
+        Motion::Rotate { angle, .. } => angle,
+        _ => 0.0,
     }
 }
 
@@ -301,6 +311,7 @@ impl Executor {
             prev_measurement: None,
             fault: None,
             braking: false,
+            rotation_after_step: 0.0,
             object_acceleration: Vector3::zeros(),
             inertia: 0.4 * config.load.object_mass * config.model.object_radius.powi(2),
             events: EventQueue::default(),
@@ -612,6 +623,9 @@ impl Executor {
         self.phase = Phase::Moving;
         self.set_goal_state(GoalState::Executing);
         self.time_after_step = duration;
+        self.rotation_after_step = self.plan.as_deref().map_or(0.0, |p| {
+            p.steps.iter().map(step_rotation).sum()
+        });
         self.begin_step();
     }
 
@@ -629,6 +643,7 @@ impl Executor {
         };
         self.runner.start(step, &limits);
         self.time_after_step = (self.time_after_step - step.duration).max(0.0);
+        self.rotation_after_step = (self.rotation_after_step - step_rotation(step)).max(0.0);
         let event = Event::Step {
             id: self.goal.map_or(0, |g| g.id),
             index: self.step as u32,
@@ -811,7 +826,23 @@ impl Executor {
     }
 
     fn fill_report(&mut self) {
+        // How much the object still has to turn: along the plan while it
+        // runs (a full turn counts in full), else the way to the goal.
+        let remaining = match (self.phase, self.goal) {
+            (_, None) => 0.0,
+            (Phase::Moving | Phase::Stopping, Some(_)) => {
+                let in_step = self.current_step().map_or(0.0, |s| {
+                    (step_rotation(s) - self.runner.state().position[0]).max(0.0)
+                });
+                self.rotation_after_step + in_step
+            }
+            (_, Some(g)) => match g.target {
+                GoalTarget::Rotation { angle, .. } => angle.abs(),
+                GoalTarget::Orientation(_) => g.end.angle_to(&self.setpoint.state.object),
+            },
+        };
         let r = &mut self.report;
+        r.remaining_angle = remaining;
         r.tick = self.tick;
         r.setpoint = self.setpoint;
         r.phase = self.phase;
@@ -827,9 +858,6 @@ impl Executor {
             Some(g) => Some((g.id, g.state, Reason::None)),
             None => self.last_goal,
         };
-        r.remaining_angle = self
-            .goal
-            .map_or(0.0, |g| g.end.angle_to(&self.setpoint.state.object));
         r.gaits = (self.gaits_done, self.gaits_planned);
         r.eta = match self.phase {
             Phase::Moving => self.time_after_step + self.runner.time_left(),

@@ -4,6 +4,7 @@
 mod bench;
 mod common;
 mod control;
+mod demo;
 mod events;
 mod offline;
 mod plan;
@@ -44,6 +45,9 @@ enum Cmd {
     Events(events::Args),
     /// Latency benchmarks against the running daemon.
     Bench(bench::Args),
+    /// The paper's scenario against gaitd (starts an embedded daemon if none
+    /// is running), with live progress and a summary.
+    Demo(demo::Args),
     /// Plan and execute offline (no daemon) on the embedded kinematic hand;
     /// export a gait-trajectory/1 trace.
     Plan(plan::Args),
@@ -66,6 +70,7 @@ fn main() -> ExitCode {
         Cmd::Reset => control::reset(&cli.conn),
         Cmd::Events(a) => events::run(&cli.conn, &a),
         Cmd::Bench(a) => bench::run(&cli.conn, &a),
+        Cmd::Demo(a) => return offline_exit(demo::run(&cli.conn, &a)),
         Cmd::Plan(a) => return offline_exit(plan::run(&a)),
         Cmd::Plot(a) => return offline_exit(plot::run(&a)),
         Cmd::Pong(a) => bench::pong(&a),

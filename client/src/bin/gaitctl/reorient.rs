@@ -22,7 +22,8 @@ pub struct Args {
     /// Rotation angle [deg] (with --axis).
     #[arg(long, allow_hyphen_values = true, requires = "axis")]
     angle_deg: Option<f64>,
-    /// Rotate relative to the current orientation (default: absolute target).
+    /// Rotate relative to the current orientation (default: absolute target);
+    /// with --axis/--angle-deg any angle is turned in full (360 = one turn).
     #[arg(long)]
     relative: bool,
     /// Lower a motion limit, e.g. `object.velocity=0.5` (repeatable).
@@ -86,6 +87,11 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
             frame,
             limits: Vec::new(),
         },
+        // Relative axis-angle: a turn of that many degrees (360 is a full
+        // turn, not a no-op).
+        (None, Some(ax), Some(deg)) if a.relative => {
+            GoalSpec::turn([ax[0], ax[1], ax[2]], deg.to_radians())?
+        }
         (None, Some(ax), Some(deg)) => {
             GoalSpec::axis_angle([ax[0], ax[1], ax[2]], deg.to_radians(), frame)?
         }
