@@ -136,11 +136,24 @@ pub(crate) fn step2_dof(
     found || robust::step2_fallback(iface, tf, lim, p)
 }
 
-/// Rounds `t` up to a multiple of `dt`.
+/// Durations this close to an extremal profile's use that profile as is.
+#[inline]
+pub(crate) fn close_tol(t: f64) -> f64 {
+    1e-12 * t.max(1.0)
+}
+
+/// Rounds `t` up to a multiple of `dt`; a `t` within rounding error of a
+/// multiple snaps to it (`fmod` alone would add a whole cycle when
+/// `t / dt` comes out as `k - 1e-15`).
 #[inline]
 fn round_up(t: f64, dt: f64) -> f64 {
-    let r = t % dt;
-    if r > f64::EPSILON { t + (dt - r) } else { t }
+    let q = t / dt;
+    let k = q.round();
+    if (q - k).abs() <= 1e-9 * k.max(1.0) {
+        k * dt
+    } else {
+        q.ceil() * dt
+    }
 }
 
 /// Reusable working memory of the calculation (no allocation).
@@ -233,40 +246,63 @@ impl<const N: usize> Calculator<N> {
             };
         }
 
-        let Some((t_sync, limiting)) = self.synchronize(inp.minimum_duration, discrete, delta_time)
-        else {
-            return Err(OtgError::SynchronizationCalculation { dof: 0 });
-        };
-        traj.duration = t_sync;
-        if let Some((i, which)) = limiting {
-            traj.limiting_dof = Some(i);
-            let b = &self.blocks[i];
-            traj.profiles[i] = match which {
-                1 => b.a.map_or(b.p_min, |x| x.profile),
-                2 => b.b.map_or(b.p_min, |x| x.profile),
-                _ => b.p_min,
+        // If Step 2 fails for some DoF at the chosen duration (its blocked
+        // intervals were numerically wrong), try the next candidate.
+        let mut after = None;
+        let mut failed = 0;
+        for _ in 0..=3 * N {
+            let Some((t_sync, limiting)) =
+                self.synchronize(inp.minimum_duration, discrete, delta_time, after)
+            else {
+                break;
             };
-        }
-        if traj.duration > MAX_DURATION {
-            return Err(OtgError::TrajectoryDuration);
-        }
-        if traj.duration == 0.0 {
-            for i in 0..N {
-                if inp.enabled[i] {
-                    traj.profiles[i] = self.blocks[i].p_min;
+            traj.duration = t_sync;
+            traj.limiting_dof = None;
+            if let Some((i, which)) = limiting {
+                traj.limiting_dof = Some(i);
+                let b = &self.blocks[i];
+                traj.profiles[i] = match which {
+                    1 => b.a.map_or(b.p_min, |x| x.profile),
+                    2 => b.b.map_or(b.p_min, |x| x.profile),
+                    _ => b.p_min,
+                };
+            }
+            if traj.duration > MAX_DURATION {
+                return Err(OtgError::TrajectoryDuration);
+            }
+            if traj.duration == 0.0 {
+                for i in 0..N {
+                    if inp.enabled[i] {
+                        traj.profiles[i] = self.blocks[i].p_min;
+                    }
+                }
+                return Ok(());
+            }
+            if inp.synchronization == Synchronization::Phase
+                && let Some(lim_dof) = traj.limiting_dof
+                && self.phase_synchronize(inp, traj, lim_dof)
+            {
+                return Ok(());
+            }
+            match self.time_synchronize(inp, traj, discrete) {
+                Ok(()) => return Ok(()),
+                Err(i) => {
+                    failed = i;
+                    after = Some(t_sync);
                 }
             }
-            return Ok(());
         }
+        Err(OtgError::SynchronizationCalculation { dof: failed as u16 })
+    }
+
+    /// Step 2 for every DoF but the limiting one; `Err(dof)` on failure.
+    fn time_synchronize(
+        &self,
+        inp: &Input<N>,
+        traj: &mut Trajectory<N>,
+        discrete: bool,
+    ) -> Result<(), usize> {
         let limiting_dof = traj.limiting_dof;
-
-        if inp.synchronization == Synchronization::Phase
-            && let Some(lim_dof) = limiting_dof
-            && self.phase_synchronize(inp, traj, lim_dof)
-        {
-            return Ok(());
-        }
-
         for i in 0..N {
             if !inp.enabled[i] || (Some(i) == limiting_dof && !discrete) {
                 continue;
@@ -274,7 +310,7 @@ impl<const N: usize> Calculator<N> {
             let b = &self.blocks[i];
             let p = &mut traj.profiles[i];
             // An extremal profile of Step 1 may already have the duration.
-            let close = |t: f64| (traj.duration - t).abs() < 2.0 * f64::EPSILON;
+            let close = |t: f64| (traj.duration - t).abs() <= close_tol(t);
             if close(b.t_min) {
                 *p = b.p_min;
                 continue;
@@ -287,8 +323,13 @@ impl<const N: usize> Calculator<N> {
                 *p = x.profile;
                 continue;
             }
-            if !step2_dof(iface, traj.duration, &Self::limits(inp, i), p) {
-                return Err(OtgError::SynchronizationCalculation { dof: i as u16 });
+            if !step2_dof(
+                inp.control_interface,
+                traj.duration,
+                &Self::limits(inp, i),
+                p,
+            ) {
+                return Err(i);
             }
         }
         Ok(())
@@ -302,6 +343,7 @@ impl<const N: usize> Calculator<N> {
         minimum: Option<f64>,
         discrete: bool,
         dt: f64,
+        after: Option<f64>,
     ) -> Option<(f64, Option<(usize, u8)>)> {
         let value = |k: usize| -> f64 {
             let raw = if k == 3 * N {
@@ -324,6 +366,13 @@ impl<const N: usize> Calculator<N> {
         // Durations below the largest t_min are blocked by that DoF.
         let mut lower = (0..N).map(value).fold(f64::NEG_INFINITY, f64::max);
         let mut inclusive = true;
+        if let Some(a) = after
+            && a >= lower
+        {
+            // Retry strictly after a duration where Step 2 failed.
+            lower = a;
+            inclusive = false;
+        }
         loop {
             let mut best: Option<(f64, usize)> = None;
             for k in 0..=3 * N {

@@ -35,17 +35,39 @@ impl Lim {
     }
 }
 
-/// Up to five valid extremal profiles (plus a spare for numerical duplicates).
+/// How accepted candidate profiles are kept.
+#[derive(Clone, Copy, PartialEq)]
+pub(crate) enum Keep {
+    /// All of them (up to six), in the order found.
+    All,
+    /// Only the shortest; with `exact`, only profiles that reach the target
+    /// to rounding precision (not merely within the check's tolerances).
+    Shortest {
+        /// Require an exact final state.
+        exact: bool,
+        /// Whether the final position counts (position interface).
+        position: bool,
+    },
+}
+
+/// Valid extremal profiles: up to five (plus a spare for numerical
+/// duplicates), or only the shortest one.
 pub(crate) struct Valid {
     pub list: [Profile; 7],
     pub n: usize,
+    keep: Keep,
 }
 
 impl Valid {
     pub(crate) fn new(boundary: &Profile) -> Self {
+        Self::with(boundary, Keep::All)
+    }
+
+    pub(crate) fn with(boundary: &Profile, keep: Keep) -> Self {
         let mut list = [Profile::default(); 7];
         list[0] = *boundary;
-        Self { list, n: 0 }
+        list[1] = *boundary;
+        Self { list, n: 0, keep }
     }
 
     /// The profile being filled.
@@ -54,13 +76,37 @@ impl Valid {
         &mut self.list[self.n]
     }
 
+    /// Whether a reduced shape should stop after its first valid profile.
+    #[inline]
+    pub(crate) fn first_only(&self) -> bool {
+        self.keep == Keep::All
+    }
+
     /// Accepts the current profile; the next candidate keeps its boundary.
     #[inline]
     pub(crate) fn accept(&mut self) {
-        if self.n < 6 {
-            self.n += 1;
-            let (done, next) = self.list.split_at_mut(self.n);
-            next[0].set_boundary_from(&done[self.n - 1]);
+        match self.keep {
+            Keep::All => {
+                if self.n < 6 {
+                    self.n += 1;
+                    let (done, next) = self.list.split_at_mut(self.n);
+                    next[0].set_boundary_from(&done[self.n - 1]);
+                }
+            }
+            Keep::Shortest { exact, position } => {
+                let c = &self.list[self.n];
+                let tight =
+                    |x: f64, target: f64| (x - target).abs() <= 1e-12 * target.abs().max(1.0);
+                let p_ok = !position || tight(c.p[7], c.pf);
+                if exact && !(p_ok && tight(c.v[7], c.vf) && tight(c.a[7], c.af)) {
+                    return;
+                }
+                if self.n == 0 {
+                    self.n = 1;
+                } else if self.list[1].t_sum[6] < self.list[0].t_sum[6] {
+                    self.list.swap(0, 1);
+                }
+            }
         }
     }
 }
@@ -531,7 +577,9 @@ impl Step1 {
         ];
         if Self::chk(p, S::Uddu, L::Acc0, false, m) {
             out.accept();
-            return;
+            if out.first_only() {
+                return;
+            }
         }
 
         let p = out.cur();
@@ -546,7 +594,9 @@ impl Step1 {
         ];
         if Self::chk(p, S::Uddu, L::Acc0, false, m) {
             out.accept();
-            return;
+            if out.first_only() {
+                return;
+            }
         }
 
         let h0 = 3.0 * (af_2 - a0_2 + 2.0 * j * (v0 + vf));
@@ -578,7 +628,9 @@ impl Step1 {
         ];
         if Self::chk(p, S::Uddu, L::Acc0, false, m) {
             out.accept();
-            return;
+            if out.first_only() {
+                return;
+            }
         }
 
         let t = (amax - amin) / j;
@@ -630,7 +682,9 @@ impl Step1 {
         ];
         if Self::chk(p, S::Uddu, L::Vel, false, m) {
             out.accept();
-            return;
+            if out.first_only() {
+                return;
+            }
         }
 
         let p = out.cur();
@@ -669,12 +723,37 @@ impl Step1 {
         p.t = [(h0 - a0) / j, 0.0, (h0 - af) / j, 0.0, 0.0, 0.0, 0.0];
         if Self::chk(p, S::Uddu, L::None, false, m) {
             out.accept();
-            return;
+            if out.first_only() {
+                return;
+            }
         }
         let p = out.cur();
         p.t = [(af - a0) / j, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
         if Self::chk(p, S::Uddu, L::None, false, m) {
             out.accept();
+        }
+    }
+
+    /// Two jerk phases with the intermediate acceleration of either sign
+    /// (the tail of a profile sampled in its last jerk phases).
+    fn two_jerk(&self, out: &mut Valid, m: &Lim) {
+        let Self {
+            v0,
+            a0,
+            vf,
+            af,
+            a0_2,
+            af_2,
+            ..
+        } = *self;
+        let j = m.j;
+        let h = ((a0_2 + af_2) / 2.0 + j * (vf - v0)).sqrt();
+        for h0 in [h, -h] {
+            let p = out.cur();
+            p.t = [(h0 - a0) / j, 0.0, (h0 - af) / j, 0.0, 0.0, 0.0, 0.0];
+            if Self::chk(p, S::Uddu, L::None, false, m) {
+                out.accept();
+            }
         }
     }
 
@@ -724,23 +803,74 @@ impl Step1 {
         }
 
         if out.n == 0 {
-            type Fallback = fn(&Step1, &mut Valid, &Lim);
-            let fallbacks: [Fallback; 4] = [
-                Step1::none_two_step,
-                Step1::acc0_two_step,
-                Step1::vel_two_step,
-                Step1::acc1_vel_two_step,
-            ];
-            'fallback: for f in fallbacks {
+            // Only reduced shapes remain: take the shortest of them all
+            // (the first one found need not be optimal).
+            let mut best = Valid::with(
+                input,
+                Keep::Shortest {
+                    exact: false,
+                    position: true,
+                },
+            );
+            for f in FALLBACKS {
                 for m in [&up, &down] {
-                    f(self, &mut out, m);
-                    if out.n > 0 {
-                        break 'fallback;
-                    }
+                    f(self, &mut best, m);
                 }
             }
+            if best.n == 0 {
+                return false;
+            }
+            block.set_min(&best.list[0]);
+            return true;
         }
         let n = out.n;
-        block.build(&mut out.list, n)
+        if !block.build(&mut out.list, n) {
+            block.build_unpaired(&out.list[..n]);
+        }
+        self.repair(input, &up, &down, block);
+        true
+    }
+
+    /// Bellman repair: on states exactly on a phase boundary or a limit
+    /// (typically states sampled from an earlier trajectory) the quartic
+    /// roots of the optimal shape can fall just outside their admissible
+    /// range, leaving only a longer profile. The reduced shapes of the
+    /// fallbacks catch these; if one is shorter, it becomes the optimum and
+    /// the durations up to the former optimum are conservatively blocked.
+    fn repair(&self, input: &Profile, up: &Lim, down: &Lim, block: &mut Block) {
+        // Only exact reproductions count: the check's tolerances would
+        // otherwise admit trivially short "solutions" of tiny motions.
+        let mut extra = Valid::with(
+            input,
+            Keep::Shortest {
+                exact: true,
+                position: true,
+            },
+        );
+        for f in FALLBACKS {
+            for m in [up, down] {
+                f(self, &mut extra, m);
+            }
+        }
+        if extra.n == 0 {
+            return;
+        }
+        let best = extra.list[0];
+        let old = block.p_min;
+        if best.t_sum[6] >= old.t_sum[6] - 1e-12 * old.t_sum[6].max(1.0) {
+            return;
+        }
+        block.merge_shorter(&best);
     }
 }
+
+type Fallback = fn(&Step1, &mut Valid, &Lim);
+
+/// Reduced shapes tried when the general ones fail (and for the repair).
+const FALLBACKS: [Fallback; 5] = [
+    Step1::none_two_step,
+    Step1::two_jerk,
+    Step1::acc0_two_step,
+    Step1::vel_two_step,
+    Step1::acc1_vel_two_step,
+];

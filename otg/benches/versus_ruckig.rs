@@ -1,0 +1,158 @@
+//! Calculation time of this crate beside Ruckig's, measured in the same run
+//! on the same cases (tests/oracles/ruckig_oracle.py `gen` and `time`).
+//!
+//! `cargo bench -p otg --bench versus_ruckig` prints a table and a JSON
+//! line. "ours" is wall time of `Otg::update` with a recalculation
+//! (calculate + sampling the next state), the counterpart of Ruckig's own
+//! `calculation_duration` of a recalculating `update` (C++ steady_clock,
+//! `update_own_us`). Each case is timed once per pass; passes: 3.
+//! Env: GAITD_ORACLE_PYTHON (default `<repo>/.venv-oracles/bin/python`),
+//! OTG_BENCH_N (cases per DoF count, default 10000).
+
+#[path = "../oracle/case.rs"]
+#[allow(dead_code)]
+mod case;
+
+use std::path::PathBuf;
+use std::process::Command;
+use std::time::Instant;
+
+use otg::{Otg, Output};
+use serde_json::Value;
+
+const PASSES: usize = 3;
+const SEED: u64 = 20;
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn python() -> PathBuf {
+    let p = std::env::var_os("GAITD_ORACLE_PYTHON")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| repo().join(".venv-oracles/bin/python"));
+    assert!(
+        p.exists(),
+        "oracle Python {} not found: run `bash .ci/install`",
+        p.display()
+    );
+    p
+}
+
+fn oracle(args: &[String]) -> String {
+    let out = Command::new(python())
+        .arg(repo().join("tests/oracles/ruckig_oracle.py"))
+        .args(args)
+        .output()
+        .expect("run ruckig_oracle.py");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).expect("utf-8")
+}
+
+/// Per-case update times [µs] over all passes (cases Ruckig solves).
+fn time_n<const N: usize>(cases: &[case::Case]) -> Vec<f64> {
+    let inputs: Vec<_> = cases
+        .iter()
+        .filter(|c| c.ruckig.as_ref().is_some_and(|r| r.status == "Working"))
+        .map(case::input::<N>)
+        .collect();
+    let mut otg = Otg::<N>::new(0.001).expect("dt");
+    let mut out = Output::<N>::default();
+    // Warm-up.
+    for inp in &inputs {
+        otg.reset();
+        let _ = otg.update(inp, &mut out);
+    }
+    let mut times = Vec::with_capacity(inputs.len() * PASSES);
+    for _ in 0..PASSES {
+        for inp in &inputs {
+            otg.reset();
+            let t0 = Instant::now();
+            let r = otg.update(std::hint::black_box(inp), &mut out);
+            let dt = t0.elapsed();
+            let _ = std::hint::black_box((r, &out));
+            times.push(dt.as_secs_f64() * 1e6);
+        }
+    }
+    times
+}
+
+fn stats(mut xs: Vec<f64>) -> (f64, f64, f64, f64) {
+    xs.sort_by(f64::total_cmp);
+    let q = |p: f64| xs[((p * xs.len() as f64).ceil() as usize).clamp(1, xs.len()) - 1];
+    let mean = xs.iter().sum::<f64>() / xs.len() as f64;
+    (q(0.5), q(0.99), xs[xs.len() - 1], mean)
+}
+
+fn main() {
+    // `cargo bench` passes `--bench`; ignore arguments.
+    let n: usize = std::env::var("OTG_BENCH_N")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(10_000);
+    let mut rows = Vec::new();
+    println!(
+        "{:>4} {:>7} | {:>10} {:>10} {:>10} | {:>10} {:>10} {:>10} | {:>6}",
+        "DoF",
+        "cases",
+        "ours med",
+        "ours p99",
+        "ours max",
+        "ruckig med",
+        "ruckig p99",
+        "ruckig max",
+        "ratio"
+    );
+    for dofs in [1usize, 3, 7, 18] {
+        let common = [
+            "--seed".to_string(),
+            SEED.to_string(),
+            "--n".into(),
+            n.to_string(),
+            "--dofs".into(),
+            dofs.to_string(),
+        ];
+        let mut gen_args = vec!["gen".to_string()];
+        gen_args.extend(common.iter().cloned());
+        let cases: Vec<case::Case> = oracle(&gen_args)
+            .lines()
+            .map(|l| case::parse(l).expect("case"))
+            .collect();
+        let ours = match dofs {
+            1 => time_n::<1>(&cases),
+            3 => time_n::<3>(&cases),
+            7 => time_n::<7>(&cases),
+            _ => time_n::<18>(&cases),
+        };
+        let (med, p99, max, mean) = stats(ours);
+        let mut time_args = vec!["time".to_string()];
+        time_args.extend(common.iter().cloned());
+        let rk: Value = serde_json::from_str(&oracle(&time_args)).expect("time JSON");
+        let own = &rk["update_own_us"];
+        let f = |k: &str| own[k].as_f64().unwrap_or(f64::NAN);
+        let ratio = med / f("median");
+        println!(
+            "{dofs:>4} {:>7} | {med:>10.3} {p99:>10.3} {max:>10.3} | {:>10.3} {:>10.3} {:>10.3} | {ratio:>6.2}",
+            cases.len(),
+            f("median"),
+            f("p99"),
+            f("max"),
+        );
+        rows.push(serde_json::json!({
+            "dofs": dofs, "cases": cases.len(), "passes": PASSES,
+            "ours_update_us": {"median": med, "p99": p99, "max": max, "mean": mean},
+            "ruckig_update_own_us": own,
+            "ruckig_calculate_wall_us": rk["calculate_wall_us"],
+            "ruckig_version": rk["ruckig_version"], "cpu": rk["cpu"],
+            "median_ratio": ratio,
+        }));
+    }
+    println!(
+        "{}",
+        serde_json::json!({"bench": "versus_ruckig", "rows": rows})
+    );
+}
