@@ -6,7 +6,7 @@
 use crate::block::Block;
 use crate::error::OtgError;
 use crate::input::{ControlInterface, DurationDiscretization, Input, Synchronization};
-use crate::position_step1::{Lim, Step1};
+use crate::position_step1::{Lim, Step1, Valid};
 use crate::position_step2::Step2;
 use crate::profile::{Direction, Profile, ReachedLimits};
 use crate::robust;
@@ -81,6 +81,7 @@ pub(crate) fn step1_dof(
     lim: &DofLimits,
     profile: &mut Profile,
     block: &mut Block,
+    scratch: &mut Valid,
 ) -> bool {
     *profile = Profile::default();
     match iface {
@@ -105,11 +106,14 @@ pub(crate) fn step1_dof(
     profile.a[0] = a;
 
     let found = match iface {
-        ControlInterface::Position => {
-            Step1::new(p, v, a, c.pf, c.vf, c.af, lim.j_max).block(profile, &lim.lim(), block)
-        }
+        ControlInterface::Position => Step1::new(p, v, a, c.pf, c.vf, c.af, lim.j_max).block(
+            profile,
+            &lim.lim(),
+            block,
+            scratch,
+        ),
         ControlInterface::Velocity => {
-            VelStep1::new(v, a, c.vf, c.af).block(profile, &lim.acc(), block)
+            VelStep1::new(v, a, c.vf, c.af).block(profile, &lim.acc(), block, scratch)
         }
     };
     found || robust::step1_fallback(iface, profile, lim, block)
@@ -161,6 +165,7 @@ fn round_up(t: f64, dt: f64) -> f64 {
 pub struct Calculator<const N: usize> {
     blocks: [Block; N],
     phase_jerk: [f64; N],
+    scratch: Valid,
 }
 
 impl<const N: usize> Default for Calculator<N> {
@@ -168,6 +173,7 @@ impl<const N: usize> Default for Calculator<N> {
         Self {
             blocks: [Block::default(); N],
             phase_jerk: [0.0; N],
+            scratch: Valid::new(&Profile::default()),
         }
     }
 }
@@ -212,7 +218,7 @@ impl<const N: usize> Calculator<N> {
                 vf: inp.target_velocity[i],
                 af: inp.target_acceleration[i],
             };
-            if !step1_dof(iface, &case, &Self::limits(inp, i), p, b) {
+            if !step1_dof(iface, &case, &Self::limits(inp, i), p, b, &mut self.scratch) {
                 return Err(OtgError::ExecutionTimeCalculation { dof: i as u16 });
             }
             traj.independent_min_durations[i] = b.t_min;

@@ -5,6 +5,7 @@ use crate::block::Block;
 use crate::calculator::{DofCase, DofLimits, step1_dof};
 use crate::error::OtgError;
 use crate::input::ControlInterface;
+use crate::position_step1::Valid;
 use crate::profile::Profile;
 
 /// Time-optimal duration of a rest-to-rest motion over `distance` under
@@ -78,6 +79,7 @@ pub fn min_duration(
         limits,
         &mut profile,
         &mut block,
+        &mut Valid::new(&Profile::default()),
     ) {
         Ok(block.t_min)
     } else {

@@ -28,6 +28,7 @@ mod position_step1;
 mod position_step2;
 mod position_step2_flat;
 mod position_step2_none;
+mod position_tails;
 mod profile;
 mod robust;
 mod roots;

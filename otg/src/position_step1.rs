@@ -36,7 +36,7 @@ impl Lim {
 }
 
 /// How accepted candidate profiles are kept.
-#[derive(Clone, Copy, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Keep {
     /// All of them (up to six), in the order found.
     All,
@@ -52,10 +52,13 @@ pub(crate) enum Keep {
 
 /// Valid extremal profiles: up to five (plus a spare for numerical
 /// duplicates), or only the shortest one.
+#[derive(Clone, Copy, Debug)]
 pub(crate) struct Valid {
     pub list: [Profile; 7],
     pub n: usize,
     keep: Keep,
+    /// Candidates at least this long (phase sum) are not worth checking.
+    bound: f64,
 }
 
 impl Valid {
@@ -64,10 +67,38 @@ impl Valid {
     }
 
     pub(crate) fn with(boundary: &Profile, keep: Keep) -> Self {
-        let mut list = [Profile::default(); 7];
-        list[0] = *boundary;
-        list[1] = *boundary;
-        Self { list, n: 0, keep }
+        let mut v = Self {
+            list: [Profile::default(); 7],
+            n: 0,
+            keep,
+            bound: f64::INFINITY,
+        };
+        v.reset(boundary, keep, f64::INFINITY);
+        v
+    }
+
+    /// Starts over on `boundary` (reusing the memory: no re-initialisation).
+    #[inline]
+    pub(crate) fn reset(&mut self, boundary: &Profile, keep: Keep, bound: f64) {
+        self.list[0] = *boundary;
+        if keep != Keep::All {
+            self.list[1] = *boundary;
+        }
+        self.n = 0;
+        self.keep = keep;
+        self.bound = bound;
+    }
+
+    /// Whether a candidate's phases are short enough to be worth checking.
+    #[inline]
+    pub(crate) fn admits(p: &Profile, bound: f64) -> bool {
+        bound == f64::INFINITY || p.t.iter().sum::<f64>() < bound
+    }
+
+    /// The current duration bound.
+    #[inline]
+    pub(crate) fn bound(&self) -> f64 {
+        self.bound
     }
 
     /// The profile being filled.
@@ -114,20 +145,20 @@ impl Valid {
 /// Boundary values and their powers, shared by all candidate shapes.
 #[derive(Clone, Copy)]
 pub(crate) struct Step1 {
-    pd: f64,
-    v0: f64,
-    a0: f64,
-    vf: f64,
-    af: f64,
-    v0_2: f64,
-    vf_2: f64,
-    a0_2: f64,
-    a0_3: f64,
-    a0_4: f64,
-    af_2: f64,
-    af_3: f64,
-    af_4: f64,
-    jj: f64,
+    pub(crate) pd: f64,
+    pub(crate) v0: f64,
+    pub(crate) a0: f64,
+    pub(crate) vf: f64,
+    pub(crate) af: f64,
+    pub(crate) v0_2: f64,
+    pub(crate) vf_2: f64,
+    pub(crate) a0_2: f64,
+    pub(crate) a0_3: f64,
+    pub(crate) a0_4: f64,
+    pub(crate) af_2: f64,
+    pub(crate) af_3: f64,
+    pub(crate) af_4: f64,
+    pub(crate) jj: f64,
 }
 
 impl Step1 {
@@ -508,6 +539,7 @@ impl Step1 {
 
     /// Fallbacks for numerically degenerate cases (ACC1_VEL with t0 = 0).
     fn acc1_vel_two_step(&self, out: &mut Valid, m: &Lim) {
+        let bound = out.bound();
         let Self {
             pd,
             v0,
@@ -540,13 +572,14 @@ impl Step1 {
         p.t[4] = -amin / j;
         p.t[5] = -(af_2 / 2.0 - amin * amin + j * (vmax - vf)) / (amin * j);
         p.t[6] = p.t[4] + af / j;
-        if Self::chk(p, S::Uddu, L::Acc1Vel, false, m) {
+        if Valid::admits(p, bound) && Self::chk(p, S::Uddu, L::Acc1Vel, false, m) {
             out.accept();
         }
     }
 
     /// Fallbacks for ACC0 shapes with fewer phases.
     fn acc0_two_step(&self, out: &mut Valid, m: &Lim) {
+        let bound = out.bound();
         let Self {
             pd,
             v0,
@@ -575,7 +608,7 @@ impl Step1 {
             0.0,
             0.0,
         ];
-        if Self::chk(p, S::Uddu, L::Acc0, false, m) {
+        if Valid::admits(p, bound) && Self::chk(p, S::Uddu, L::Acc0, false, m) {
             out.accept();
             if out.first_only() {
                 return;
@@ -592,7 +625,7 @@ impl Step1 {
             0.0,
             0.0,
         ];
-        if Self::chk(p, S::Uddu, L::Acc0, false, m) {
+        if Valid::admits(p, bound) && Self::chk(p, S::Uddu, L::Acc0, false, m) {
             out.accept();
             if out.first_only() {
                 return;
@@ -626,7 +659,7 @@ impl Step1 {
             0.0,
             0.0,
         ];
-        if Self::chk(p, S::Uddu, L::Acc0, false, m) {
+        if Valid::admits(p, bound) && Self::chk(p, S::Uddu, L::Acc0, false, m) {
             out.accept();
             if out.first_only() {
                 return;
@@ -644,13 +677,14 @@ impl Step1 {
             0.0,
             (af - amin) / j,
         ];
-        if Self::chk(p, S::Uddu, L::Acc0, false, m) {
+        if Valid::admits(p, bound) && Self::chk(p, S::Uddu, L::Acc0, false, m) {
             out.accept();
         }
     }
 
     /// Fallbacks for VEL shapes with fewer phases.
     fn vel_two_step(&self, out: &mut Valid, m: &Lim) {
+        let bound = out.bound();
         let Self {
             pd,
             v0,
@@ -680,7 +714,7 @@ impl Step1 {
             0.0,
             h1 + af / j,
         ];
-        if Self::chk(p, S::Uddu, L::Vel, false, m) {
+        if Valid::admits(p, bound) && Self::chk(p, S::Uddu, L::Vel, false, m) {
             out.accept();
             if out.first_only() {
                 return;
@@ -701,13 +735,14 @@ impl Step1 {
             0.0,
             h1 + af / j,
         ];
-        if Self::chk(p, S::Uddu, L::Vel, false, m) {
+        if Valid::admits(p, bound) && Self::chk(p, S::Uddu, L::Vel, false, m) {
             out.accept();
         }
     }
 
     /// Fallbacks for NONE shapes with one or two jerk phases.
     fn none_two_step(&self, out: &mut Valid, m: &Lim) {
+        let bound = out.bound();
         let Self {
             v0,
             a0,
@@ -721,7 +756,7 @@ impl Step1 {
         let h0 = ((a0_2 + af_2) / 2.0 + j * (vf - v0)).sqrt() * j.abs() / j;
         let p = out.cur();
         p.t = [(h0 - a0) / j, 0.0, (h0 - af) / j, 0.0, 0.0, 0.0, 0.0];
-        if Self::chk(p, S::Uddu, L::None, false, m) {
+        if Valid::admits(p, bound) && Self::chk(p, S::Uddu, L::None, false, m) {
             out.accept();
             if out.first_only() {
                 return;
@@ -729,7 +764,7 @@ impl Step1 {
         }
         let p = out.cur();
         p.t = [(af - a0) / j, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-        if Self::chk(p, S::Uddu, L::None, false, m) {
+        if Valid::admits(p, bound) && Self::chk(p, S::Uddu, L::None, false, m) {
             out.accept();
         }
     }
@@ -737,6 +772,7 @@ impl Step1 {
     /// Two jerk phases with the intermediate acceleration of either sign
     /// (the tail of a profile sampled in its last jerk phases).
     fn two_jerk(&self, out: &mut Valid, m: &Lim) {
+        let bound = out.bound();
         let Self {
             v0,
             a0,
@@ -751,7 +787,7 @@ impl Step1 {
         for h0 in [h, -h] {
             let p = out.cur();
             p.t = [(h0 - a0) / j, 0.0, (h0 - af) / j, 0.0, 0.0, 0.0, 0.0];
-            if Self::chk(p, S::Uddu, L::None, false, m) {
+            if Valid::admits(p, bound) && Self::chk(p, S::Uddu, L::None, false, m) {
                 out.accept();
             }
         }
@@ -759,8 +795,14 @@ impl Step1 {
 
     /// Computes the block (time-optimal profile and blocked intervals) for
     /// the boundary values stored in `input`; `false` if none was found.
-    pub(crate) fn block(&self, input: &Profile, lim: &Lim, block: &mut Block) -> bool {
-        let mut out = Valid::new(input);
+    pub(crate) fn block(
+        &self,
+        input: &Profile,
+        lim: &Lim,
+        block: &mut Block,
+        out: &mut Valid,
+    ) -> bool {
+        out.reset(input, Keep::All, f64::INFINITY);
         let up = *lim;
         let down = lim.flip();
         let done = |o: &Valid| o.n > 0;
@@ -774,84 +816,85 @@ impl Step1 {
                 (down, up)
             };
             if self.v0.abs() < EPS && self.a0.abs() < EPS && self.pd.abs() < EPS {
-                self.none_acc0_acc1(&mut out, &fwd, true);
+                self.none_acc0_acc1(out, &fwd, true);
             } else {
                 'search: {
                     for m in [&fwd, &bwd] {
-                        self.all_vel(&mut out, m);
-                        if done(&out) {
+                        self.all_vel(out, m);
+                        if done(out) {
                             break 'search;
                         }
-                        self.none_acc0_acc1(&mut out, m, true);
-                        if done(&out) {
+                        self.none_acc0_acc1(out, m, true);
+                        if done(out) {
                             break 'search;
                         }
-                        self.acc0_acc1(&mut out, m, true);
-                        if done(&out) {
+                        self.acc0_acc1(out, m, true);
+                        if done(out) {
                             break 'search;
                         }
                     }
                 }
             }
         } else {
-            self.none_acc0_acc1(&mut out, &up, false);
-            self.none_acc0_acc1(&mut out, &down, false);
-            self.acc0_acc1(&mut out, &up, false);
-            self.acc0_acc1(&mut out, &down, false);
-            self.all_vel(&mut out, &up);
-            self.all_vel(&mut out, &down);
+            self.none_acc0_acc1(out, &up, false);
+            self.none_acc0_acc1(out, &down, false);
+            self.acc0_acc1(out, &up, false);
+            self.acc0_acc1(out, &down, false);
+            self.all_vel(out, &up);
+            self.all_vel(out, &down);
         }
 
         if out.n == 0 {
             // Only reduced shapes remain: take the shortest of them all
             // (the first one found need not be optimal).
-            let mut best = Valid::with(
+            out.reset(
                 input,
                 Keep::Shortest {
                     exact: false,
                     position: true,
                 },
+                f64::INFINITY,
             );
             for f in FALLBACKS {
                 for m in [&up, &down] {
-                    f(self, &mut best, m);
+                    f(self, out, m);
                 }
             }
-            if best.n == 0 {
+            if out.n == 0 {
                 return false;
             }
-            block.set_min(&best.list[0]);
+            block.set_min(&out.list[0]);
             return true;
         }
         let n = out.n;
         if !block.build(&mut out.list, n) {
             block.build_unpaired(&out.list[..n]);
         }
-        self.repair(input, &up, &down, block);
+        self.repair(input, &up, &down, block, out);
         true
     }
 
     /// Bellman repair: on states exactly on a phase boundary or a limit
     /// (typically states sampled from an earlier trajectory) the quartic
     /// roots of the optimal shape can fall just outside their admissible
-    /// range, leaving only a longer profile. The reduced shapes of the
-    /// fallbacks catch these; if one is shorter, it becomes the optimum and
-    /// the durations up to the former optimum are conservatively blocked.
-    fn repair(&self, input: &Profile, up: &Lim, down: &Lim, block: &mut Block) {
+    /// range, leaving only a longer profile. The tails of profiles
+    /// (`position_tails.rs`) catch these; if one is shorter, it becomes the
+    /// optimum and the durations up to the former optimum are
+    /// conservatively blocked.
+    fn repair(&self, input: &Profile, up: &Lim, down: &Lim, block: &mut Block, extra: &mut Valid) {
         // Only exact reproductions count: the check's tolerances would
         // otherwise admit trivially short "solutions" of tiny motions.
-        let mut extra = Valid::with(
+        let t_old = block.p_min.t_sum[6];
+        extra.reset(
             input,
             Keep::Shortest {
                 exact: true,
                 position: true,
             },
+            t_old - 1e-12 * t_old.max(1.0),
         );
-        for f in FALLBACKS {
-            for m in [up, down] {
-                f(self, &mut extra, m);
-            }
-        }
+        self.tails(extra, up);
+        self.tails(extra, down);
         if extra.n == 0 {
             return;
         }
@@ -866,7 +909,7 @@ impl Step1 {
 
 type Fallback = fn(&Step1, &mut Valid, &Lim);
 
-/// Reduced shapes tried when the general ones fail (and for the repair).
+/// Reduced shapes tried when the general ones fail.
 const FALLBACKS: [Fallback; 5] = [
     Step1::none_two_step,
     Step1::two_jerk,

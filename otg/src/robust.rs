@@ -6,6 +6,7 @@
 use crate::block::Block;
 use crate::calculator::{DofLimits, MAX_DURATION};
 use crate::input::ControlInterface;
+use crate::position_step1::Valid;
 use crate::position_step2::Step2;
 use crate::profile::Profile;
 use crate::velocity::VelStep2;
@@ -143,7 +144,7 @@ fn ramp(v0: f64, a0: f64, v1: f64, a1: f64, lim: &DofLimits) -> Option<Profile> 
     };
     let mut block = Block::default();
     crate::velocity::VelStep1::new(v0, a0, v1, a1)
-        .block(&boundary, &acc, &mut block)
+        .block(&boundary, &acc, &mut block, &mut Valid::new(&boundary))
         .then_some(block.p_min)
 }
 

@@ -92,8 +92,14 @@ impl VelStep1 {
     }
 
     /// Time-optimal profile and blocked intervals.
-    pub(crate) fn block(&self, input: &Profile, lim: &AccLim, block: &mut Block) -> bool {
-        let mut out = Valid::new(input);
+    pub(crate) fn block(
+        &self,
+        input: &Profile,
+        lim: &AccLim,
+        block: &mut Block,
+        out: &mut Valid,
+    ) -> bool {
+        out.reset(input, Keep::All, f64::INFINITY);
         let up = *lim;
         let down = lim.flip();
         if self.af.abs() < EPS {
@@ -104,20 +110,20 @@ impl VelStep1 {
                 (down, up)
             };
             for m in [&fwd, &bwd] {
-                self.none(&mut out, m, true);
+                self.none(out, m, true);
                 if out.n > 0 {
                     break;
                 }
-                self.acc0(&mut out, m);
+                self.acc0(out, m);
                 if out.n > 0 {
                     break;
                 }
             }
         } else {
-            self.none(&mut out, &up, false);
-            self.none(&mut out, &down, false);
-            self.acc0(&mut out, &up);
-            self.acc0(&mut out, &down);
+            self.none(out, &up, false);
+            self.none(out, &down, false);
+            self.acc0(out, &up);
+            self.acc0(out, &down);
         }
         let n = out.n;
         if n == 0 {
@@ -126,7 +132,7 @@ impl VelStep1 {
         if !block.build(&mut out.list, n) {
             block.build_unpaired(&out.list[..n]);
         }
-        self.repair(input, &up, &down, block);
+        self.repair(input, &up, &down, block, out);
         true
     }
 
@@ -136,9 +142,10 @@ impl VelStep1 {
     fn tails(&self, out: &mut Valid, m: &AccLim) {
         let Self { a0, af, vd } = *self;
         let j = m.j;
+        let bound = out.bound();
         let p = out.cur();
         p.t = [(af - a0) / j, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-        if p.check_velocity(S::Uddu, L::None, j, m.a_max, m.a_min) {
+        if Valid::admits(p, bound) && p.check_velocity(S::Uddu, L::None, j, m.a_max, m.a_min) {
             out.accept();
         }
         if a0.abs() > EPS {
@@ -153,22 +160,31 @@ impl VelStep1 {
                 0.0,
                 0.0,
             ];
-            if p.check_velocity(S::Uddu, L::None, j, m.a_max, m.a_min) {
+            if Valid::admits(p, bound) && p.check_velocity(S::Uddu, L::None, j, m.a_max, m.a_min) {
                 out.accept();
             }
         }
     }
 
-    fn repair(&self, input: &Profile, up: &AccLim, down: &AccLim, block: &mut Block) {
-        let mut extra = Valid::with(
+    fn repair(
+        &self,
+        input: &Profile,
+        up: &AccLim,
+        down: &AccLim,
+        block: &mut Block,
+        extra: &mut Valid,
+    ) {
+        let t_old = block.p_min.t_sum[6];
+        extra.reset(
             input,
             Keep::Shortest {
                 exact: true,
                 position: false,
             },
+            t_old - 1e-12 * t_old.max(1.0),
         );
-        self.tails(&mut extra, up);
-        self.tails(&mut extra, down);
+        self.tails(extra, up);
+        self.tails(extra, down);
         if extra.n == 0 {
             return;
         }
