@@ -29,7 +29,7 @@ pub fn rest_to_rest_duration(distance: f64, v_max: f64, a_max: f64, j_max: f64) 
     let t_v = ramp(v_max);
     let d_v = v_max * t_v; // accelerate + decelerate
     if d >= d_v {
-        return 2.0 * t_v + (d - d_v) / v_max - t_v;
+        return 2.0 * t_v + (d - d_v) / v_max;
     }
     // No cruise: peak velocity below v_max.
     let v_tri = (d * d * j_max / 4.0).cbrt();

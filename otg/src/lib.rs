@@ -20,14 +20,17 @@
 mod block;
 mod brake;
 mod calculator;
+mod candidates;
 mod error;
 mod helpers;
 mod input;
 mod otg;
 mod position_step1;
+mod position_step1_reduced;
 mod position_step2;
 mod position_step2_flat;
 mod position_step2_none;
+mod position_step2_vel;
 mod position_tails;
 mod profile;
 mod robust;
