@@ -127,7 +127,7 @@ impl Solved {
     pub fn at(&self, t: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
         let mut out = (vec![], vec![], vec![]);
         for p in &self.profiles {
-            let (x, v, a, _) = p.state_at(t.max(0.0));
+            let (x, v, a, _) = p.state_in(t.max(0.0), self.duration);
             out.0.push(x);
             out.1.push(v);
             out.2.push(a);

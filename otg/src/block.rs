@@ -89,7 +89,13 @@ impl Block {
                         (1, 0)
                     };
                 self.set_min(&valid[i_min]);
-                self.a = Some(Interval::between(&valid[i_min], &valid[i_other]));
+                // An odd root was lost numerically; block up to the other
+                // profile, but keep durations within rounding of t_min.
+                let mut a = Interval::between(&valid[i_min], &valid[i_other]);
+                a.left = a
+                    .left
+                    .max(self.t_min + crate::calculator::close_tol(self.t_min));
+                self.a = Some(a);
                 return true;
             }
             4 => {
@@ -122,7 +128,7 @@ impl Block {
         }
         self.set_min(&valid[i_min]);
         let at = |k: usize| &valid[(i_min + k) % n];
-        match n {
+        let ok = match n {
             3 => {
                 self.a = Some(Interval::between(at(1), at(2)));
                 true
@@ -138,13 +144,74 @@ impl Block {
                 true
             }
             _ => false,
+        };
+        self.keep_near_t_min_feasible();
+        ok
+    }
+
+    /// The valid profiles do not pair up into blocked intervals (a root was
+    /// lost numerically, where Ruckig gives up): the shortest is optimal,
+    /// and everything up to the longest is conservatively blocked.
+    pub(crate) fn build_unpaired(&mut self, valid: &[Profile]) {
+        let by_t = |a: &&Profile, b: &&Profile| a.t_sum[6].total_cmp(&b.t_sum[6]);
+        let (Some(short), Some(long)) = (valid.iter().min_by(by_t), valid.iter().max_by(by_t))
+        else {
+            return;
+        };
+        self.set_min(short);
+        self.a = Some(Interval::between(short, long));
+        self.keep_near_t_min_feasible();
+    }
+
+    /// Durations within rounding of `t_min` use the optimal profile itself
+    /// (see `calculator::close_tol`), so no interval may block them: the
+    /// same profile found twice (e.g. from both directions) would otherwise
+    /// open a blocked interval right at `t_min`.
+    fn keep_near_t_min_feasible(&mut self) {
+        let floor = self.t_min + crate::calculator::close_tol(self.t_min);
+        for slot in [&mut self.a, &mut self.b] {
+            if let Some(i) = slot {
+                i.left = i.left.max(floor);
+                if i.left >= i.right {
+                    *slot = None;
+                }
+            }
         }
+    }
+
+    /// A profile shorter than the optimum was found after the fact (see the
+    /// Step 1 repairs): it becomes the optimum, and the durations up to the
+    /// former optimum are conservatively treated as blocked.
+    pub(crate) fn merge_shorter(&mut self, best: &Profile) {
+        let old = self.p_min;
+        let merged = match (self.a, self.b) {
+            (Some(a), Some(b)) => Some(if a.right >= b.right {
+                Interval {
+                    left: a.left.min(b.left),
+                    ..a
+                }
+            } else {
+                Interval {
+                    left: a.left.min(b.left),
+                    ..b
+                }
+            }),
+            (a, _) => a,
+        };
+        self.set_min(best);
+        self.a = Some(Interval {
+            left: self.t_min,
+            right: old.duration(),
+            profile: old,
+        });
+        self.b = merged;
+        self.keep_near_t_min_feasible();
     }
 
     /// Whether duration `t` is infeasible for this DoF.
     #[inline]
     pub fn is_blocked(&self, t: f64) -> bool {
-        t < self.t_min
+        t < self.t_min - crate::calculator::close_tol(self.t_min)
             || self.a.is_some_and(|i| i.left < t && t < i.right)
             || self.b.is_some_and(|i| i.left < t && t < i.right)
     }

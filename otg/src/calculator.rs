@@ -6,7 +6,7 @@
 use crate::block::Block;
 use crate::error::OtgError;
 use crate::input::{ControlInterface, DurationDiscretization, Input, Synchronization};
-use crate::position_step1::{Lim, Step1};
+use crate::position_step1::{Lim, Step1, Valid};
 use crate::position_step2::Step2;
 use crate::profile::{Direction, Profile, ReachedLimits};
 use crate::robust;
@@ -81,6 +81,7 @@ pub(crate) fn step1_dof(
     lim: &DofLimits,
     profile: &mut Profile,
     block: &mut Block,
+    scratch: &mut Valid,
 ) -> bool {
     *profile = Profile::default();
     match iface {
@@ -105,11 +106,14 @@ pub(crate) fn step1_dof(
     profile.a[0] = a;
 
     let found = match iface {
-        ControlInterface::Position => {
-            Step1::new(p, v, a, c.pf, c.vf, c.af, lim.j_max).block(profile, &lim.lim(), block)
-        }
+        ControlInterface::Position => Step1::new(p, v, a, c.pf, c.vf, c.af, lim.j_max).block(
+            profile,
+            &lim.lim(),
+            block,
+            scratch,
+        ),
         ControlInterface::Velocity => {
-            VelStep1::new(v, a, c.vf, c.af).block(profile, &lim.acc(), block)
+            VelStep1::new(v, a, c.vf, c.af).block(profile, &lim.acc(), block, scratch)
         }
     };
     found || robust::step1_fallback(iface, profile, lim, block)
@@ -136,11 +140,24 @@ pub(crate) fn step2_dof(
     found || robust::step2_fallback(iface, tf, lim, p)
 }
 
-/// Rounds `t` up to a multiple of `dt`.
+/// Durations this close to an extremal profile's use that profile as is.
+#[inline]
+pub(crate) fn close_tol(t: f64) -> f64 {
+    1e-12 * t.max(1.0)
+}
+
+/// Rounds `t` up to a multiple of `dt`; a `t` within rounding error of a
+/// multiple snaps to it (`fmod` alone would add a whole cycle when
+/// `t / dt` comes out as `k - 1e-15`).
 #[inline]
 fn round_up(t: f64, dt: f64) -> f64 {
-    let r = t % dt;
-    if r > f64::EPSILON { t + (dt - r) } else { t }
+    let q = t / dt;
+    let k = q.round();
+    if (q - k).abs() <= 1e-9 * k.max(1.0) {
+        k * dt
+    } else {
+        q.ceil() * dt
+    }
 }
 
 /// Reusable working memory of the calculation (no allocation).
@@ -148,6 +165,7 @@ fn round_up(t: f64, dt: f64) -> f64 {
 pub struct Calculator<const N: usize> {
     blocks: [Block; N],
     phase_jerk: [f64; N],
+    scratch: Valid,
 }
 
 impl<const N: usize> Default for Calculator<N> {
@@ -155,6 +173,7 @@ impl<const N: usize> Default for Calculator<N> {
         Self {
             blocks: [Block::default(); N],
             phase_jerk: [0.0; N],
+            scratch: Valid::new(&Profile::default()),
         }
     }
 }
@@ -199,7 +218,7 @@ impl<const N: usize> Calculator<N> {
                 vf: inp.target_velocity[i],
                 af: inp.target_acceleration[i],
             };
-            if !step1_dof(iface, &case, &Self::limits(inp, i), p, b) {
+            if !step1_dof(iface, &case, &Self::limits(inp, i), p, b, &mut self.scratch) {
                 return Err(OtgError::ExecutionTimeCalculation { dof: i as u16 });
             }
             traj.independent_min_durations[i] = b.t_min;
@@ -233,40 +252,63 @@ impl<const N: usize> Calculator<N> {
             };
         }
 
-        let Some((t_sync, limiting)) = self.synchronize(inp.minimum_duration, discrete, delta_time)
-        else {
-            return Err(OtgError::SynchronizationCalculation { dof: 0 });
-        };
-        traj.duration = t_sync;
-        if let Some((i, which)) = limiting {
-            traj.limiting_dof = Some(i);
-            let b = &self.blocks[i];
-            traj.profiles[i] = match which {
-                1 => b.a.map_or(b.p_min, |x| x.profile),
-                2 => b.b.map_or(b.p_min, |x| x.profile),
-                _ => b.p_min,
+        // If Step 2 fails for some DoF at the chosen duration (its blocked
+        // intervals were numerically wrong), try the next candidate.
+        let mut after = None;
+        let mut failed = 0;
+        for _ in 0..=3 * N {
+            let Some((t_sync, limiting)) =
+                self.synchronize(inp.minimum_duration, discrete, delta_time, after)
+            else {
+                break;
             };
-        }
-        if traj.duration > MAX_DURATION {
-            return Err(OtgError::TrajectoryDuration);
-        }
-        if traj.duration == 0.0 {
-            for i in 0..N {
-                if inp.enabled[i] {
-                    traj.profiles[i] = self.blocks[i].p_min;
+            traj.duration = t_sync;
+            traj.limiting_dof = None;
+            if let Some((i, which)) = limiting {
+                traj.limiting_dof = Some(i);
+                let b = &self.blocks[i];
+                traj.profiles[i] = match which {
+                    1 => b.a.map_or(b.p_min, |x| x.profile),
+                    2 => b.b.map_or(b.p_min, |x| x.profile),
+                    _ => b.p_min,
+                };
+            }
+            if traj.duration > MAX_DURATION {
+                return Err(OtgError::TrajectoryDuration);
+            }
+            if traj.duration == 0.0 {
+                for i in 0..N {
+                    if inp.enabled[i] {
+                        traj.profiles[i] = self.blocks[i].p_min;
+                    }
+                }
+                return Ok(());
+            }
+            if inp.synchronization == Synchronization::Phase
+                && let Some(lim_dof) = traj.limiting_dof
+                && self.phase_synchronize(inp, traj, lim_dof)
+            {
+                return Ok(());
+            }
+            match self.time_synchronize(inp, traj, discrete) {
+                Ok(()) => return Ok(()),
+                Err(i) => {
+                    failed = i;
+                    after = Some(t_sync);
                 }
             }
-            return Ok(());
         }
+        Err(OtgError::SynchronizationCalculation { dof: failed as u16 })
+    }
+
+    /// Step 2 for every DoF but the limiting one; `Err(dof)` on failure.
+    fn time_synchronize(
+        &self,
+        inp: &Input<N>,
+        traj: &mut Trajectory<N>,
+        discrete: bool,
+    ) -> Result<(), usize> {
         let limiting_dof = traj.limiting_dof;
-
-        if inp.synchronization == Synchronization::Phase
-            && let Some(lim_dof) = limiting_dof
-            && self.phase_synchronize(inp, traj, lim_dof)
-        {
-            return Ok(());
-        }
-
         for i in 0..N {
             if !inp.enabled[i] || (Some(i) == limiting_dof && !discrete) {
                 continue;
@@ -274,7 +316,7 @@ impl<const N: usize> Calculator<N> {
             let b = &self.blocks[i];
             let p = &mut traj.profiles[i];
             // An extremal profile of Step 1 may already have the duration.
-            let close = |t: f64| (traj.duration - t).abs() < 2.0 * f64::EPSILON;
+            let close = |t: f64| (traj.duration - t).abs() <= close_tol(t);
             if close(b.t_min) {
                 *p = b.p_min;
                 continue;
@@ -287,8 +329,13 @@ impl<const N: usize> Calculator<N> {
                 *p = x.profile;
                 continue;
             }
-            if !step2_dof(iface, traj.duration, &Self::limits(inp, i), p) {
-                return Err(OtgError::SynchronizationCalculation { dof: i as u16 });
+            if !step2_dof(
+                inp.control_interface,
+                traj.duration,
+                &Self::limits(inp, i),
+                p,
+            ) {
+                return Err(i);
             }
         }
         Ok(())
@@ -302,6 +349,7 @@ impl<const N: usize> Calculator<N> {
         minimum: Option<f64>,
         discrete: bool,
         dt: f64,
+        after: Option<f64>,
     ) -> Option<(f64, Option<(usize, u8)>)> {
         let value = |k: usize| -> f64 {
             let raw = if k == 3 * N {
@@ -324,6 +372,13 @@ impl<const N: usize> Calculator<N> {
         // Durations below the largest t_min are blocked by that DoF.
         let mut lower = (0..N).map(value).fold(f64::NEG_INFINITY, f64::max);
         let mut inclusive = true;
+        if let Some(a) = after
+            && a >= lower
+        {
+            // Retry strictly after a duration where Step 2 failed.
+            lower = a;
+            inclusive = false;
+        }
         loop {
             let mut best: Option<(f64, usize)> = None;
             for k in 0..=3 * N {

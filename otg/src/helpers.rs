@@ -5,6 +5,7 @@ use crate::block::Block;
 use crate::calculator::{DofCase, DofLimits, step1_dof};
 use crate::error::OtgError;
 use crate::input::ControlInterface;
+use crate::position_step1::Valid;
 use crate::profile::Profile;
 
 /// Time-optimal duration of a rest-to-rest motion over `distance` under
@@ -28,7 +29,7 @@ pub fn rest_to_rest_duration(distance: f64, v_max: f64, a_max: f64, j_max: f64) 
     let t_v = ramp(v_max);
     let d_v = v_max * t_v; // accelerate + decelerate
     if d >= d_v {
-        return 2.0 * t_v + (d - d_v) / v_max - t_v;
+        return 2.0 * t_v + (d - d_v) / v_max;
     }
     // No cruise: peak velocity below v_max.
     let v_tri = (d * d * j_max / 4.0).cbrt();
@@ -78,6 +79,7 @@ pub fn min_duration(
         limits,
         &mut profile,
         &mut block,
+        &mut Valid::new(&Profile::default()),
     ) {
         Ok(block.t_min)
     } else {

@@ -8,6 +8,7 @@
 //! otherwise all are collected to find blocked intervals.
 
 use crate::block::Block;
+pub(crate) use crate::candidates::{Keep, Valid};
 use crate::profile::{ControlSigns as S, Profile, ReachedLimits as L};
 use crate::roots::{self, EPS, for_roots};
 
@@ -35,53 +36,23 @@ impl Lim {
     }
 }
 
-/// Up to five valid extremal profiles (plus a spare for numerical duplicates).
-pub(crate) struct Valid {
-    pub list: [Profile; 7],
-    pub n: usize,
-}
-
-impl Valid {
-    pub(crate) fn new(boundary: &Profile) -> Self {
-        let mut list = [Profile::default(); 7];
-        list[0] = *boundary;
-        Self { list, n: 0 }
-    }
-
-    /// The profile being filled.
-    #[inline]
-    pub(crate) fn cur(&mut self) -> &mut Profile {
-        &mut self.list[self.n]
-    }
-
-    /// Accepts the current profile; the next candidate keeps its boundary.
-    #[inline]
-    pub(crate) fn accept(&mut self) {
-        if self.n < 6 {
-            self.n += 1;
-            let (done, next) = self.list.split_at_mut(self.n);
-            next[0].set_boundary_from(&done[self.n - 1]);
-        }
-    }
-}
-
 /// Boundary values and their powers, shared by all candidate shapes.
 #[derive(Clone, Copy)]
 pub(crate) struct Step1 {
-    pd: f64,
-    v0: f64,
-    a0: f64,
-    vf: f64,
-    af: f64,
-    v0_2: f64,
-    vf_2: f64,
-    a0_2: f64,
-    a0_3: f64,
-    a0_4: f64,
-    af_2: f64,
-    af_3: f64,
-    af_4: f64,
-    jj: f64,
+    pub(crate) pd: f64,
+    pub(crate) v0: f64,
+    pub(crate) a0: f64,
+    pub(crate) vf: f64,
+    pub(crate) af: f64,
+    pub(crate) v0_2: f64,
+    pub(crate) vf_2: f64,
+    pub(crate) a0_2: f64,
+    pub(crate) a0_3: f64,
+    pub(crate) a0_4: f64,
+    pub(crate) af_2: f64,
+    pub(crate) af_3: f64,
+    pub(crate) af_4: f64,
+    pub(crate) jj: f64,
 }
 
 impl Step1 {
@@ -107,7 +78,7 @@ impl Step1 {
     }
 
     #[inline]
-    fn chk(p: &mut Profile, s: S, l: L, pin: bool, m: &Lim) -> bool {
+    pub(crate) fn chk(p: &mut Profile, s: S, l: L, pin: bool, m: &Lim) -> bool {
         p.check(s, l, pin, m.j, m.v_max, m.v_min, m.a_max, m.a_min)
     }
 
@@ -460,228 +431,16 @@ impl Step1 {
         });
     }
 
-    /// Fallbacks for numerically degenerate cases (ACC1_VEL with t0 = 0).
-    fn acc1_vel_two_step(&self, out: &mut Valid, m: &Lim) {
-        let Self {
-            pd,
-            v0,
-            a0,
-            vf,
-            af,
-            vf_2,
-            a0_2,
-            a0_3,
-            af_2,
-            af_3,
-            af_4,
-            jj,
-            ..
-        } = *self;
-        let (vmax, amin, j) = (m.v_max, m.a_min, m.j);
-        let p = out.cur();
-        p.t[0] = 0.0;
-        p.t[1] = 0.0;
-        p.t[2] = a0 / j;
-        p.t[3] = -(3.0 * af_4 - 8.0 * amin * (af_3 - a0_3) - 24.0 * amin * j * (a0 * v0 - af * vf)
-            + 6.0 * af_2 * (amin * amin - 2.0 * j * vf)
-            - 12.0
-                * j
-                * (2.0 * amin * j * pd
-                    + amin * amin * (vf + vmax)
-                    + j * (vmax * vmax - vf_2)
-                    + amin * a0 * (a0_2 - 2.0 * j * (v0 + vmax)) / j))
-            / (24.0 * amin * jj * vmax);
-        p.t[4] = -amin / j;
-        p.t[5] = -(af_2 / 2.0 - amin * amin + j * (vmax - vf)) / (amin * j);
-        p.t[6] = p.t[4] + af / j;
-        if Self::chk(p, S::Uddu, L::Acc1Vel, false, m) {
-            out.accept();
-        }
-    }
-
-    /// Fallbacks for ACC0 shapes with fewer phases.
-    fn acc0_two_step(&self, out: &mut Valid, m: &Lim) {
-        let Self {
-            pd,
-            v0,
-            a0,
-            vf,
-            af,
-            v0_2,
-            vf_2,
-            a0_2,
-            a0_3,
-            a0_4,
-            af_2,
-            af_3,
-            af_4,
-            jj,
-        } = *self;
-        let (amax, amin, j) = (m.a_max, m.a_min, m.j);
-
-        let p = out.cur();
-        p.t = [
-            0.0,
-            (af_2 - a0_2 + 2.0 * j * (vf - v0)) / (2.0 * a0 * j),
-            (a0 - af) / j,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ];
-        if Self::chk(p, S::Uddu, L::Acc0, false, m) {
-            out.accept();
-            return;
-        }
-
-        let p = out.cur();
-        p.t = [
-            (-a0 + amax) / j,
-            (a0_2 + af_2 - 2.0 * amax * amax + 2.0 * j * (vf - v0)) / (2.0 * amax * j),
-            (-af + amax) / j,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ];
-        if Self::chk(p, S::Uddu, L::Acc0, false, m) {
-            out.accept();
-            return;
-        }
-
-        let h0 = 3.0 * (af_2 - a0_2 + 2.0 * j * (v0 + vf));
-        let h2 = a0_3 + 2.0 * af_3 + 6.0 * jj * pd + 6.0 * (af - a0) * j * vf - 3.0 * a0 * af_2;
-        let h1 = (2.0
-            * (2.0 * h2 * h2
-                + h0 * (a0_4 - 6.0 * a0_2 * (af_2 + 2.0 * j * vf)
-                    + 8.0 * a0 * (af_3 + 3.0 * jj * pd + 3.0 * af * j * vf)
-                    - 3.0 * (af_4 + 4.0 * af_2 * j * vf + 4.0 * jj * (vf_2 - v0_2)))))
-            .sqrt()
-            * j.abs()
-            / j;
-        let p = out.cur();
-        p.t = [
-            (4.0 * af_3 + 2.0 * a0_3 - 6.0 * a0 * af_2
-                + 12.0 * jj * pd
-                + 12.0 * (af - a0) * j * vf
-                + h1)
-                / (2.0 * j * h0),
-            -h1 / (j * h0),
-            (-4.0 * a0_3 - 2.0 * af_3 + 6.0 * a0_2 * af + 12.0 * jj * pd
-                - 12.0 * (af - a0) * j * v0
-                + h1)
-                / (2.0 * j * h0),
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        ];
-        if Self::chk(p, S::Uddu, L::Acc0, false, m) {
-            out.accept();
-            return;
-        }
-
-        let t = (amax - amin) / j;
-        let p = out.cur();
-        p.t = [
-            (-a0 + amax) / j,
-            (a0_2 - af_2) / (2.0 * amax * j) + (vf - v0 + j * t * t) / amax - 2.0 * t,
-            t,
-            0.0,
-            0.0,
-            0.0,
-            (af - amin) / j,
-        ];
-        if Self::chk(p, S::Uddu, L::Acc0, false, m) {
-            out.accept();
-        }
-    }
-
-    /// Fallbacks for VEL shapes with fewer phases.
-    fn vel_two_step(&self, out: &mut Valid, m: &Lim) {
-        let Self {
-            pd,
-            v0,
-            a0,
-            vf,
-            af,
-
-            a0_3,
-            af_2,
-            af_3,
-            jj,
-            ..
-        } = *self;
-        let (vmax, j) = (m.v_max, m.j);
-        let h1 = (af_2 / (2.0 * jj) + (vmax - vf) / j).sqrt();
-
-        let p = out.cur();
-        p.t = [
-            -a0 / j,
-            0.0,
-            0.0,
-            (af_3 - a0_3) / (3.0 * jj * vmax)
-                + (a0 * v0 - af * vf + (af_2 * h1) / 2.0) / (j * vmax)
-                - (vf / vmax + 1.0) * h1
-                + pd / vmax,
-            h1,
-            0.0,
-            h1 + af / j,
-        ];
-        if Self::chk(p, S::Uddu, L::Vel, false, m) {
-            out.accept();
-            return;
-        }
-
-        let p = out.cur();
-        p.t = [
-            0.0,
-            0.0,
-            a0 / j,
-            (af_3 - a0_3) / (3.0 * jj * vmax)
-                + (a0 * v0 - af * vf + (af_2 * h1 + a0_3 / j) / 2.0) / (j * vmax)
-                - (v0 / vmax + 1.0) * a0 / j
-                - (vf / vmax + 1.0) * h1
-                + pd / vmax,
-            h1,
-            0.0,
-            h1 + af / j,
-        ];
-        if Self::chk(p, S::Uddu, L::Vel, false, m) {
-            out.accept();
-        }
-    }
-
-    /// Fallbacks for NONE shapes with one or two jerk phases.
-    fn none_two_step(&self, out: &mut Valid, m: &Lim) {
-        let Self {
-            v0,
-            a0,
-            vf,
-            af,
-            a0_2,
-            af_2,
-            ..
-        } = *self;
-        let j = m.j;
-        let h0 = ((a0_2 + af_2) / 2.0 + j * (vf - v0)).sqrt() * j.abs() / j;
-        let p = out.cur();
-        p.t = [(h0 - a0) / j, 0.0, (h0 - af) / j, 0.0, 0.0, 0.0, 0.0];
-        if Self::chk(p, S::Uddu, L::None, false, m) {
-            out.accept();
-            return;
-        }
-        let p = out.cur();
-        p.t = [(af - a0) / j, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-        if Self::chk(p, S::Uddu, L::None, false, m) {
-            out.accept();
-        }
-    }
-
     /// Computes the block (time-optimal profile and blocked intervals) for
     /// the boundary values stored in `input`; `false` if none was found.
-    pub(crate) fn block(&self, input: &Profile, lim: &Lim, block: &mut Block) -> bool {
-        let mut out = Valid::new(input);
+    pub(crate) fn block(
+        &self,
+        input: &Profile,
+        lim: &Lim,
+        block: &mut Block,
+        out: &mut Valid,
+    ) -> bool {
+        out.reset(input, Keep::All, f64::INFINITY);
         let up = *lim;
         let down = lim.flip();
         let done = |o: &Valid| o.n > 0;
@@ -695,52 +454,104 @@ impl Step1 {
                 (down, up)
             };
             if self.v0.abs() < EPS && self.a0.abs() < EPS && self.pd.abs() < EPS {
-                self.none_acc0_acc1(&mut out, &fwd, true);
+                self.none_acc0_acc1(out, &fwd, true);
             } else {
                 'search: {
                     for m in [&fwd, &bwd] {
-                        self.all_vel(&mut out, m);
-                        if done(&out) {
+                        self.all_vel(out, m);
+                        if done(out) {
                             break 'search;
                         }
-                        self.none_acc0_acc1(&mut out, m, true);
-                        if done(&out) {
+                        self.none_acc0_acc1(out, m, true);
+                        if done(out) {
                             break 'search;
                         }
-                        self.acc0_acc1(&mut out, m, true);
-                        if done(&out) {
+                        self.acc0_acc1(out, m, true);
+                        if done(out) {
                             break 'search;
                         }
                     }
                 }
             }
         } else {
-            self.none_acc0_acc1(&mut out, &up, false);
-            self.none_acc0_acc1(&mut out, &down, false);
-            self.acc0_acc1(&mut out, &up, false);
-            self.acc0_acc1(&mut out, &down, false);
-            self.all_vel(&mut out, &up);
-            self.all_vel(&mut out, &down);
+            self.none_acc0_acc1(out, &up, false);
+            self.none_acc0_acc1(out, &down, false);
+            self.acc0_acc1(out, &up, false);
+            self.acc0_acc1(out, &down, false);
+            self.all_vel(out, &up);
+            self.all_vel(out, &down);
         }
 
         if out.n == 0 {
-            type Fallback = fn(&Step1, &mut Valid, &Lim);
-            let fallbacks: [Fallback; 4] = [
-                Step1::none_two_step,
-                Step1::acc0_two_step,
-                Step1::vel_two_step,
-                Step1::acc1_vel_two_step,
-            ];
-            'fallback: for f in fallbacks {
+            // Only reduced shapes remain: take the shortest of them all
+            // (the first one found need not be optimal).
+            out.reset(
+                input,
+                Keep::Shortest {
+                    exact: false,
+                    position: true,
+                },
+                f64::INFINITY,
+            );
+            for f in FALLBACKS {
                 for m in [&up, &down] {
-                    f(self, &mut out, m);
-                    if out.n > 0 {
-                        break 'fallback;
-                    }
+                    f(self, out, m);
                 }
             }
+            if out.n == 0 {
+                return false;
+            }
+            block.set_min(&out.list[0]);
+            return true;
         }
         let n = out.n;
-        block.build(&mut out.list, n)
+        if !block.build(&mut out.list, n) {
+            block.build_unpaired(&out.list[..n]);
+        }
+        self.repair(input, &up, &down, block, out);
+        true
+    }
+
+    /// Bellman repair: on states exactly on a phase boundary or a limit
+    /// (typically states sampled from an earlier trajectory) the quartic
+    /// roots of the optimal shape can fall just outside their admissible
+    /// range, leaving only a longer profile. The tails of profiles
+    /// (`position_tails.rs`) catch these; if one is shorter, it becomes the
+    /// optimum and the durations up to the former optimum are
+    /// conservatively blocked.
+    fn repair(&self, input: &Profile, up: &Lim, down: &Lim, block: &mut Block, extra: &mut Valid) {
+        // Only exact reproductions count: the check's tolerances would
+        // otherwise admit trivially short "solutions" of tiny motions.
+        let t_old = block.p_min.t_sum[6];
+        extra.reset(
+            input,
+            Keep::Shortest {
+                exact: true,
+                position: true,
+            },
+            t_old - 1e-12 * t_old.max(1.0),
+        );
+        self.tails(extra, up);
+        self.tails(extra, down);
+        if extra.n == 0 {
+            return;
+        }
+        let best = extra.list[0];
+        let old = block.p_min;
+        if best.t_sum[6] >= old.t_sum[6] - 1e-12 * old.t_sum[6].max(1.0) {
+            return;
+        }
+        block.merge_shorter(&best);
     }
 }
+
+type Fallback = fn(&Step1, &mut Valid, &Lim);
+
+/// Reduced shapes tried when the general ones fail.
+const FALLBACKS: [Fallback; 5] = [
+    Step1::none_two_step,
+    Step1::two_jerk,
+    Step1::acc0_two_step,
+    Step1::vel_two_step,
+    Step1::acc1_vel_two_step,
+];

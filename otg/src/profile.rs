@@ -340,6 +340,23 @@ impl Profile {
         jf.abs() < j_max.abs() + J_EPS && self.check_velocity(signs, limits, jf, a_max, a_min)
     }
 
+    /// State at `t` of this profile as part of a trajectory of duration
+    /// `total`: a profile that ends at `total` (up to rounding of its phase
+    /// sums) is evaluated from its own end once `t ≥ total`, so the final
+    /// state is exactly the profile's end state.
+    #[inline]
+    pub fn state_in(&self, t: f64, total: f64) -> (f64, f64, f64, f64) {
+        let own = self.duration();
+        if t >= total && (own - total).abs() <= 1e-9 * total.max(1.0) {
+            // From the end state itself: `own - brake` need not round back
+            // to `t_sum[6]`, and a jerk of 1e4 turns 1e-13 s into 1e-9.
+            let (p, v, a) = integrate(t - total, self.p[7], self.v[7], self.a[7], 0.0);
+            (p, v, a, 0.0)
+        } else {
+            self.state_at(t)
+        }
+    }
+
     /// State `(p, v, a, j)` at time `t` after the start of the brake
     /// (`t` may exceed the duration: constant acceleration afterwards).
     #[inline]

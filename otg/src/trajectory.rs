@@ -53,7 +53,7 @@ impl<const N: usize> Trajectory<N> {
             jerk: [0.0; N],
         };
         for (i, p) in self.profiles.iter().enumerate() {
-            let (x, v, a, j) = p.state_at(t);
+            let (x, v, a, j) = p.state_in(t, self.duration);
             s.position[i] = x;
             s.velocity[i] = v;
             s.acceleration[i] = a;

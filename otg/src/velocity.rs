@@ -6,7 +6,7 @@
 //! stretches it to a synchronised duration.
 
 use crate::block::Block;
-use crate::position_step1::Valid;
+use crate::position_step1::{Keep, Valid};
 use crate::profile::{ControlSigns as S, Profile, ReachedLimits as L};
 use crate::roots::EPS;
 
@@ -92,8 +92,14 @@ impl VelStep1 {
     }
 
     /// Time-optimal profile and blocked intervals.
-    pub(crate) fn block(&self, input: &Profile, lim: &AccLim, block: &mut Block) -> bool {
-        let mut out = Valid::new(input);
+    pub(crate) fn block(
+        &self,
+        input: &Profile,
+        lim: &AccLim,
+        block: &mut Block,
+        out: &mut Valid,
+    ) -> bool {
+        out.reset(input, Keep::All, f64::INFINITY);
         let up = *lim;
         let down = lim.flip();
         if self.af.abs() < EPS {
@@ -104,23 +110,90 @@ impl VelStep1 {
                 (down, up)
             };
             for m in [&fwd, &bwd] {
-                self.none(&mut out, m, true);
+                self.none(out, m, true);
                 if out.n > 0 {
                     break;
                 }
-                self.acc0(&mut out, m);
+                self.acc0(out, m);
                 if out.n > 0 {
                     break;
                 }
             }
         } else {
-            self.none(&mut out, &up, false);
-            self.none(&mut out, &down, false);
-            self.acc0(&mut out, &up);
-            self.acc0(&mut out, &down);
+            self.none(out, &up, false);
+            self.none(out, &down, false);
+            self.acc0(out, &up);
+            self.acc0(out, &down);
         }
         let n = out.n;
-        block.build(&mut out.list, n)
+        if n == 0 {
+            return false;
+        }
+        if !block.build(&mut out.list, n) {
+            block.build_unpaired(&out.list[..n]);
+        }
+        self.repair(input, &up, &down, block, out);
+        true
+    }
+
+    /// Tails of profiles (a single ramp, or hold then ramp) whose general
+    /// solutions sit exactly on a root boundary for states sampled from a
+    /// trajectory; see `Step1::repair` of the position interface.
+    fn tails(&self, out: &mut Valid, m: &AccLim) {
+        let Self { a0, af, vd } = *self;
+        let j = m.j;
+        let bound = out.bound();
+        let p = out.cur();
+        p.t = [(af - a0) / j, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        if Valid::admits(p, bound) && p.check_velocity(S::Uddu, L::None, j, m.a_max, m.a_min) {
+            out.accept();
+        }
+        if a0.abs() > EPS {
+            let t2 = (a0 - af) / j;
+            let p = out.cur();
+            p.t = [
+                0.0,
+                (vd - (a0 * a0 - af * af) / (2.0 * j)) / a0,
+                t2,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+            ];
+            if Valid::admits(p, bound) && p.check_velocity(S::Uddu, L::None, j, m.a_max, m.a_min) {
+                out.accept();
+            }
+        }
+    }
+
+    fn repair(
+        &self,
+        input: &Profile,
+        up: &AccLim,
+        down: &AccLim,
+        block: &mut Block,
+        extra: &mut Valid,
+    ) {
+        let t_old = block.p_min.t_sum[6];
+        extra.reset(
+            input,
+            Keep::Shortest {
+                exact: true,
+                position: false,
+            },
+            t_old - 1e-12 * t_old.max(1.0),
+        );
+        self.tails(extra, up);
+        self.tails(extra, down);
+        if extra.n == 0 {
+            return;
+        }
+        let best = extra.list[0];
+        let old = block.p_min;
+        if best.t_sum[6] >= old.t_sum[6] - 1e-12 * old.t_sum[6].max(1.0) {
+            return;
+        }
+        block.merge_shorter(&best);
     }
 }
 
