@@ -76,3 +76,36 @@ fn random_goals_from_the_paper_start() {
     println!("{} ticks", rig.stats.ticks);
     assert_clean(&rig, "random goals");
 }
+
+/// The planner's step durations are the trajectory generator's: each step
+/// of executed plans takes its planned duration, to the tick.
+#[test]
+fn planned_step_durations_match_execution() {
+    use gait::executor::runner::StepRunner;
+    let cfg = HandConfig::default();
+    let planner = gait::planner::Planner::new(&cfg).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let mut runner = StepRunner::new(1e-3).unwrap();
+    let mut steps = 0;
+    for _ in 0..20 {
+        let plan = planner
+            .plan(&HandState::paper_start(&cfg), &planning::haar(&mut rng))
+            .unwrap();
+        for step in &plan.steps {
+            runner.start(step, &cfg.limits);
+            let mut ticks = 0u32;
+            while runner.advance().unwrap() != otg::Status::Finished {
+                ticks += 1;
+            }
+            let executed = f64::from(ticks) * 1e-3;
+            assert!(
+                (executed - step.duration).abs() <= 1.5e-3,
+                "{:?}: planned {} s, executed {executed} s",
+                step.kind,
+                step.duration
+            );
+            steps += 1;
+        }
+    }
+    assert!(steps >= 100, "{steps} steps");
+}

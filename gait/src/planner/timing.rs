@@ -7,35 +7,11 @@
 
 use crate::config::{HandConfig, MotionLimit};
 
-/// Duration of the time-optimal rest-to-rest motion over `distance` (≥ 0)
-/// under velocity, acceleration and jerk limits (seven-phase profile with
-/// phases possibly of zero length). Checked against the trajectory
-/// generator in the executor tests.
+/// Duration of the time-optimal rest-to-rest motion over `distance` under
+/// one motion limit: the trajectory generator's closed form (SPEC §5), so
+/// the planner's costs are the executor's durations.
 pub fn rest_to_rest(distance: f64, lim: &MotionLimit) -> f64 {
-    let d = distance.abs();
-    if d <= 0.0 {
-        return 0.0;
-    }
-    let (v, a, j) = (lim.velocity, lim.acceleration, lim.jerk);
-    // Reaching the velocity limit: with a constant-acceleration phase if
-    // v ≥ a²/j, else the acceleration peaks at √(v j).
-    let t_acc = if v * j >= a * a {
-        v / a + a / j
-    } else {
-        2.0 * (v / j).sqrt()
-    };
-    let d_acc = 0.5 * v * t_acc;
-    if d >= 2.0 * d_acc {
-        return 2.0 * t_acc + (d - 2.0 * d_acc) / v;
-    }
-    // Velocity limit not reached. Peak velocity vp with full acceleration
-    // a: d = vp (vp/a + a/j).
-    let vp = 0.5 * a * (-(a / j) + ((a / j) * (a / j) + 4.0 * d / a).sqrt());
-    if vp * j >= a * a {
-        return 2.0 * (vp / a + a / j);
-    }
-    // Neither limit reached: four jerk phases of equal length, d = 2 j t³.
-    4.0 * (d / (2.0 * j)).cbrt()
+    otg::rest_to_rest_duration(distance, lim.velocity, lim.acceleration, lim.jerk)
 }
 
 /// The durations the planner needs, for one configuration.
