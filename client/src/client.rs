@@ -35,6 +35,9 @@ pub struct GoalTicket {
     pub goal_id: u64,
     /// Accepted, or rejected with a reason.
     pub verdict: Verdict,
+    /// The daemon tick that handled the goal (its status ticks count on
+    /// from there).
+    pub tick: u64,
 }
 
 /// A connection to a running gaitd. See the crate docs for an example.
@@ -338,6 +341,7 @@ impl Client {
         Ok(GoalTicket {
             goal_id,
             verdict: a.verdict()?,
+            tick: a.tick,
         })
     }
 

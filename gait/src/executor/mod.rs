@@ -623,9 +623,10 @@ impl Executor {
         self.phase = Phase::Moving;
         self.set_goal_state(GoalState::Executing);
         self.time_after_step = duration;
-        self.rotation_after_step = self.plan.as_deref().map_or(0.0, |p| {
-            p.steps.iter().map(step_rotation).sum()
-        });
+        self.rotation_after_step = self
+            .plan
+            .as_deref()
+            .map_or(0.0, |p| p.steps.iter().map(step_rotation).sum());
         self.begin_step();
     }
 

@@ -30,6 +30,10 @@ pub struct Args {
     /// Goals sent for goal → answer latency.
     #[arg(long, default_value_t = 200)]
     goals: usize,
+    /// Goals executed for goal → first motion (each is planned, started,
+    /// then canceled).
+    #[arg(long, default_value_t = 10)]
+    motions: usize,
     /// Statuses received for status latency.
     #[arg(long, default_value_t = 5000)]
     statuses: usize,
@@ -377,6 +381,40 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         }
     }
 
+    // goal → first motion: ticks from the tick that accepted the goal to
+    // the first status showing the hand moving for it (planning included).
+    let mut first_motion = Vec::with_capacity(a.motions);
+    let mut planning_ms = Vec::with_capacity(a.motions);
+    for i in 0..a.motions {
+        let goal = GoalSpec::turn([0.0, 0.0, 1.0], 0.3 + 0.05 * i as f64)?;
+        let t = c.reorient(&goal, conn.timeout())?;
+        if t.verdict != Verdict::Accepted {
+            continue;
+        }
+        let goal_id = t.goal_id;
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let t_answer = Instant::now();
+        while Instant::now() < deadline {
+            if let Some(s) = c.latest_status()?
+                && s.goal.goal_id == goal_id
+                && s.phase != shm_schema::Phase::Hold.code()
+            {
+                first_motion.push(s.tick.saturating_sub(t.tick) as f64);
+                planning_ms.push(t_answer.elapsed().as_secs_f64() * 1e3);
+                break;
+            }
+            std::hint::spin_loop();
+        }
+        let _ = c.cancel(Some(goal_id), conn.timeout());
+        // Back at rest before the next one.
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while Instant::now() < deadline {
+            if c.wait_status(conn.timeout())?.phase == shm_schema::Phase::Hold.code() {
+                break;
+            }
+        }
+    }
+
     // status publish → receive, busy-polling
     let (mut status_lat, mut tick_lat) = (
         Vec::with_capacity(a.statuses),
@@ -443,7 +481,8 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         },
         "goal_to_answer_us": summary(&mut goal_answer),
         "goal_verdicts": verdicts,
-        "goal_to_first_motion_ticks": null,
+        "goal_to_first_motion_ticks": summary(&mut first_motion),
+        "goal_to_first_motion_wall_ms": summary(&mut planning_ms),
         "status_publish_to_receive_us": status_s,
         "status_tick_to_receive_us": summary(&mut tick_lat),
         "iceoryx2_one_way_us": pp_s,        "iceoryx2_half_round_trip_us": summary(&mut half_rtt),
@@ -512,7 +551,10 @@ fn print_table(r: &serde_json::Value) {
         &r["iceoryx2_periodic_one_way_us"],
     );
     println!("goal verdicts: {}", r["goal_verdicts"]);
-    println!("goal -> first motion: n/a (no executor in this daemon build)");
+    row(
+        "goal -> first motion [ticks]",
+        &r["goal_to_first_motion_ticks"],
+    );
     let x = |k: &str| r[k].as_f64().map_or("-".into(), |x| format!("{x:.2}x"));
     println!(
         "status / bare iceoryx2 (p50): {} vs ping-pong, {} vs periodic publisher (target <= 2x)",

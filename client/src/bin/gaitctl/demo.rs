@@ -118,9 +118,17 @@ fn progress_line(s: &Status, total: f64) -> String {
 }
 
 /// Runs one goal with live progress; returns (state, seconds, gaits).
-fn run_goal(c: &mut Client, label: &str, goal: &GoalSpec, total: f64, timeout: Duration) -> Result<(GoalState, f64, u32), String> {
+fn run_goal(
+    c: &mut Client,
+    label: &str,
+    goal: &GoalSpec,
+    total: f64,
+    timeout: Duration,
+) -> Result<(GoalState, f64, u32), String> {
     println!("\n== {label}");
-    let t = c.reorient(goal, Duration::from_secs(5)).map_err(|e| e.to_string())?;
+    let t = c
+        .reorient(goal, Duration::from_secs(5))
+        .map_err(|e| e.to_string())?;
     if let gaitd_client::Verdict::Rejected(r) = t.verdict {
         return Err(format!("goal rejected: {r}"));
     }
@@ -131,7 +139,9 @@ fn run_goal(c: &mut Client, label: &str, goal: &GoalSpec, total: f64, timeout: D
             return Err(format!("{label}: no outcome after {timeout:?}"));
         }
         if let Ok(o) = c.wait_outcome(t.goal_id, Duration::from_millis(100)) {
-            let s = c.wait_status(Duration::from_secs(1)).map_err(|e| e.to_string())?;
+            let s = c
+                .wait_status(Duration::from_secs(1))
+                .map_err(|e| e.to_string())?;
             let _ = writeln!(out, "\r{}", progress_line(&s, total));
             println!(
                 "   {} ({}) after {:.2} s, {} gaits",
@@ -168,7 +178,10 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
                 .and_then(|p| p.parent().map(|d| d.join("gaitd")))
                 .unwrap_or_else(|| PathBuf::from("gaitd"))
         });
-        println!("no gaitd running: starting an embedded one ({})", bin.display());
+        println!(
+            "no gaitd running: starting an embedded one ({})",
+            bin.display()
+        );
         let e = Embedded::start(bin)?;
         let c = Client::connect(e.opts.clone()).map_err(|err| {
             let log = std::fs::read_to_string(e.dir.join("gaitd.log")).unwrap_or_default();
@@ -180,7 +193,9 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
         println!("using the running gaitd");
     }
     let mut c = client.expect("connected");
-    let s0 = c.wait_status(Duration::from_secs(5)).map_err(|e| e.to_string())?;
+    let s0 = c
+        .wait_status(Duration::from_secs(5))
+        .map_err(|e| e.to_string())?;
     println!(
         "paper scenario (paper §4, Fig. 4): R = 0.5, r = 0.1, θ = 20°, workspace cones 60°\n\
          start: object q = {:.3?}; fingers f1 f2 f3 on the equator 120° apart (no two-finger\n\
@@ -191,8 +206,14 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
     let tau = std::f64::consts::TAU;
     let timeout = Duration::from_secs_f64(a.goal_timeout);
     let goals = [
-        ("a full turn about z (360°)", GoalSpec::turn([0.0, 0.0, 1.0], tau).unwrap()),
-        ("a full turn about x (360°)", GoalSpec::turn([1.0, 0.0, 0.0], tau).unwrap()),
+        (
+            "a full turn about z (360°)",
+            GoalSpec::turn([0.0, 0.0, 1.0], tau).unwrap(),
+        ),
+        (
+            "a full turn about x (360°)",
+            GoalSpec::turn([1.0, 0.0, 0.0], tau).unwrap(),
+        ),
     ];
     let mut ok = true;
     let mut total_time = 0.0;
@@ -203,7 +224,9 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
         total_time += secs;
         total_gaits += gaits;
     }
-    let s = c.wait_status(Duration::from_secs(2)).map_err(|e| e.to_string())?;
+    let s = c
+        .wait_status(Duration::from_secs(2))
+        .map_err(|e| e.to_string())?;
     let d: f64 = s.object_q.iter().zip(s0.object_q).map(|(x, y)| x * y).sum();
     let err = 2.0 * d.abs().min(1.0).acos();
     println!(
@@ -218,5 +241,9 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
     // The client's node goes first, then the daemon and its directory.
     drop(c);
     drop(embedded);
-    Ok(if ok && err < 1e-6 { ExitCode::SUCCESS } else { ExitCode::from(1) })
+    Ok(if ok && err < 1e-6 {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
 }
