@@ -56,6 +56,19 @@ impl Valid {
         self.bound = bound;
     }
 
+    /// Starts over after a search on the same boundary: every slot up to
+    /// `n + 1` already holds that boundary (`accept` copies it forward), so
+    /// nothing is copied.
+    #[inline]
+    pub(crate) fn restart(&mut self, keep: Keep, bound: f64) {
+        if self.n == 0 {
+            self.list[1] = self.list[0];
+        }
+        self.n = 0;
+        self.keep = keep;
+        self.bound = bound;
+    }
+
     /// Whether a candidate's phases are short enough to be worth checking.
     #[inline]
     pub(crate) fn admits(p: &Profile, bound: f64) -> bool {
