@@ -212,7 +212,7 @@ impl Block {
     #[inline]
     pub fn is_blocked(&self, t: f64) -> bool {
         t < self.t_min - crate::calculator::close_tol(self.t_min)
-            || self.a.is_some_and(|i| i.left < t && t < i.right)
-            || self.b.is_some_and(|i| i.left < t && t < i.right)
+            || self.a.as_ref().is_some_and(|i| i.left < t && t < i.right)
+            || self.b.as_ref().is_some_and(|i| i.left < t && t < i.right)
     }
 }

@@ -268,8 +268,8 @@ impl<const N: usize> Calculator<N> {
                 traj.limiting_dof = Some(i);
                 let b = &self.blocks[i];
                 traj.profiles[i] = match which {
-                    1 => b.a.map_or(b.p_min, |x| x.profile),
-                    2 => b.b.map_or(b.p_min, |x| x.profile),
+                    1 => b.a.as_ref().map_or(b.p_min, |x| x.profile),
+                    2 => b.b.as_ref().map_or(b.p_min, |x| x.profile),
                     _ => b.p_min,
                 };
             }
@@ -321,11 +321,11 @@ impl<const N: usize> Calculator<N> {
                 *p = b.p_min;
                 continue;
             }
-            if let Some(x) = b.a.filter(|x| close(x.right)) {
+            if let Some(x) = b.a.as_ref().filter(|x| close(x.right)) {
                 *p = x.profile;
                 continue;
             }
-            if let Some(x) = b.b.filter(|x| close(x.right)) {
+            if let Some(x) = b.b.as_ref().filter(|x| close(x.right)) {
                 *p = x.profile;
                 continue;
             }
@@ -358,8 +358,8 @@ impl<const N: usize> Calculator<N> {
                 let b = &self.blocks[k % N];
                 match k / N {
                     0 => b.t_min,
-                    1 => b.a.map_or(f64::INFINITY, |x| x.right),
-                    _ => b.b.map_or(f64::INFINITY, |x| x.right),
+                    1 => b.a.as_ref().map_or(f64::INFINITY, |x| x.right),
+                    _ => b.b.as_ref().map_or(f64::INFINITY, |x| x.right),
                 }
             };
             if discrete && raw.is_finite() {

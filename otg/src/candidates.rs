@@ -47,9 +47,24 @@ impl Valid {
     /// Starts over on `boundary` (reusing the memory: no re-initialisation).
     #[inline]
     pub(crate) fn reset(&mut self, boundary: &Profile, keep: Keep, bound: f64) {
-        self.list[0] = *boundary;
+        // Only the boundary matters: every candidate assigns its phase
+        // durations and the check recomputes everything else.
+        self.list[0].set_boundary_from(boundary);
         if keep != Keep::All {
-            self.list[1] = *boundary;
+            self.list[1].set_boundary_from(boundary);
+        }
+        self.n = 0;
+        self.keep = keep;
+        self.bound = bound;
+    }
+
+    /// Starts over after a search on the same boundary: every slot up to
+    /// `n + 1` already holds that boundary (`accept` copies it forward), so
+    /// nothing is copied.
+    #[inline]
+    pub(crate) fn restart(&mut self, keep: Keep, bound: f64) {
+        if self.n == 0 {
+            self.list[1] = self.list[0];
         }
         self.n = 0;
         self.keep = keep;

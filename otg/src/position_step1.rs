@@ -508,7 +508,7 @@ impl Step1 {
         if !block.build(&mut out.list, n) {
             block.build_unpaired(&out.list[..n]);
         }
-        self.repair(input, &up, &down, block, out);
+        self.repair(&up, &down, block, out);
         true
     }
 
@@ -519,12 +519,11 @@ impl Step1 {
     /// (`position_tails.rs`) catch these; if one is shorter, it becomes the
     /// optimum and the durations up to the former optimum are
     /// conservatively blocked.
-    fn repair(&self, input: &Profile, up: &Lim, down: &Lim, block: &mut Block, extra: &mut Valid) {
+    fn repair(&self, up: &Lim, down: &Lim, block: &mut Block, extra: &mut Valid) {
         // Only exact reproductions count: the check's tolerances would
         // otherwise admit trivially short "solutions" of tiny motions.
         let t_old = block.p_min.t_sum[6];
-        extra.reset(
-            input,
+        extra.restart(
             Keep::Shortest {
                 exact: true,
                 position: true,

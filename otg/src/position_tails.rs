@@ -13,11 +13,22 @@ impl Step1 {
     /// Integrates and checks the candidate phases `t` (UDDU signs in the
     /// direction of `m`) if they can improve on the bound.
     #[inline]
-    fn try_tail(out: &mut Valid, t: [f64; 7], l: L, m: &Lim) {
+    fn try_tail(&self, out: &mut Valid, t: [f64; 7], l: L, m: &Lim) {
         // NaN fails both tests.
         let usable = t.iter().all(|&x| x >= 0.0) && t.iter().sum::<f64>() < out.bound();
         if !usable {
             return;
+        }
+        // Three-phase tails reach the target velocity and acceleration by
+        // construction; their distance decides, and is cheap to get first.
+        if t[3..].iter().all(|&x| x == 0.0) {
+            let (mut x, mut v, mut a) = (0.0, self.v0, self.a0);
+            for (dt, j) in t[..3].iter().zip([m.j, 0.0, -m.j]) {
+                (x, v, a) = crate::profile::integrate(*dt, x, v, a, j);
+            }
+            if (x - self.pd).abs() > 1e-8 {
+                return;
+            }
         }
         let p = out.cur();
         p.t = t;
@@ -48,7 +59,7 @@ impl Step1 {
         // One jerk phase.
         let t = (af - a0) / j;
         if t >= 0.0 {
-            Self::try_tail(out, [t, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], L::None, m);
+            self.try_tail(out, [t, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], L::None, m);
         }
 
         // Two jerk phases, intermediate acceleration of either sign.
@@ -56,7 +67,7 @@ impl Step1 {
         if hh >= 0.0 {
             let h = hh.sqrt();
             for h0 in [h, -h] {
-                Self::try_tail(
+                self.try_tail(
                     out,
                     [(h0 - a0) / j, 0.0, (h0 - af) / j, 0.0, 0.0, 0.0, 0.0],
                     L::None,
@@ -69,14 +80,14 @@ impl Step1 {
         let t2 = (a0 - af) / j;
         if a0 != 0.0 && t2 >= 0.0 {
             let t1 = (af_2 - a0_2 + 2.0 * j * (vf - v0)) / (2.0 * a0 * j);
-            Self::try_tail(out, [0.0, t1, t2, 0.0, 0.0, 0.0, 0.0], L::Acc0, m);
+            self.try_tail(out, [0.0, t1, t2, 0.0, 0.0, 0.0, 0.0], L::Acc0, m);
         }
 
         // Jerk to the acceleration limit, hold, jerk to the target.
         let (t0, t2) = ((amax - a0) / j, (amax - af) / j);
         if t0 >= 0.0 && t2 >= 0.0 {
             let t1 = (a0_2 + af_2 - 2.0 * amax * amax + 2.0 * j * (vf - v0)) / (2.0 * amax * j);
-            Self::try_tail(out, [t0, t1, t2, 0.0, 0.0, 0.0, 0.0], L::Acc0, m);
+            self.try_tail(out, [t0, t1, t2, 0.0, 0.0, 0.0, 0.0], L::Acc0, m);
         }
 
         // Tails with a cruise at the velocity limit: only from a state whose
@@ -93,7 +104,7 @@ impl Step1 {
         let cruise_end = (af_3 - a0_3) / (3.0 * jj * vmax) - (vf / vmax + 1.0) * h1 + pd / vmax;
         if into_cruise_up {
             let t3 = cruise_end + (a0 * v0 - af * vf + (af_2 * h1) / 2.0) / (j * vmax);
-            Self::try_tail(
+            self.try_tail(
                 out,
                 [-a0 / j, 0.0, 0.0, t3, h1, 0.0, h1 + af / j],
                 L::Vel,
@@ -103,7 +114,7 @@ impl Step1 {
         if into_cruise_down {
             let t3 = cruise_end + (a0 * v0 - af * vf + (af_2 * h1 + a0_3 / j) / 2.0) / (j * vmax)
                 - (v0 / vmax + 1.0) * a0 / j;
-            Self::try_tail(out, [0.0, 0.0, a0 / j, t3, h1, 0.0, h1 + af / j], L::Vel, m);
+            self.try_tail(out, [0.0, 0.0, a0 / j, t3, h1, 0.0, h1 + af / j], L::Vel, m);
 
             // As above, with the second acceleration plateau.
             let t3 =
@@ -118,7 +129,7 @@ impl Step1 {
                     / (24.0 * amin * jj * vmax);
             let t4 = -amin / j;
             let t5 = -(af_2 / 2.0 - amin * amin + j * (vmax - vf)) / (amin * j);
-            Self::try_tail(
+            self.try_tail(
                 out,
                 [0.0, 0.0, a0 / j, t3, t4, t5, t4 + af / j],
                 L::Acc1Vel,

@@ -132,7 +132,7 @@ impl VelStep1 {
         if !block.build(&mut out.list, n) {
             block.build_unpaired(&out.list[..n]);
         }
-        self.repair(input, &up, &down, block, out);
+        self.repair(&up, &down, block, out);
         true
     }
 
@@ -166,17 +166,9 @@ impl VelStep1 {
         }
     }
 
-    fn repair(
-        &self,
-        input: &Profile,
-        up: &AccLim,
-        down: &AccLim,
-        block: &mut Block,
-        extra: &mut Valid,
-    ) {
+    fn repair(&self, up: &AccLim, down: &AccLim, block: &mut Block, extra: &mut Valid) {
         let t_old = block.p_min.t_sum[6];
-        extra.reset(
-            input,
+        extra.restart(
             Keep::Shortest {
                 exact: true,
                 position: false,
