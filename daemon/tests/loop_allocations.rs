@@ -665,7 +665,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
         "gaits and rolling ran"
     );
     assert!(
-        succeeded > 3 && preempted > 3,
+        succeeded >= 2 && preempted >= 2,
         "goals finished and were preempted"
     );
     drop(rt);
