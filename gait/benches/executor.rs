@@ -23,7 +23,28 @@ fn pct(sorted: &[f64], p: f64) -> f64 {
     sorted[((sorted.len() as f64 * p).ceil() as usize).clamp(1, sorted.len()) - 1]
 }
 
+/// Worst-case grip computation: three contacts (the paper's start, held).
+fn grip_three_contacts() {
+    let cfg = HandConfig::default();
+    let model = gait::executor::grip::GripModel::new(&cfg);
+    let s = HandState::paper_start(&cfg);
+    let mut t = Vec::with_capacity(20_000);
+    for _ in 0..20_000 {
+        let t0 = Instant::now();
+        std::hint::black_box(model.grip(std::hint::black_box(&s), &nalgebra::Vector3::zeros()));
+        t.push(t0.elapsed().as_secs_f64() * 1e6);
+    }
+    t.sort_by(f64::total_cmp);
+    println!(
+        "grip forces, three contacts (paper start): p50 {:.2} µs p99 {:.2} µs max {:.2} µs",
+        pct(&t, 0.5),
+        pct(&t, 0.99),
+        t[t.len() - 1]
+    );
+}
+
 fn main() {
+    grip_three_contacts();
     let goals: u64 = std::env::args()
         .skip(1)
         .find_map(|a| a.parse().ok())

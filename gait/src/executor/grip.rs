@@ -280,7 +280,13 @@ impl GripModel {
                 std::array::from_fn(|i| Vector3::new(f[3 * i], f[3 * i + 1], f[3 * i + 2]));
             v
         };
-        let weight_load = load_parts(&self.load(0));
+        // The least-norm load part of every scenario, once (it does not
+        // depend on the squeeze pattern).
+        let mut loads = [[Vector3::zeros(); 3]; 7];
+        for (s, l) in loads.iter_mut().enumerate().take(self.scenarios()) {
+            *l = load_parts(&self.load(s));
+        }
+        let weight_load = loads[0];
         // Unit chords u_ij from contact i towards j.
         let u = |i: usize, j: usize| (p[j] - p[i]).normalize();
         // Squeeze patterns: weights of the three chord pairs (01, 02, 12).
@@ -294,8 +300,7 @@ impl GripModel {
             ];
             let mut lambda: f64 = 0.0;
             let mut feasible = true;
-            for s in 0..self.scenarios() {
-                let gl = load_parts(&self.load(s));
+            for gl in &loads[..self.scenarios()] {
                 for i in 0..3 {
                     let a = chords[i].dot(&-n[i]);
                     let b = gl[i].dot(&-n[i]);
