@@ -59,14 +59,29 @@ impl<'a> Builder<'a> {
 
     /// A prefix action of the start.
     pub fn prefix(&mut self, a: &PrefixAction) -> Result<(), Blocked> {
-        match *a {
+        match a {
             PrefixAction::Roll(rolls) => {
                 let ratio = self.g.contact_radius / self.g.fingertip_radius;
-                self.push(StepKind::Roll, Motion::Roll { rolls, ratio });
+                self.push(
+                    StepKind::Roll,
+                    Motion::Roll {
+                        rolls: *rolls,
+                        ratio,
+                    },
+                );
                 Ok(())
             }
             PrefixAction::Lift(f) => {
-                self.lift(f);
+                self.lift(*f);
+                Ok(())
+            }
+            PrefixAction::Place {
+                finger,
+                contact,
+                roll,
+            } => self.place(*finger, contact, *roll),
+            PrefixAction::Path(finger, path) => {
+                self.roll_path(*finger, path);
                 Ok(())
             }
         }

@@ -7,15 +7,22 @@
 //! - rotate the object about some other axis (the pair carried along) until
 //!   a placement opens up ([`rotation_escapes`]);
 //! - or roll one grasping finger on the still object to a better contact,
-//!   keeping the pair force-closure at every instant ([`roll_escapes`]).
+//!   keeping the pair force-closure at every instant ([`roll_escapes`]);
+//! - or, when both contacts sit at their roll limits, place the free finger
+//!   so that the three contacts are force-closure, spin the two fingertips
+//!   back to roll zero (spin is allowed in a three-finger hard-contact grasp,
+//!   SPEC §1.2, §2.4) and lift the free finger again ([`unwind`]).
 
 use nalgebra::Vector3;
 
 use super::candidates::Candidates;
 use super::geometry::{BOUNDARY_EPS, Geometry, cone_exit, roll_exit};
+use super::search::{lift_finger, place_finger};
 use super::search::{rotate_hand, split};
+use super::start::PrefixAction;
 use crate::HandConfig;
 use crate::contact::{ContactGeometry, ContactState};
+use crate::grasp::planar::three_hard_certificate;
 use crate::rolling::{RollGoal, RollLimits, RollingPath, plan_roll};
 use crate::state::HandState;
 
@@ -159,4 +166,61 @@ fn path_ok(
                 .iter()
                 .all(|o| (c * g.contact_radius - o).norm() >= g.min_center_distance)
     })
+}
+
+/// What [`unwind`] does and where it ends.
+#[derive(Debug, Clone)]
+pub struct Unwound {
+    /// Place the free finger, spin, spin, lift it.
+    pub actions: Vec<PrefixAction>,
+    /// The two-finger state afterwards (same contacts, rolls near zero).
+    pub hand: HandState,
+}
+
+/// The three-finger unwind (module docs), if a placement of the free finger
+/// makes the three contacts force-closure (planar certificate at θ − margin/2)
+/// and both spins are possible.
+pub fn unwind(
+    g: &Geometry,
+    cand: &Candidates,
+    config: &HandConfig,
+    hand: &HandState,
+) -> Option<Unwound> {
+    let (pair, free) = split(hand)?;
+    let (ca, cb) = (
+        hand.fingers[pair[0]].contact_normal(),
+        hand.fingers[pair[1]].contact_normal(),
+    );
+    let theta = (config.model.friction_angle_deg - 0.5 * config.model.fc_margin_deg).to_radians();
+    let sep = g.cos_sep_contact - BOUNDARY_EPS;
+    let from = hand.fingers[free].center.normalize();
+    // The force-closure placement nearest to where the free finger is.
+    let contact = cand.points[free]
+        .iter()
+        .filter(|c| c.dot(&ca) <= sep && c.dot(&cb) <= sep)
+        .filter(|c| three_hard_certificate(&[ca, cb, **c], theta).is_some_and(|m| m > 1e-6))
+        .max_by(|a, b| a.dot(&from).total_cmp(&b.dot(&from)))?;
+    let mut h = *hand;
+    place_finger(g, &mut h, free, contact, 0.0);
+    let mut actions = vec![PrefixAction::Place {
+        finger: free,
+        contact: *contact,
+        roll: 0.0,
+    }];
+    let cg = ContactGeometry::from_config(config);
+    for &k in &pair {
+        let f = h.fingers[k];
+        let state = ContactState::from_finger(&f, h.object, &cg).ok()?;
+        let mut path = RollingPath::new(cg, state.relative());
+        path.push_spin_roll(-f.roll).ok()?;
+        if path.margins().max_abs_roll > g.roll_limit + 1e-9 {
+            return None;
+        }
+        let end = path.eval(path.length());
+        h.fingers[k] = end.finger_state(&h.object, &cg);
+        actions.push(PrefixAction::Path(k, Box::new(path)));
+    }
+    lift_finger(g, &mut h, free);
+    actions.push(PrefixAction::Lift(free));
+    Some(Unwound { actions, hand: h })
 }

@@ -259,43 +259,88 @@ impl Planner {
         //    finger, to a state from which gaits work (Theory 1, SPEC §4.3).
         summary.escaped = true;
         let mut last_err = PlanError::SearchExhausted;
-        let axes = fibonacci_sphere(self.config.planner.escape_axes as usize);
         for s in &starts {
-            let rotations = escape::rotation_escapes(&self.geom, &self.cand, &s.hand, &axes, 8);
-            let rolls = escape::roll_escapes(&self.geom, &self.cand, &self.config, &s.hand, 2);
-            let tries = rotations
-                .into_iter()
-                .map(Escape::Rotate)
-                .chain(rolls.into_iter().map(|(f, p)| Escape::Roll(f, Box::new(p))));
-            for esc in tries {
-                let h = esc.apply(&s.hand);
-                let (axis2, total2) = rotation_to(&h.object, &goal);
-                let root = Root {
-                    hand: h,
-                    cost: 0.0,
-                    tag: 0,
-                };
-                // Escapes are the rare, hard cases: a smaller budget each
-                // keeps the worst case bounded.
-                let mut problem = self.problem(axis2, total2);
-                problem.max_expansions = (problem.max_expansions / 2).max(1);
-                let Some(found) = problem.solve(&[root]) else {
-                    summary.expansions += problem.max_expansions as u32;
-                    continue;
-                };
+            match self.escape_from(start, &goal, s, &mut summary) {
+                Ok(plan) => return Ok(plan),
+                Err(e) => last_err = e,
+            }
+        }
+        // 3. Still stuck (both contacts at their limits): place the free
+        //    finger for a three-finger grasp, spin the other two back to roll
+        //    zero, lift it again, and escape from there.
+        for s in &starts {
+            let Some(unwound) = escape::unwind(&self.geom, &self.cand, &self.config, &s.hand)
+            else {
+                continue;
+            };
+            let mut s2 = s.clone();
+            s2.actions.extend(unwound.actions);
+            s2.hand = unwound.hand;
+            let (axis2, total2) = rotation_to(&s2.hand.object, &goal);
+            let root = Root {
+                hand: s2.hand,
+                cost: 0.0,
+                tag: 0,
+            };
+            if let Some(found) = self.problem(axis2, total2).solve(&[root]) {
                 summary.expansions += found.expansions as u32;
-                match self.build(
-                    start,
-                    &goal,
-                    s,
-                    Some(&esc),
-                    &axis2,
-                    &found.segments,
-                    summary,
-                ) {
-                    Ok(plan) => return Ok(plan),
-                    Err(e) => last_err = e,
+                if let Ok(plan) =
+                    self.build(start, &goal, &s2, None, &axis2, &found.segments, summary)
+                {
+                    return Ok(plan);
                 }
+            }
+            match self.escape_from(start, &goal, &s2, &mut summary) {
+                Ok(plan) => return Ok(plan),
+                Err(e) => last_err = e,
+            }
+        }
+        Err(last_err)
+    }
+
+    /// Rotation and roll escapes from the state a start reaches, each
+    /// followed by a search (budget halved: these are the rare hard cases).
+    fn escape_from(
+        &self,
+        start: &HandState,
+        goal: &UnitQuaternion<f64>,
+        s: &Start,
+        summary: &mut PlanSummary,
+    ) -> Result<Plan, PlanError> {
+        let mut last_err = PlanError::SearchExhausted;
+        let axes = fibonacci_sphere(self.config.planner.escape_axes as usize);
+        let rotations = escape::rotation_escapes(&self.geom, &self.cand, &s.hand, &axes, 8);
+        let rolls = escape::roll_escapes(&self.geom, &self.cand, &self.config, &s.hand, 2);
+        let tries = rotations
+            .into_iter()
+            .map(Escape::Rotate)
+            .chain(rolls.into_iter().map(|(f, p)| Escape::Roll(f, Box::new(p))));
+        for esc in tries {
+            let h = esc.apply(&s.hand);
+            let (axis2, total2) = rotation_to(&h.object, goal);
+            let root = Root {
+                hand: h,
+                cost: 0.0,
+                tag: 0,
+            };
+            let mut problem = self.problem(axis2, total2);
+            problem.max_expansions = (problem.max_expansions / 2).max(1);
+            let Some(found) = problem.solve(&[root]) else {
+                summary.expansions += problem.max_expansions as u32;
+                continue;
+            };
+            summary.expansions += found.expansions as u32;
+            match self.build(
+                start,
+                goal,
+                s,
+                Some(&esc),
+                &axis2,
+                &found.segments,
+                *summary,
+            ) {
+                Ok(plan) => return Ok(plan),
+                Err(e) => last_err = e,
             }
         }
         Err(last_err)

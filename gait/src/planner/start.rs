@@ -17,12 +17,23 @@ use super::timing::Timing;
 use crate::state::{FingerMode, HandState};
 
 /// Something done before the search's first segment.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum PrefixAction {
     /// Fingers roll on the still object (time-synchronised).
     Roll([Option<GreatCircleRoll>; 3]),
     /// A finger leaves the object.
     Lift(usize),
+    /// A free finger touches down at a contact with a roll preset.
+    Place {
+        /// Finger.
+        finger: usize,
+        /// Unit contact normal.
+        contact: Vector3<f64>,
+        /// Roll τ at touchdown.
+        roll: f64,
+    },
+    /// A finger follows a rolling path (rolls and spins) on the still object.
+    Path(usize, Box<crate::rolling::RollingPath>),
 }
 
 /// A way to reach a two-finger grasp from the start state.
