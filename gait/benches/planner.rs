@@ -31,6 +31,7 @@ fn run(label: &str, n: usize, random_start: bool) {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let (mut times, mut dur, mut gaits) = (Vec::new(), Vec::new(), Vec::new());
     let mut fails = 0;
+    let mut slow = Vec::new();
     for _ in 0..n {
         let start = if random_start {
             planning::random_two_finger_state(&mut rng, &cfg)
@@ -40,13 +41,31 @@ fn run(label: &str, n: usize, random_start: bool) {
         let goal = planning::haar(&mut rng);
         let t0 = Instant::now();
         let r = planner.plan(&start, &goal);
-        times.push(t0.elapsed().as_secs_f64() * 1e3);
+        let ms = t0.elapsed().as_secs_f64() * 1e3;
+        times.push(ms);
+        if let Ok(p) = &r {
+            slow.push((
+                ms,
+                p.summary.escaped,
+                p.summary.expansions,
+                p.summary.goal_angle.to_degrees(),
+            ));
+        }
         match r {
             Ok(p) => {
                 dur.push(p.summary.duration);
                 gaits.push(f64::from(p.summary.gaits));
             }
             Err(_) => fails += 1,
+        }
+    }
+    if std::env::var("GAIT_SLOW").is_ok() {
+        slow.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for s in slow.iter().take(40) {
+            println!(
+                "  slow: {:.2} ms escaped {} expansions {} angle {:.0}",
+                s.0, s.1, s.2, s.3
+            );
         }
     }
     for v in [&mut times, &mut dur, &mut gaits] {

@@ -16,6 +16,7 @@
 
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashSet};
+use std::hash::{BuildHasherDefault, Hasher};
 
 use nalgebra::Vector3;
 
@@ -32,9 +33,36 @@ const MIN_SEGMENT: f64 = 1e-3;
 /// Step by which a segment is shortened until its end state allows a gait.
 const THEORY1_BACKOFF: f64 = 0.035;
 
+/// Most children kept per substitution side (`planner.branching` ≤ this).
+pub const MAX_BRANCHING: usize = 16;
+
 /// Seconds of travel one radian of usable rotation range is worth when
 /// ranking placements (a longer segment saves later gaits).
 const RANGE_WEIGHT: f64 = 2.0;
+
+/// A cheap deterministic hasher for the closed set's integer keys
+/// (multiply–rotate; SipHash's DoS resistance buys nothing here).
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut b = [0u8; 8];
+            b[..chunk.len()].copy_from_slice(chunk);
+            self.write_u64(u64::from_le_bytes(b));
+        }
+    }
+    fn write_u64(&mut self, v: u64) {
+        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+    fn write_i64(&mut self, v: i64) {
+        self.write_u64(v as u64);
+    }
+}
 
 /// One gait (SPEC §4.2): a Place or a Lift.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -135,6 +163,9 @@ struct Node {
     parent: usize,
     edge: Edge,
     root: usize,
+    /// How far the pair can rotate about the axis (computed once, when the
+    /// node is queued).
+    range: f64,
 }
 
 #[derive(PartialEq)]
@@ -252,10 +283,11 @@ impl<'a> Problem<'a> {
         let fresh = self.fresh();
         let mut nodes: Vec<Node> = Vec::with_capacity(4096);
         let mut open = BinaryHeap::new();
-        let mut closed: HashSet<[i64; 13]> = HashSet::new();
+        let mut closed: HashSet<[i64; 13], BuildHasherDefault<KeyHasher>> = HashSet::default();
         let mut seq = 0;
-        let mut push = |nodes: &mut Vec<Node>, open: &mut BinaryHeap<Open>, node: Node| {
+        let mut push = |nodes: &mut Vec<Node>, open: &mut BinaryHeap<Open>, mut node: Node| {
             let range = self.pair_range(&node.hand, node.pair);
+            node.range = range;
             let f = node.g
                 + self.heuristic_weight * self.heuristic(&fresh, self.total - node.done, range);
             nodes.push(node);
@@ -280,6 +312,7 @@ impl<'a> Problem<'a> {
                 parent: usize::MAX,
                 edge: Edge::Root,
                 root: ri,
+                range: 0.0,
             };
             push(&mut nodes, &mut open, node);
         }
@@ -354,13 +387,13 @@ impl<'a> Problem<'a> {
         [
             (a * 3 + b) as i64,
             matches!(n.edge, Edge::Rotate(_)) as i64,
-            q(n.done, 200.0),
-            q(ca.x, 50.0),
-            q(ca.y, 50.0),
-            q(ca.z, 50.0),
-            q(cb.x, 50.0),
-            q(cb.y, 50.0),
-            q(cb.z, 50.0),
+            q(n.done, 30.0),
+            q(ca.x, 15.0),
+            q(ca.y, 15.0),
+            q(ca.z, 15.0),
+            q(cb.x, 15.0),
+            q(cb.y, 15.0),
+            q(cb.z, 15.0),
             q(n.hand.fingers[a].roll, 50.0),
             q(n.hand.fingers[b].roll, 50.0),
             q(n.hand.fingers[a].pole_axis().dot(&self.axis), 50.0),
@@ -381,37 +414,8 @@ impl<'a> Problem<'a> {
             let lose = node.pair[1 - keep_i];
             let c_keep = node.hand.fingers[keep].contact_normal();
             let c_lose = node.hand.fingers[lose].contact_normal();
-            let zs = self.placements(fresh, rem, z, &c_keep, &[c_keep, c_lose], &z_from);
-            // The best placements by range; among them prefer those after
-            // which `lose` (then free) could come back force-closure with
-            // the new contact and so replace `keep` next.
-            let sep = self.geom.cos_sep_contact - BOUNDARY_EPS;
-            let flexible = |i: usize| {
-                self.cand.partners[z][lose][i]
-                    .iter()
-                    .any(|&j| self.cand.points[lose][j as usize].dot(&c_keep) <= sep)
-            };
-            let mut chosen: Vec<usize> = zs
-                .iter()
-                .filter(|&&(_, i)| flexible(i))
-                .take(self.branching)
-                .map(|&(_, i)| i)
-                .collect();
-            if let Some(&(_, i)) = zs.first()
-                && !chosen.contains(&i)
-            {
-                chosen.push(i);
-            }
-            // Also the quickest placement: a good temporary holder.
-            let pts = &self.cand.points[z];
-            if let Some(&(_, i)) = zs
-                .iter()
-                .max_by(|a, b| pts[a.1].dot(&z_from).total_cmp(&pts[b.1].dot(&z_from)))
-                && !chosen.contains(&i)
-            {
-                chosen.push(i);
-            }
-            for i in chosen {
+            let chosen = self.placements(fresh, rem, z, lose, &c_keep, &c_lose, &z_from);
+            for &i in chosen.iter().flatten() {
                 let contact = self.cand.points[z][i];
                 let roll = fresh.preset[z][i];
                 self.substitute_child(node, idx, z, contact, roll, lose, out);
@@ -419,32 +423,67 @@ impl<'a> Problem<'a> {
         }
     }
 
-    /// Every placement of `finger` force-closure with `partner` and clear of
-    /// `others`, best first by the rotation it allows (then travel).
-    /// Entries are (score, candidate index).
+    /// The placements of the free finger `z` (force-closure with `c_keep`,
+    /// clear of both contacts) to expand, in one pass without allocating:
+    /// the best `branching` by score (rotation allowed, then travel) among
+    /// those after which `lose` (then free) could come back force-closure
+    /// with the new contact and so replace `keep` next; the best overall;
+    /// and the quickest to reach (a good temporary holder).
+    #[allow(clippy::too_many_arguments)]
     fn placements(
         &self,
         fresh: &Fresh,
         rem: f64,
-        finger: usize,
-        partner: &Vector3<f64>,
-        others: &[Vector3<f64>],
+        z: usize,
+        lose: usize,
+        c_keep: &Vector3<f64>,
+        c_lose: &Vector3<f64>,
         from: &Vector3<f64>,
-    ) -> Vec<(f64, usize)> {
+    ) -> [Option<usize>; MAX_BRANCHING + 2] {
         let sep = self.geom.cos_sep_contact - BOUNDARY_EPS;
-        let mut out: Vec<(f64, usize)> = self.cand.points[finger]
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| {
-                self.geom.is_good_pair(c, partner) && others.iter().all(|o| c.dot(o) <= sep)
-            })
-            .map(|(i, c)| {
-                let travel = self.timing.transfer_cos(from.dot(c));
-                // Rotation beyond what is left is worth nothing.
-                (-fresh.range[finger][i].min(rem) * RANGE_WEIGHT + travel, i)
-            })
-            .collect();
-        out.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let k = self.branching.min(MAX_BRANCHING);
+        let flexible = |i: usize| {
+            self.cand.partners[z][lose][i]
+                .iter()
+                .any(|&j| self.cand.points[lose][j as usize].dot(c_keep) <= sep)
+        };
+        let mut top = [(f64::INFINITY, usize::MAX); MAX_BRANCHING];
+        let mut n_top = 0;
+        let mut best = (f64::INFINITY, usize::MAX);
+        let mut quick = (f64::NEG_INFINITY, usize::MAX);
+        for (i, c) in self.cand.points[z].iter().enumerate() {
+            if !(self.geom.is_good_pair(c, c_keep) && c.dot(c_keep) <= sep && c.dot(c_lose) <= sep)
+            {
+                continue;
+            }
+            let d = from.dot(c);
+            // Rotation beyond what is left is worth nothing.
+            let score = -fresh.range[z][i].min(rem) * RANGE_WEIGHT + self.timing.transfer_cos(d);
+            if score < best.0 {
+                best = (score, i);
+            }
+            if d > quick.0 {
+                quick = (d, i);
+            }
+            if (n_top < k || score < top[n_top - 1].0) && flexible(i) {
+                let pos = top[..n_top].partition_point(|(s, _)| *s <= score);
+                let end = (n_top + 1).min(k);
+                top.copy_within(pos..end - 1, pos + 1);
+                top[pos] = (score, i);
+                n_top = end;
+            }
+        }
+        let mut out = [None; MAX_BRANCHING + 2];
+        for (o, t) in out.iter_mut().zip(&top[..n_top]) {
+            *o = Some(t.1);
+        }
+        let mut n = n_top;
+        for extra in [best.1, quick.1] {
+            if extra != usize::MAX && !out[..n].contains(&Some(extra)) {
+                out[n] = Some(extra);
+                n += 1;
+            }
+        }
         out
     }
 
@@ -464,7 +503,7 @@ impl<'a> Problem<'a> {
         // Travelled during the previous rotation, if there was one.
         let travel =
             (self.timing.transfer(angle_between(&from, &contact)) - node.prev_rotation).max(0.0);
-        place_finger(self.geom, &mut hand, finger, &contact, roll);
+        place_finger_pose(self.geom, &mut hand, finger, &contact, roll);
         lift_finger(self.geom, &mut hand, lift);
         let Some((pair, free)) = split(&hand) else {
             return;
@@ -484,6 +523,7 @@ impl<'a> Problem<'a> {
                 lift,
             },
             root: node.root,
+            range: 0.0,
         });
     }
 
@@ -491,8 +531,7 @@ impl<'a> Problem<'a> {
     /// half as far.
     fn rotate_children(&self, node: &Node, idx: usize, out: &mut Vec<Node>) {
         let rem = self.total - node.done;
-        let range = self.pair_range(&node.hand, node.pair);
-        let full = range.min(rem);
+        let full = node.range.min(rem);
         if full >= rem - 1e-12 {
             self.rotate_child(node, idx, rem, out);
             return;
@@ -507,18 +546,42 @@ impl<'a> Problem<'a> {
     /// The largest rotation ≤ `t` after which a gait is still possible
     /// (paper Theory 1), if any is worth a segment.
     fn viable(&self, node: &Node, t: f64) -> Option<f64> {
-        let mut i = 0;
-        let mut s = t;
-        while s >= MIN_SEGMENT {
+        let ok = |s: f64| {
             let mut h = node.hand;
             rotate_hand(&mut h, &self.axis, s);
-            if self.theory1(&h, node.pair, node.free) {
-                return Some(s);
-            }
-            i += 1;
-            s = t - i as f64 * THEORY1_BACKOFF;
+            self.theory1(&h, node.pair, node.free)
+        };
+        if ok(t) {
+            return Some(t);
         }
-        None
+        // Coarse steps back to the first rotation that keeps a gait
+        // possible, then refine to the backoff step by bisection.
+        let coarse = 5.0 * THEORY1_BACKOFF;
+        let mut bad = t;
+        let mut good = None;
+        let mut s = t - coarse;
+        while s >= MIN_SEGMENT {
+            if ok(s) {
+                good = Some(s);
+                break;
+            }
+            bad = s;
+            s -= coarse;
+        }
+        let mut good = match good {
+            Some(g) => g,
+            None if MIN_SEGMENT < bad && ok(MIN_SEGMENT) => MIN_SEGMENT,
+            None => return None,
+        };
+        while bad - good > THEORY1_BACKOFF {
+            let mid = 0.5 * (good + bad);
+            if ok(mid) {
+                good = mid;
+            } else {
+                bad = mid;
+            }
+        }
+        Some(good)
     }
 
     fn rotate_child(&self, node: &Node, idx: usize, t: f64, out: &mut Vec<Node>) {
@@ -537,6 +600,7 @@ impl<'a> Problem<'a> {
             parent: idx,
             edge: Edge::Rotate(t),
             root: node.root,
+            range: 0.0,
         });
     }
 }
@@ -583,6 +647,31 @@ pub fn place_finger(
     f.mode = FingerMode::Grasping;
 }
 
+/// What the search needs of a placement: contact, pole axis −c and roll.
+/// The fingertip orientation about its pole is whichever is cheapest (the
+/// plan builder makes the real one with [`place_finger`]); this takes the
+/// minimal rotation e_z → −c from its half-way quaternion, without trig.
+pub fn place_finger_pose(
+    g: &Geometry,
+    hand: &mut HandState,
+    finger: usize,
+    contact: &Vector3<f64>,
+    roll: f64,
+) {
+    let f = &mut hand.fingers[finger];
+    let pole = -contact;
+    // q = (1 + e_z·p, e_z × p) normalised rotates e_z onto p (p ≠ −e_z).
+    let w = 1.0 + pole.z;
+    f.orientation = if w > 1e-9 {
+        nalgebra::UnitQuaternion::new_normalize(nalgebra::Quaternion::new(w, -pole.y, pole.x, 0.0))
+    } else {
+        rotation(&Vector3::x(), std::f64::consts::PI)
+    };
+    f.center = contact * g.contact_radius;
+    f.roll = roll;
+    f.mode = FingerMode::Grasping;
+}
+
 /// Lifts a grasping finger straight up to the transfer height.
 pub fn lift_finger(g: &Geometry, hand: &mut HandState, finger: usize) {
     let f = &mut hand.fingers[finger];
@@ -600,6 +689,30 @@ pub fn rotate_hand(hand: &mut HandState, axis: &Vector3<f64>, angle: f64) {
             f.roll += angle * axis.dot(&pole);
             f.center = q * f.center;
             f.orientation = q * f.orientation;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fast_placement_points_the_pole_at_the_object() {
+        let cfg = crate::HandConfig::default();
+        let g = Geometry::new(&cfg);
+        let mut hand = HandState::paper_start(&cfg);
+        for i in 0..200 {
+            let a = i as f64 * 0.1;
+            let c = Vector3::new(
+                a.cos() * (a * 0.3).sin(),
+                a.sin() * (a * 0.3).sin(),
+                (a * 0.3).cos(),
+            );
+            place_finger_pose(&g, &mut hand, 0, &c, 0.1);
+            let f = hand.fingers[0];
+            assert!((f.pole_axis() + c).norm() < 1e-12, "{c:?}");
+            assert!((f.fingertip_contact() - Vector3::z()).norm() < 1e-12);
         }
     }
 }
