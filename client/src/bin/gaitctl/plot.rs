@@ -335,7 +335,7 @@ pub fn render(t: &Trace) -> String {
     let y = 670.0;
     let _ = write!(
         svg,
-        r#"<text x="{}" y="{}" font-size="13" font-family="sans-serif">finger states (filled: touching; grip shade)</text>"#,
+        r#"<text x="{}" y="{}" font-size="13" font-family="sans-serif">finger states (filled: touching the object)</text>"#,
         x0 + 4.0,
         y + 2.0
     );
@@ -403,7 +403,20 @@ pub fn run(a: &Args) -> Result<ExitCode, String> {
         }
         Some("png") => {
             let mut opt = resvg::usvg::Options::default();
-            opt.fontdb_mut().load_system_fonts();
+            let db = opt.fontdb_mut();
+            db.load_system_fonts();
+            // "sans-serif" maps to Arial by default; use a font that is there.
+            let family = db
+                .faces()
+                .find(|f| f.families.iter().any(|(n, _)| n == "DejaVu Sans"))
+                .or_else(|| db.faces().next())
+                .and_then(|f| f.families.first().map(|(n, _)| n.clone()));
+            match family {
+                Some(name) => db.set_sans_serif_family(name),
+                None => {
+                    eprintln!("gaitctl plot: no fonts found: the PNG has no text (try the .svg)")
+                }
+            }
             let tree = resvg::usvg::Tree::from_str(&svg, &opt).map_err(|e| e.to_string())?;
             let size = tree.size().to_int_size();
             let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height())
