@@ -3,6 +3,9 @@
 //! `cargo bench -p gait --bench planner [-- N]` prints, for goals from the
 //! paper's start and from random valid two-finger states: planning time
 //! p50 / p99 / max, gaits per goal, and execution time per goal.
+//! Planning time is wall time and, beside it, the thread's own CPU time
+//! (`CLOCK_THREAD_CPUTIME_ID`), which on a shared machine excludes the
+//! time other processes held the core.
 
 #[path = "../tests/planning/mod.rs"]
 mod planning;
@@ -18,10 +21,33 @@ fn pct(sorted: &[f64], p: f64) -> f64 {
     sorted[((sorted.len() as f64 * p).ceil() as usize).clamp(1, sorted.len()) - 1]
 }
 
+/// CPU time this thread has run [ms] (CLOCK_THREAD_CPUTIME_ID).
+fn thread_cpu_ms() -> f64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: a valid clock id and a valid out-pointer.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    if rc != 0 {
+        return f64::NAN;
+    }
+    ts.tv_sec as f64 * 1e3 + ts.tv_nsec as f64 * 1e-6
+}
+
 fn run(label: &str, n: usize, random_start: bool) {
     let mut cfg = HandConfig::default();
     if let Ok(b) = std::env::var("GAIT_PAIR_MARGIN") {
         cfg.planner.pair_margin_deg = b.parse().unwrap();
+    }
+    if let Ok(b) = std::env::var("GAIT_DETOUR_AXES") {
+        cfg.planner.detour_axes = b.parse().unwrap();
+    }
+    if let Ok(b) = std::env::var("GAIT_DETOUR_ABOVE") {
+        cfg.planner.detour_above_s = b.parse().unwrap();
+    }
+    if let Ok(b) = std::env::var("GAIT_WEIGHT") {
+        cfg.planner.heuristic_weight = b.parse().unwrap();
     }
     if let Ok(b) = std::env::var("GAIT_BUDGET") {
         cfg.planner.max_expansions = b.parse().unwrap();
@@ -29,7 +55,7 @@ fn run(label: &str, n: usize, random_start: bool) {
     let planner = Planner::new(&cfg).unwrap();
     let paper = HandState::paper_start(&cfg);
     let mut rng = ChaCha8Rng::seed_from_u64(7);
-    let (mut times, mut dur, mut gaits) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut times, mut cpu, mut dur, mut gaits) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let mut fails = 0;
     let mut slow = Vec::new();
     for _ in 0..n {
@@ -39,9 +65,11 @@ fn run(label: &str, n: usize, random_start: bool) {
             paper
         };
         let goal = planning::haar(&mut rng);
+        let c0 = thread_cpu_ms();
         let t0 = Instant::now();
         let r = planner.plan(&start, &goal);
         let ms = t0.elapsed().as_secs_f64() * 1e3;
+        cpu.push(thread_cpu_ms() - c0);
         times.push(ms);
         if let Ok(p) = &r {
             slow.push((
@@ -68,15 +96,18 @@ fn run(label: &str, n: usize, random_start: bool) {
             );
         }
     }
-    for v in [&mut times, &mut dur, &mut gaits] {
+    for v in [&mut times, &mut cpu, &mut dur, &mut gaits] {
         v.sort_by(f64::total_cmp);
     }
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     println!(
-        "{label:<22} n={n} fails={fails} | plan ms p50 {:.3} p99 {:.3} max {:.3} | exec s mean {:.2} p95 {:.2} max {:.2} | gaits mean {:.2} p95 {} max {}",
+        "{label:<22} n={n} fails={fails} | plan ms p50 {:.3} p99 {:.3} max {:.3} (cpu {:.3} / {:.3} / {:.3}) | exec s mean {:.2} p95 {:.2} max {:.2} | gaits mean {:.2} p95 {} max {}",
         pct(&times, 0.5),
         pct(&times, 0.99),
         times[times.len() - 1],
+        pct(&cpu, 0.5),
+        pct(&cpu, 0.99),
+        cpu[cpu.len() - 1],
         mean(&dur),
         pct(&dur, 0.95),
         dur[dur.len() - 1],

@@ -198,6 +198,12 @@ pub struct PlannerConfig {
     /// Directions tried when the object must first rotate about another
     /// axis (paper Theory 1 fails, SPEC §4.3).
     pub escape_axes: u32,
+    /// Plans longer than this [s] also try a first rotation about other
+    /// axes and keep the quickest (PLANNER-NOTES; costs planning time only
+    /// for long plans).
+    pub detour_above_s: f64,
+    /// Axes tried for such a detour (0: never).
+    pub detour_axes: u32,
     /// Extra separation [deg] beyond the force-closure boundary (with its
     /// margin) of every pair the planner makes, and the extra the roll
     /// from a three-finger start aims for. Pairs near the boundary need
@@ -217,7 +223,9 @@ impl Default for PlannerConfig {
             branching: 3,
             max_expansions: 3000,
             escape_axes: 64,
-            heuristic_weight: 1.3,
+            detour_above_s: 13.0,
+            detour_axes: 48,
+            heuristic_weight: 1.5,
             pair_margin_deg: 1.0,
         }
     }
@@ -529,6 +537,20 @@ impl HandConfig {
             3.0,
             4096.0,
             "in [4, 4096]",
+        )?;
+        in_range(
+            "planner.detour_above_s",
+            p.detour_above_s,
+            0.0,
+            1e4,
+            "in (0, 10000] s",
+        )?;
+        in_range(
+            "planner.detour_axes",
+            f64::from(p.detour_axes),
+            -1.0,
+            1024.0,
+            "in [0, 1024]",
         )?;
         // > 0: the roll from a three-finger start must end strictly inside
         // the force-closure margin (SPEC §4.3).

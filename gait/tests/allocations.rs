@@ -5,53 +5,18 @@
 
 mod common;
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
 use gait::grasp::{ConicSolver, Contact, ContactForce, Friction, GraspForceSolver, Load};
 use gait::hand::{FcMethod, InvariantChecker};
 use gait::{FingerMode, HandConfig, HandState};
 use nalgebra::{UnitQuaternion, Vector3};
 use rand::Rng;
 
-struct Counting;
-
-// Per thread, so tests running in parallel do not see each other.
-thread_local! {
-    static ALLOCS: Cell<usize> = const { Cell::new(0) };
-    static BYTES: Cell<usize> = const { Cell::new(0) };
-}
-
-fn note(bytes: usize) {
-    ALLOCS.with(|c| c.set(c.get() + 1));
-    BYTES.with(|c| c.set(c.get() + bytes));
-}
-
-// SAFETY: forwards to the system allocator, only counting.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        note(layout.size());
-        // SAFETY: same contract as the caller's.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: same contract as the caller's.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        note(new_size);
-        // SAFETY: same contract as the caller's.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "support/counting.rs"]
+mod counting;
 
 fn count<T>(f: impl FnOnce() -> T) -> (T, usize, usize) {
-    let (a0, b0) = (ALLOCS.with(Cell::get), BYTES.with(Cell::get));
-    let r = f();
-    (r, ALLOCS.with(Cell::get) - a0, BYTES.with(Cell::get) - b0)
+    let (r, c) = counting::count(f);
+    (r, c.allocs, c.bytes)
 }
 
 #[test]

@@ -13,27 +13,9 @@ use gait::contact::{
 use gait::rolling::{RollGoal, RollLimits, plan_roll};
 use gait::sphere::best_chart;
 use nalgebra::Vector3;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-struct Counting;
-
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        // SAFETY: forwarded unchanged to the system allocator.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: forwarded unchanged to the system allocator.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "support/counting.rs"]
+mod counting;
 
 #[test]
 fn kinematics_hot_paths_do_not_allocate() {
@@ -53,46 +35,51 @@ fn kinematics_hot_paths_do_not_allocate() {
         };
         cases.push((rel, common::unit(&mut rng), common::rotation(&mut rng)));
     }
-    let before = ALLOCS.load(Ordering::Relaxed);
-    assert!(before > 0, "the counting allocator must see the setup");
-    let mut checksum = 0.0;
-    for (rel, target, object) in &cases {
-        let goal = RollGoal {
-            target: *target,
-            final_roll: Some(0.1),
-        };
-        let path = plan_roll(&g, rel, &goal, &lim).unwrap();
-        for i in 0..=1000 {
-            let e = path.eval(path.length() * i as f64 / 1000.0);
-            checksum += e.roll + e.contact.x;
+    let (_, setup) = counting::count(|| Vec::<u8>::with_capacity(8));
+    assert_eq!(
+        setup.allocs, 1,
+        "the counting allocator must see allocations"
+    );
+    let (checksum, heap) = counting::count(|| {
+        let mut checksum = 0.0;
+        for (rel, target, object) in &cases {
+            let goal = RollGoal {
+                target: *target,
+                final_roll: Some(0.1),
+            };
+            let path = plan_roll(&g, rel, &goal, &lim).unwrap();
+            for i in 0..=1000 {
+                let e = path.eval(path.length() * i as f64 / 1000.0);
+                checksum += e.roll + e.contact.x;
+            }
+            checksum += path.margins().min_hemisphere + path.max_angle_from(&Vector3::x());
+            let s = ContactState::from_relative(rel, *object);
+            let b = BodyRates {
+                object: Vector3::new(0.1, 0.2, 0.3),
+                fingertip: Vector3::new(-1.0, 0.5, 0.2),
+                slip: Vector3::zeros(),
+            };
+            let mut vi = VectorIntegrator::new(g, s);
+            let mut ci = ChartIntegrator::new(
+                g,
+                s.chart_contact(
+                    best_chart(&s.fingertip_contact()),
+                    best_chart(&s.object_contact()),
+                ),
+            );
+            for k in 0..100 {
+                vi.step(k as f64 * 1e-3, 1e-3, |_, _| b);
+                vi.advance_constant(&b, 1e-3);
+                ci.step(k as f64 * 1e-3, 1e-3, |_| ContactTwist {
+                    linear: Vector3::zeros(),
+                    angular: Vector3::new(1.0, -0.5, 0.1),
+                });
+                checksum += contact_rates(&g, &vi.state, &b).roll;
+            }
+            checksum += ci.state.psi + vi.state.roll;
         }
-        checksum += path.margins().min_hemisphere + path.max_angle_from(&Vector3::x());
-        let s = ContactState::from_relative(rel, *object);
-        let b = BodyRates {
-            object: Vector3::new(0.1, 0.2, 0.3),
-            fingertip: Vector3::new(-1.0, 0.5, 0.2),
-            slip: Vector3::zeros(),
-        };
-        let mut vi = VectorIntegrator::new(g, s);
-        let mut ci = ChartIntegrator::new(
-            g,
-            s.chart_contact(
-                best_chart(&s.fingertip_contact()),
-                best_chart(&s.object_contact()),
-            ),
-        );
-        for k in 0..100 {
-            vi.step(k as f64 * 1e-3, 1e-3, |_, _| b);
-            vi.advance_constant(&b, 1e-3);
-            ci.step(k as f64 * 1e-3, 1e-3, |_| ContactTwist {
-                linear: Vector3::zeros(),
-                angular: Vector3::new(1.0, -0.5, 0.1),
-            });
-            checksum += contact_rates(&g, &vi.state, &b).roll;
-        }
-        checksum += ci.state.psi + vi.state.roll;
-    }
-    let after = ALLOCS.load(Ordering::Relaxed);
+        checksum
+    });
     assert!(checksum.is_finite());
-    assert_eq!(after - before, 0, "allocations on the hot path");
+    assert_eq!(heap.allocs, 0, "allocations on the hot path");
 }

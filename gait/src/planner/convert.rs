@@ -177,13 +177,13 @@ impl<'a> Builder<'a> {
         &self,
         finger: usize,
         target: &Vector3<f64>,
+        rho: f64,
     ) -> Result<([Option<FreePath>; 2], bool), Blocked> {
         let from = self.hand.fingers[finger].center.normalize();
         if angle_between(&from, target) < 1e-12 {
             return Ok(([None, None], true));
         }
         let (others, n) = other_centers(&self.hand, finger);
-        let rho = self.g.transfer_radius;
         let direct = FreePath::arc(&from, target, rho);
         if path_clear(self.g, &direct, &others[..n]) {
             return Ok(([Some(direct), None], false));
@@ -205,10 +205,19 @@ impl<'a> Builder<'a> {
         contact: &Vector3<f64>,
         roll: f64,
     ) -> Result<(), Blocked> {
-        self.raise_to_transfer_height(finger)?;
+        // Travel at the height the finger hovers at (a start state may leave
+        // it anywhere in its shell); only when that is blocked go up to the
+        // transfer height first.
+        let rho = self.hand.fingers[finger].center.norm();
+        let arcs = match self.route(finger, contact, rho) {
+            Ok((arcs, _)) => arcs,
+            Err(_) => {
+                self.raise_to_transfer_height(finger)?;
+                self.route(finger, contact, self.g.transfer_radius)?.0
+            }
+        };
         let f = self.hand.fingers[finger];
         let mut turn = Reorientation::towards(&f.orientation, &(-contact), roll - f.roll);
-        let (arcs, _) = self.route(finger, contact)?;
         let n_arcs = arcs.iter().flatten().count();
         for (i, arc) in arcs.iter().flatten().enumerate() {
             // The whole turn happens on the last arc.
@@ -241,7 +250,7 @@ impl<'a> Builder<'a> {
                 finger,
                 path: FreePath::Radial {
                     dir: *contact,
-                    from: self.g.transfer_radius,
+                    from: self.hand.fingers[finger].center.norm(),
                     to: self.g.contact_radius,
                 },
                 turn,
@@ -271,16 +280,15 @@ impl<'a> Builder<'a> {
             );
             return Ok(());
         };
-        let at_height =
-            (self.hand.fingers[z].center.norm() - self.g.transfer_radius).abs() <= 1e-12;
         if let Some((finger, target, roll)) = next
             && finger == z
-            && at_height
         {
             let f = self.hand.fingers[z];
-            let from = f.center.normalize();
+            let rho = f.center.norm();
+            let from = f.center / rho;
             if angle_between(&from, &target) > 1e-12 {
-                let path = FreePath::arc(&from, &target, self.g.transfer_radius);
+                // At the height it hovers at: the placement descends from there.
+                let path = FreePath::arc(&from, &target, rho);
                 if sweep_clear(self.g, &self.hand, z, axis, angle, Some(&path)) {
                     let turn = Reorientation::towards(&f.orientation, &(-target), roll - f.roll);
                     self.push(

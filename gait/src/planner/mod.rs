@@ -15,6 +15,7 @@
 pub mod candidates;
 pub mod collision;
 pub mod convert;
+mod detour;
 pub mod escape;
 pub mod geometry;
 pub mod plan;
@@ -252,7 +253,7 @@ impl Planner {
             summary.expansions += found.expansions as u32;
             let s = &starts[found.tag];
             if let Ok(plan) = self.build(start, &goal, s, None, &axis, &found.segments, summary) {
-                return Ok(plan);
+                return Ok(self.detour(start, &goal, &starts, plan, &mut summary));
             }
         }
         // 2. Escape: rotate about another axis first, or roll a grasping
@@ -261,7 +262,7 @@ impl Planner {
         let mut last_err = PlanError::SearchExhausted;
         for s in &starts {
             match self.escape_from(start, &goal, s, &mut summary) {
-                Ok(plan) => return Ok(plan),
+                Ok(plan) => return Ok(self.detour(start, &goal, &starts, plan, &mut summary)),
                 Err(e) => last_err = e,
             }
         }
