@@ -121,15 +121,18 @@ impl Geometry {
     }
 }
 
-/// The sinusoid d·c(t) = A + M cos(t − t0) for c rotated about `k`.
+/// The sinusoid d·c(t) = A + M cos(t − t0) = A + B cos t + C sin t for c
+/// rotated about `k`. Kept as (A, B, C): the phase t0 = atan2(C, B) costs
+/// an `atan2` and is only needed when a crossing has to be located, which
+/// the planner's range queries mostly decide without it.
 #[derive(Debug, Clone, Copy)]
 pub struct Sinusoid {
     /// Offset A.
     pub a: f64,
-    /// Amplitude M ≥ 0.
-    pub m: f64,
-    /// Phase t0.
-    pub t0: f64,
+    /// Cosine coefficient B = M cos t0.
+    pub b: f64,
+    /// Sine coefficient C = M sin t0.
+    pub c: f64,
 }
 
 impl Sinusoid {
@@ -137,34 +140,45 @@ impl Sinusoid {
     pub fn new(k: &Vector3<f64>, c: &Vector3<f64>, d: &Vector3<f64>) -> Self {
         let kc = k.dot(c);
         let c_perp = c - k * kc;
-        let b = d.dot(&c_perp);
-        let cc = d.dot(&k.cross(&c_perp));
         Self {
             a: kc * k.dot(d),
-            m: b.hypot(cc),
-            t0: cc.atan2(b),
+            b: d.dot(&c_perp),
+            c: d.dot(&k.cross(&c_perp)),
         }
+    }
+
+    /// Amplitude M ≥ 0.
+    pub fn m(&self) -> f64 {
+        (self.b * self.b + self.c * self.c).sqrt()
+    }
+
+    /// Phase t0 (the first peak).
+    pub fn t0(&self) -> f64 {
+        self.c.atan2(self.b)
     }
 
     /// Value at t.
     pub fn at(&self, t: f64) -> f64 {
-        self.a + self.m * (t - self.t0).cos()
+        let (sin, cos) = t.sin_cos();
+        self.a + self.b * cos + self.c * sin
     }
 
     /// First t ≥ 0 at which the value falls below `level`, given it is
     /// ≥ `level` at t = 0; `f64::INFINITY` if it never does. Returns 0 if
     /// it is already below.
     pub fn first_below(&self, level: f64) -> f64 {
-        if self.a - self.m >= level {
+        let m = self.m();
+        if self.a - m >= level {
             return f64::INFINITY;
         }
-        if self.at(0.0) < level {
+        // Value at t = 0 is A + B.
+        if self.a + self.b < level {
             return 0.0;
         }
         // m > 0 here. cos(u) ≥ ρ on u ∈ [−acos ρ, acos ρ], u = t − t0.
-        let rho = ((level - self.a) / self.m).clamp(-1.0, 1.0);
+        let rho = ((level - self.a) / m).clamp(-1.0, 1.0);
         let half = rho.acos();
-        let u0 = wrap_pi(-self.t0);
+        let u0 = wrap_pi(-self.t0());
         (half - u0).max(0.0)
     }
 
@@ -173,21 +187,22 @@ impl Sinusoid {
     pub fn first_above(&self, level: f64) -> f64 {
         Sinusoid {
             a: -self.a,
-            m: self.m,
-            t0: self.t0 + std::f64::consts::PI,
+            b: -self.b,
+            c: -self.c,
         }
         .first_below(-level)
     }
 
     /// Maximum over t ∈ [0, t_end].
     pub fn max_on(&self, t_end: f64) -> f64 {
-        let mut best = self.at(0.0).max(self.at(t_end));
+        let mut best = (self.a + self.b).max(self.at(t_end));
         // Peaks at t = t0 + 2πn.
         let tau = std::f64::consts::TAU;
-        let n = ((0.0 - self.t0) / tau).ceil();
-        let peak = self.t0 + n * tau;
+        let t0 = self.t0();
+        let n = ((0.0 - t0) / tau).ceil();
+        let peak = t0 + n * tau;
         if peak <= t_end {
-            best = best.max(self.a + self.m);
+            best = best.max(self.a + self.m());
         }
         best
     }
