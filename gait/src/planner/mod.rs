@@ -159,7 +159,7 @@ impl Planner {
             return Err(PlanError::NonFiniteState);
         }
         let (axis, total) = rotation_to(&start.object, &goal);
-        self.plan_about(start, &goal, axis, total)
+        self.plan_about(start, &goal, axis, total, true)
     }
 
     /// Plans a rotation of the object by `angle` (any size, e.g. a full
@@ -186,15 +186,19 @@ impl Planner {
             (axis / n, angle)
         };
         let goal = rotation(&axis, angle) * start.object;
-        self.plan_about(start, &goal, axis, angle)
+        self.plan_about(start, &goal, axis, angle, false)
     }
 
+    /// Plans the rotation by `total` about `axis` to `goal`. `detours`
+    /// allows a first rotation about another axis when that is quicker
+    /// (only for orientation goals: a requested turn must turn that far).
     fn plan_about(
         &self,
         start: &HandState,
         goal: &UnitQuaternion<f64>,
         axis: Vector3<f64>,
         total: f64,
+        detours: bool,
     ) -> Result<Plan, PlanError> {
         let goal = *goal;
         let n_grasp = start.grasping().1;
@@ -253,6 +257,9 @@ impl Planner {
             summary.expansions += found.expansions as u32;
             let s = &starts[found.tag];
             if let Ok(plan) = self.build(start, &goal, s, None, &axis, &found.segments, summary) {
+                if !detours {
+                    return Ok(plan);
+                }
                 return Ok(self.detour(start, &goal, &starts, plan, &mut summary));
             }
         }
@@ -262,7 +269,10 @@ impl Planner {
         let mut last_err = PlanError::SearchExhausted;
         for s in &starts {
             match self.escape_from(start, &goal, s, &mut summary) {
-                Ok(plan) => return Ok(self.detour(start, &goal, &starts, plan, &mut summary)),
+                Ok(plan) if detours => {
+                    return Ok(self.detour(start, &goal, &starts, plan, &mut summary));
+                }
+                Ok(plan) => return Ok(plan),
                 Err(e) => last_err = e,
             }
         }
