@@ -77,6 +77,7 @@ fn run(label: &str, n: usize, random_start: bool) {
                 p.summary.escaped,
                 p.summary.expansions,
                 p.summary.goal_angle.to_degrees(),
+                p.summary.duration,
             ));
         }
         match r {
@@ -85,6 +86,16 @@ fn run(label: &str, n: usize, random_start: bool) {
                 gaits.push(f64::from(p.summary.gaits));
             }
             Err(_) => fails += 1,
+        }
+    }
+    if std::env::var("GAIT_LONG").is_ok() {
+        let mut long = slow.clone();
+        long.sort_by(|a, b| b.4.total_cmp(&a.4));
+        for s in long.iter().take(20) {
+            println!(
+                "  long: {:.2} s escaped {} expansions {} angle {:.0} (planned in {:.2} ms)",
+                s.4, s.1, s.2, s.3, s.0
+            );
         }
     }
     if std::env::var("GAIT_SLOW").is_ok() {

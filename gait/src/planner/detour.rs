@@ -74,7 +74,7 @@ impl Planner {
             }
         }
         cands.sort_by(|a, b| a.bound.total_cmp(&b.bound));
-        let mut budget = p.max_expansions as usize / 2;
+        let mut budget = p.max_expansions as usize;
         for c in &cands {
             if budget == 0 || c.bound >= best.summary.duration {
                 break;
@@ -82,7 +82,7 @@ impl Planner {
             let s = &starts[c.start];
             let (axis2, total2) = rotation_to(&c.hand.object, goal);
             let mut problem = self.problem(axis2, total2);
-            problem.max_expansions = (problem.max_expansions / 8).clamp(1, budget);
+            problem.max_expansions = (problem.max_expansions / 4).clamp(1, budget);
             let root = Root {
                 hand: c.hand,
                 cost: 0.0,
