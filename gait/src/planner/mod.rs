@@ -41,6 +41,11 @@ use timing::Timing;
 /// Heuristic weight of the retry when the first search runs out of budget.
 const GREEDY_WEIGHT: f64 = 3.0;
 
+/// Longest piece of a turn planned on its own when the whole turn is too
+/// long for one search [rad] (short enough that an escape inside a piece
+/// cannot reverse its direction).
+const TURN_CHUNK: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
+
 /// Why no plan was returned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum PlanError {
@@ -159,14 +164,15 @@ impl Planner {
             return Err(PlanError::NonFiniteState);
         }
         let (axis, total) = rotation_to(&start.object, &goal);
-        self.plan_about(start, &goal, axis, total, true)
+        self.plan_about(start, &goal, axis, total, false)
     }
 
     /// Plans a rotation of the object by `angle` (any size, e.g. a full
     /// turn) about the hand-frame `axis`: the object turns that far, not
     /// just to the orientation it ends at. (If gaits are impossible from the
-    /// start, the escape motion comes first and the rest of the turn is then
-    /// the shortest one to the same end orientation.)
+    /// start, an escape rotation about another axis comes first; the rest
+    /// then reaches the same end orientation with the requested number of
+    /// full turns, about an axis near `axis`.)
     pub fn plan_rotation(
         &self,
         start: &HandState,
@@ -186,20 +192,72 @@ impl Planner {
             (axis / n, angle)
         };
         let goal = rotation(&axis, angle) * start.object;
-        self.plan_about(start, &goal, axis, angle, false)
+        match self.plan_about(start, &goal, axis, angle, true) {
+            Err(PlanError::SearchExhausted | PlanError::Blocked { .. }) if angle > TURN_CHUNK => {
+                self.plan_in_chunks(start, &axis, angle)
+            }
+            r => r,
+        }
     }
 
-    /// Plans the rotation by `total` about `axis` to `goal`. `detours`
-    /// allows a first rotation about another axis when that is quicker
-    /// (only for orientation goals: a requested turn must turn that far).
+    /// A long turn as consecutive turns of at most [`TURN_CHUNK`], each
+    /// planned from where the previous one ends: the fallback when one
+    /// search over the whole turn runs out of budget (many full turns, or
+    /// an escape first).
+    fn plan_in_chunks(
+        &self,
+        start: &HandState,
+        axis: &Vector3<f64>,
+        angle: f64,
+    ) -> Result<Plan, PlanError> {
+        let pieces = (angle / TURN_CHUNK).ceil().max(1.0);
+        let piece = angle / pieces;
+        let mut steps = Vec::new();
+        let mut summary = PlanSummary {
+            goal_angle: angle,
+            ..PlanSummary::default()
+        };
+        let mut at = *start;
+        for _ in 0..pieces as usize {
+            let goal = rotation(axis, piece) * at.object;
+            let plan = self.plan_about(&at, &goal, *axis, piece, true)?;
+            at = plan.end_state();
+            let s = plan.summary;
+            summary.gaits += s.gaits;
+            summary.rotations += s.rotations;
+            summary.rolls += s.rolls;
+            summary.duration += s.duration;
+            summary.escaped |= s.escaped;
+            summary.expansions += s.expansions;
+            steps.extend(plan.steps);
+        }
+        Ok(Plan {
+            start: *start,
+            goal: rotation(axis, angle) * start.object,
+            steps,
+            summary,
+        })
+    }
+
+    /// Plans the rotation by `total` about `axis` to `goal`. For an
+    /// orientation goal (`turn` false) a first rotation about another axis
+    /// is allowed when that is quicker; a requested turn must turn that far,
+    /// and when an escape is unavoidable it still makes its full turns
+    /// (`rest_after_escape`).
     fn plan_about(
         &self,
         start: &HandState,
         goal: &UnitQuaternion<f64>,
         axis: Vector3<f64>,
         total: f64,
-        detours: bool,
+        turn: bool,
     ) -> Result<Plan, PlanError> {
+        let detours = !turn;
+        let full_turns = if turn {
+            Some((axis, (total / std::f64::consts::TAU + 1e-9).floor()))
+        } else {
+            None
+        };
         let goal = *goal;
         let n_grasp = start.grasping().1;
         if n_grasp < 2 {
@@ -268,7 +326,7 @@ impl Planner {
         summary.escaped = true;
         let mut last_err = PlanError::SearchExhausted;
         for s in &starts {
-            match self.escape_from(start, &goal, s, &mut summary) {
+            match self.escape_from(start, &goal, s, full_turns, &mut summary) {
                 Ok(plan) if detours => {
                     return Ok(self.detour(start, &goal, &starts, plan, &mut summary));
                 }
@@ -287,7 +345,7 @@ impl Planner {
             let mut s2 = s.clone();
             s2.actions.extend(unwound.actions);
             s2.hand = unwound.hand;
-            let (axis2, total2) = rotation_to(&s2.hand.object, &goal);
+            let (axis2, total2) = rest_after_escape(&s2.hand.object, &goal, full_turns);
             let root = Root {
                 hand: s2.hand,
                 cost: 0.0,
@@ -301,7 +359,7 @@ impl Planner {
                     return Ok(plan);
                 }
             }
-            match self.escape_from(start, &goal, &s2, &mut summary) {
+            match self.escape_from(start, &goal, &s2, full_turns, &mut summary) {
                 Ok(plan) => return Ok(plan),
                 Err(e) => last_err = e,
             }
@@ -316,6 +374,7 @@ impl Planner {
         start: &HandState,
         goal: &UnitQuaternion<f64>,
         s: &Start,
+        full_turns: Option<(Vector3<f64>, f64)>,
         summary: &mut PlanSummary,
     ) -> Result<Plan, PlanError> {
         let mut last_err = PlanError::SearchExhausted;
@@ -328,7 +387,7 @@ impl Planner {
             .chain(rolls.into_iter().map(|(f, p)| Escape::Roll(f, Box::new(p))));
         for esc in tries {
             let h = esc.apply(&s.hand);
-            let (axis2, total2) = rotation_to(&h.object, goal);
+            let (axis2, total2) = rest_after_escape(&h.object, goal, full_turns);
             let root = Root {
                 hand: h,
                 cost: 0.0,
@@ -475,6 +534,30 @@ pub fn rotation_to(from: &UnitQuaternion<f64>, to: &UnitQuaternion<f64>) -> (Vec
     match d.axis_angle() {
         Some((axis, angle)) if angle > 0.0 => (axis.into_inner(), angle),
         _ => (Vector3::z(), 0.0),
+    }
+}
+
+/// The rotation left after an escape: the shortest one to `goal`, or, for
+/// a requested turn of `n` ≥ 1 full turns about `k` (`full_turns`), the
+/// same end orientation reached with `n` full turns added, turning the way
+/// `k` points (the escape has moved the object off the axis, so the turn
+/// cannot stay exactly about `k`; it must not become a no-op either).
+fn rest_after_escape(
+    from: &UnitQuaternion<f64>,
+    goal: &UnitQuaternion<f64>,
+    full_turns: Option<(Vector3<f64>, f64)>,
+) -> (Vector3<f64>, f64) {
+    let (a, t) = rotation_to(from, goal);
+    match full_turns {
+        Some((k, n)) if n >= 1.0 => {
+            let turns = std::f64::consts::TAU * n;
+            if a.dot(&k) >= 0.0 {
+                (a, t + turns)
+            } else {
+                (-a, turns - t)
+            }
+        }
+        _ => (a, t),
     }
 }
 
