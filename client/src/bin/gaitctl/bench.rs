@@ -43,6 +43,17 @@ pub struct Args {
     /// Print only the JSON.
     #[arg(long)]
     json: bool,
+    /// Instead of the latency benchmarks: a soak run of this many seconds
+    /// (a stream of goals, daemon RSS sampled; see `soak`).
+    #[arg(long, value_name = "SECONDS")]
+    soak: Option<f64>,
+    /// Soak: seconds between RSS samples.
+    #[arg(long, default_value_t = 10.0)]
+    sample_every: f64,
+    /// Soak: seconds of warm-up before growth is counted (default: a tenth
+    /// of the run, at most 120 s).
+    #[arg(long)]
+    warmup: Option<f64>,
 }
 
 /// Options of the hidden echo process.
@@ -342,20 +353,19 @@ fn periodic(
     Ok(lat)
 }
 
-fn rss_kb(pid: i32) -> Option<(u64, u64)> {
-    let text = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
-    let field = |name: &str| {
-        text.lines()
-            .find(|l| l.starts_with(name))
-            .and_then(|l| l.split_whitespace().nth(1))
-            .and_then(|v| v.parse().ok())
-    };
-    Some((field("VmRSS:")?, field("VmHWM:")?))
-}
-
 /// Runs the benchmarks.
 pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let mut c = conn.connect()?;
+    if let Some(seconds) = a.soak {
+        let warmup = a.warmup.unwrap_or((seconds / 10.0).min(120.0));
+        return crate::soak::run(
+            &mut c,
+            seconds,
+            Duration::from_secs_f64(a.sample_every.max(0.1)),
+            Duration::from_secs_f64(warmup.max(0.0)),
+            a.json,
+        );
+    }
     let first = c.wait_status(conn.timeout())?;
 
     // goal → answer
@@ -456,7 +466,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
             json!({"below_us": if i + 1 < JITTER_BUCKETS { Some(jitter_bucket_upper_ns(i) / 1000) } else { None }, "count": n})
         })
         .collect();
-    let rss = c.daemon_pid().and_then(rss_kb);
+    let rss = c.daemon_pid().and_then(crate::soak::rss_kb);
     let status_s = summary(&mut status_lat);
     let pp_s = summary(&mut one_way);
     let periodic_s = summary(&mut periodic_lat);

@@ -10,6 +10,7 @@ mod offline;
 mod plan;
 mod plot;
 mod reorient;
+mod soak;
 mod status;
 mod tracefile;
 mod watch;
