@@ -69,9 +69,13 @@ fn main() -> Result<()> {
     let (outbox, writer) = outbox::spawn(
         services.out,
         names.clone(),
-        cfg.daemon.status_notify_every.into(),
+        outbox::WriterSettings {
+            status_notify_every: cfg.daemon.status_notify_every.into(),
+            wake: cfg.daemon.writer_wake,
+            period: cfg.period_ns(),
+            cpus: cfg.rt.background_cpus.clone(),
+        },
         shared.clone(),
-        cfg.rt.background_cpus.clone(),
     )?;
     info!(
         prefix = %settings.service_prefix,
@@ -147,6 +151,9 @@ fn main() -> Result<()> {
             ),
         }
     }
+    // Without SCHED_FIFO the kernel's default 50 µs timer slack would
+    // delay every wake-up.
+    rt::precise_timers();
     rt::prefault_stack(64 * 1024);
 
     if let Some(sd) = &sd {

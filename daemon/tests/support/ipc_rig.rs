@@ -193,7 +193,14 @@ pub fn daemon(ns: &Namespace) -> Daemon {
     } = services;
     let client = TestClient::open(&ice, &names);
     let shared = Arc::new(Shared::default());
-    let (outbox, writer) = outbox::spawn(out, names, 1, shared.clone(), Vec::new()).unwrap();
+    // The loop runs on the mock clock: the writer must be woken by it.
+    let settings = outbox::WriterSettings {
+        status_notify_every: 1,
+        wake: outbox::WriterWake::Unpark,
+        period: ns.cfg.period_ns(),
+        cpus: Vec::new(),
+    };
+    let (outbox, writer) = outbox::spawn(out, names, settings, shared.clone()).unwrap();
     Daemon {
         commands,
         outbox,
