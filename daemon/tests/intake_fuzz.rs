@@ -103,10 +103,10 @@ fn valid(rng: &mut ChaCha8Rng, cfg: &[f64; 9]) -> Command {
                 c.target = c.target.map(|x| x * s);
             }
             c.request_id = rng.random();
-            for bit in 0..9 {
+            for (bit, limit) in cfg.iter().enumerate() {
                 if rng.random_bool(0.15) {
                     c.limit_mask |= 1 << bit;
-                    let v = cfg[bit] * rng.random_range(1e-3..=1.0);
+                    let v = limit * rng.random_range(1e-3..=1.0);
                     set_f64(&mut c, 4 + bit, v);
                 }
             }
