@@ -25,6 +25,7 @@ use crate::clock::{Clock, MonotonicClock, Nanos, monotonic_now};
 pub use crate::config::WriterWake;
 use crate::handoff::{self, Consumer, Producer};
 use crate::ipc::{IpcError, OutPorts, OutServices};
+use crate::planner::Doorbell;
 use crate::runtime::Shared;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::update_connections::UpdateConnections;
@@ -60,6 +61,7 @@ pub struct Outbox {
     writer: Thread,
     shared: Arc<Shared>,
     wake: WriterWake,
+    pushed: u64,
 }
 
 impl Outbox {
@@ -67,6 +69,8 @@ impl Outbox {
     pub fn push(&mut self, m: Outbound) {
         if self.tx.push(m).is_err() {
             self.shared.outbox_dropped.fetch_add(1, Ordering::Relaxed);
+        } else {
+            self.pushed += 1;
         }
     }
 
@@ -75,6 +79,7 @@ impl Outbox {
     /// (the writer wakes on its own at `next`); with
     /// [`WriterWake::Unpark`] it also wakes the writer.
     pub fn tick_done(&self, deadline: Nanos, next: Nanos) {
+        self.shared.queued.store(self.pushed, Ordering::Release);
         self.shared.next_deadline.store(next, Ordering::Release);
         self.shared.done_deadline.store(deadline, Ordering::Release);
         if self.wake == WriterWake::Unpark {
@@ -118,7 +123,7 @@ impl Drop for Writer {
 }
 
 /// How the writer thread runs.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone)]
 pub struct WriterSettings {
     /// Notify status listeners every this many statuses (≥ 1).
     pub status_notify_every: u64,
@@ -128,6 +133,9 @@ pub struct WriterSettings {
     pub period: Nanos,
     /// CPUs to pin the writer to (empty: any).
     pub cpus: Vec<u32>,
+    /// Wake-ups the loop requested of other threads, delivered after every
+    /// tick (so the loop itself makes no syscall for them).
+    pub doorbells: Vec<Arc<Doorbell>>,
 }
 
 /// Starts the writer thread `gaitd-writer` on `services`; returns once its
@@ -143,6 +151,7 @@ pub fn spawn(
         wake,
         period,
         cpus,
+        doorbells,
     } = settings;
     let (tx, rx) = handoff::channel::<Outbound>(CAPACITY);
     let stop = Arc::new(AtomicBool::new(false));
@@ -175,7 +184,7 @@ pub fn spawn(
                 stop: &stop2,
                 last: std::cell::Cell::new(0),
             };
-            run(ports, rx, status_notify_every.max(1), &waiter);
+            run(ports, rx, status_notify_every.max(1), &waiter, &doorbells);
         })
         .map_err(|e| IpcError::Service {
             service: "writer thread".into(),
@@ -193,6 +202,7 @@ pub fn spawn(
                 writer,
                 shared,
                 wake,
+                pushed: 0,
             },
             guard,
         )),
@@ -261,9 +271,15 @@ impl Waiter<'_> {
     }
 }
 
-fn run(ports: OutPorts, mut rx: Consumer<Outbound>, status_notify_every: u64, w: &Waiter<'_>) {
+fn run(
+    ports: OutPorts,
+    mut rx: Consumer<Outbound>,
+    status_notify_every: u64,
+    w: &Waiter<'_>,
+    doorbells: &[Arc<Doorbell>],
+) {
     let (shared, stop) = (w.shared, w.stop);
-    let mut statuses = 0u64;
+    let (mut statuses, mut published) = (0u64, 0u64);
     loop {
         // Read the stop flag before draining: whatever the loop queued
         // before setting it is published below.
@@ -271,6 +287,7 @@ fn run(ports: OutPorts, mut rx: Consumer<Outbound>, status_notify_every: u64, w:
         let (mut answers, mut events, mut wake_status) = (false, false, false);
         let mut errors = 0;
         while let Some(m) = rx.pop() {
+            published += 1;
             let ok = match m {
                 Outbound::Answer(a) => {
                     answers = true;
@@ -312,6 +329,10 @@ fn run(ports: OutPorts, mut rx: Consumer<Outbound>, status_notify_every: u64, w:
         }
         if errors > 0 {
             shared.ipc_errors.fetch_add(errors, Ordering::Relaxed);
+        }
+        shared.published.store(published, Ordering::Release);
+        for d in doorbells {
+            d.deliver();
         }
         if stopping {
             break;

@@ -65,6 +65,11 @@ pub struct Shared {
     pub next_deadline: AtomicU64,
     /// Deadline of the last tick whose output is queued (loop writes).
     pub done_deadline: AtomicU64,
+    /// Messages the loop queued for the writer so far (loop writes, once
+    /// per tick).
+    pub queued: AtomicU64,
+    /// Messages the writer took from the ring so far (writer writes).
+    pub published: AtomicU64,
     /// Dead nodes cleaned up since start (housekeeping writes).
     pub cleaned: AtomicU64,
 }

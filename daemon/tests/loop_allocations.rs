@@ -422,9 +422,9 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
     let mut active = 0u64;
     let mut k = 0usize;
     // Run until TICKS ticks of motion and holding have passed (ticks spent
-    // waiting for plans come on top): on a loaded machine planning takes
-    // longer in wall time, and counting loop iterations instead left too
-    // few gaits for the checks below.
+    // waiting for plans come on top, more of them on a loaded machine), and
+    // let the writer keep up so that no gait event is dropped: both made
+    // the gait counts below flaky.
     let mut ticks = 0u64;
     while active < TICKS {
         ticks += 1;
@@ -450,6 +450,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
             rt.run_once();
             clock.advance(1_000_000);
         });
+        ipc_rig::let_writer_catch_up(&d.shared);
         let (_, ev) = client.drain();
         for e in &ev {
             match e.kind() {

@@ -199,6 +199,7 @@ pub fn daemon(ns: &Namespace) -> Daemon {
         wake: outbox::WriterWake::Unpark,
         period: ns.cfg.period_ns(),
         cpus: Vec::new(),
+        doorbells: Vec::new(),
     };
     let (outbox, writer) = outbox::spawn(out, names, settings, shared.clone()).unwrap();
     Daemon {
@@ -209,5 +210,22 @@ pub fn daemon(ns: &Namespace) -> Daemon {
         shared,
         _commands_service: commands_service,
         _node: node,
+    }
+}
+
+/// Waits (bounded) until the writer thread has published all but a few of
+/// the messages the loop queued: a loop on the mock clock runs far faster
+/// than real time, and when the writer falls behind by the ring's capacity
+/// the loop drops messages (counted), so tests that count events let it
+/// catch up.
+pub fn let_writer_catch_up(shared: &Shared) {
+    use std::sync::atomic::Ordering;
+    let t0 = std::time::Instant::now();
+    while shared.queued.load(Ordering::Acquire) > shared.published.load(Ordering::Acquire) + 128 {
+        assert!(
+            t0.elapsed() < std::time::Duration::from_secs(10),
+            "writer stuck"
+        );
+        std::thread::yield_now();
     }
 }
