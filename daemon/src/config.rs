@@ -43,6 +43,24 @@ pub struct DaemonSection {
     pub shutdown_timeout_ms: u32,
     /// Housekeeping period: dead-node cleanup, client count, STATUS= [ms].
     pub housekeeping_period_ms: u32,
+    /// How the writer thread learns that a tick's output is queued.
+    pub writer_wake: WriterWake,
+}
+
+/// How the writer thread (which publishes what the loop produced) is woken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum WriterWake {
+    /// The writer sleeps on its own absolute timer until the loop's next
+    /// deadline, then waits (spinning briefly) for that tick to finish: the
+    /// loop makes no system call for it. Waking a sleeping thread is a
+    /// futex syscall plus an inter-processor interrupt, which on a VM cost
+    /// the loop more than the control step itself (measured with `perf`).
+    #[default]
+    Timer,
+    /// The loop unparks the writer after every tick (one futex wake on the
+    /// loop thread). Needed when the loop runs on a mock clock (tests).
+    Unpark,
 }
 
 impl Default for DaemonSection {
@@ -54,6 +72,7 @@ impl Default for DaemonSection {
             goal_id_memory: 1024,
             shutdown_timeout_ms: 2000,
             housekeeping_period_ms: 1000,
+            writer_wake: WriterWake::Timer,
         }
     }
 }

@@ -11,7 +11,6 @@
 use crate::controller::{
     ControlCommand, ControlOutput, Controller, FingerReport, GoalReport, GoalTarget, TickContext,
 };
-use crate::hold::workspace_margin;
 use crate::planner::{Planner, PlannerLink};
 use gait::executor::{self, Command, Event, Executor, FaultKind, PlanRequest, Reason, TickReport};
 use gait::planner::{Plan, StepKind};
@@ -43,7 +42,6 @@ const REQUEST_SLOTS: usize = 8;
 
 /// The daemon's controller (module docs).
 pub struct GaitController {
-    config: HandConfig,
     exec: Executor,
     plant: KinematicHand,
     link: PlannerLink<PlanRequest, Plan>,
@@ -56,6 +54,8 @@ pub struct GaitController {
     /// The last Place finished (for substitution events).
     last_place: Option<u8>,
     safe_hold_requested: bool,
+    /// The configured workspace margin [rad].
+    workspace_margin: f64,
 }
 
 impl std::fmt::Debug for GaitController {
@@ -76,7 +76,6 @@ impl GaitController {
     ) -> Result<Self, gait::ConfigError> {
         let start = HandState::paper_start(config);
         Ok(Self {
-            config: *config,
             exec: Executor::new(config, dt, start)?,
             plant: KinematicHand::new(start, dt),
             link,
@@ -86,6 +85,7 @@ impl GaitController {
             retiring: None,
             last_place: None,
             safe_hold_requested: false,
+            workspace_margin: config.model.workspace_margin_deg.to_radians(),
         })
     }
 
@@ -268,7 +268,9 @@ impl GaitController {
             };
             out.fingers[k] = FingerReport {
                 phase,
-                workspace_margin: workspace_margin(&self.config, &hand, k),
+                // The executor's invariant check measured it this tick
+                // against β − margin; the status reports it against β.
+                workspace_margin: r.workspace_slack[k] + self.workspace_margin,
                 normal_force: r.grip[k],
             };
         }

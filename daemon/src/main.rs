@@ -66,12 +66,20 @@ fn main() -> Result<()> {
     let names = services.names.clone();
     let commands = services.command_subscriber(cfg.ipc.command_queue as usize)?;
     let shared = Arc::new(Shared::default());
+    // The writer rings the planner's doorbell after each tick, so the loop
+    // never wakes the planner thread itself (planner module docs).
+    let planner_bell = Arc::new(gaitd::planner::Doorbell::default());
     let (outbox, writer) = outbox::spawn(
         services.out,
         names.clone(),
-        cfg.daemon.status_notify_every.into(),
+        outbox::WriterSettings {
+            status_notify_every: cfg.daemon.status_notify_every.into(),
+            wake: cfg.daemon.writer_wake,
+            period: cfg.period_ns(),
+            cpus: cfg.rt.background_cpus.clone(),
+            doorbells: vec![planner_bell.clone()],
+        },
         shared.clone(),
-        cfg.rt.background_cpus.clone(),
     )?;
     info!(
         prefix = %settings.service_prefix,
@@ -105,10 +113,11 @@ fn main() -> Result<()> {
     // embedded kinematic hand (SPEC §6.2, §7.2).
     let planner = gait::planner::Planner::new(&cfg.hand()).context("building the planner")?;
     let background = cfg.rt.background_cpus.clone();
-    let (link, planner_thread) = gaitd::planner::spawn(GaitPlanner(planner), 4, move || {
+    let (mut link, planner_thread) = gaitd::planner::spawn(GaitPlanner(planner), 4, move || {
         let _ = gaitd::rt::pin_current_thread(&background);
     })
     .context("starting the planner thread")?;
+    link.wake_through(planner_bell);
     let controller = GaitController::new(&cfg.hand(), 1.0 / cfg.control.tick_hz, link)
         .context("building the controller")?;
     let instance = gaitd::new_instance_id();
@@ -147,6 +156,9 @@ fn main() -> Result<()> {
             ),
         }
     }
+    // Without SCHED_FIFO the kernel's default 50 µs timer slack would
+    // delay every wake-up.
+    rt::precise_timers();
     rt::prefault_stack(64 * 1024);
 
     if let Some(sd) = &sd {

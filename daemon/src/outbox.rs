@@ -4,19 +4,28 @@
 //! Why a thread: iceoryx2 0.10 allocates on every `Publisher::loan_uninit`
 //! (an `Rc` per sample) and a notification is one syscall per listening
 //! client; neither belongs on the real-time loop. The loop moves plain
-//! `Copy` values into a pre-allocated ring ([`handoff`]) and unparks this
-//! thread (one futex wake), which publishes them in order — a tick's
-//! answers, then its events, then its status — and notifies: answers and
-//! events at once, status every `status_notify_every` statuses and always
-//! for the final one. `publish_time_ns` is stamped here, just before the
-//! status is sent, so clients measure the iceoryx2 hop itself.
+//! `Copy` values into a pre-allocated ring ([`handoff`]) and marks the tick
+//! done ([`Outbox::tick_done`]); this thread publishes them in order — a
+//! tick's answers, then its events, then its status — and notifies: answers
+//! and events at once, status every `status_notify_every` statuses and
+//! always for the final one. `publish_time_ns` is stamped here, just before
+//! the status is sent, so clients measure the iceoryx2 hop itself.
+//!
+//! How the writer wakes ([`WriterWake`]): by default on its own absolute
+//! timer at the loop's next deadline, then spinning (briefly, yielding)
+//! until the loop marks that tick done — two atomic stores on the loop
+//! instead of a futex wake, which on a VM cost the loop 5–20 µs per tick
+//! and most of its tail (an inter-processor interrupt per wake). With a
+//! mock clock (tests) the loop unparks the writer instead.
 //!
 //! If the ring is full (the writer starved for many periods) the loop drops
 //! the message and counts it; it never waits.
 
-use crate::clock::monotonic_now;
+use crate::clock::{Clock, MonotonicClock, Nanos, monotonic_now};
+pub use crate::config::WriterWake;
 use crate::handoff::{self, Consumer, Producer};
 use crate::ipc::{IpcError, OutPorts, OutServices};
+use crate::planner::Doorbell;
 use crate::runtime::Shared;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::update_connections::UpdateConnections;
@@ -51,6 +60,8 @@ pub struct Outbox {
     tx: Producer<Outbound>,
     writer: Thread,
     shared: Arc<Shared>,
+    wake: WriterWake,
+    pushed: u64,
 }
 
 impl Outbox {
@@ -58,10 +69,26 @@ impl Outbox {
     pub fn push(&mut self, m: Outbound) {
         if self.tx.push(m).is_err() {
             self.shared.outbox_dropped.fetch_add(1, Ordering::Relaxed);
+        } else {
+            self.pushed += 1;
         }
     }
 
-    /// Wakes the writer to publish what was queued.
+    /// The tick of `deadline` queued everything it had; the next one is
+    /// due at `next`. With [`WriterWake::Timer`] this is two atomic stores
+    /// (the writer wakes on its own at `next`); with
+    /// [`WriterWake::Unpark`] it also wakes the writer.
+    pub fn tick_done(&self, deadline: Nanos, next: Nanos) {
+        self.shared.queued.store(self.pushed, Ordering::Release);
+        self.shared.next_deadline.store(next, Ordering::Release);
+        self.shared.done_deadline.store(deadline, Ordering::Release);
+        if self.wake == WriterWake::Unpark {
+            self.writer.unpark();
+        }
+    }
+
+    /// Wakes the writer now to publish what was queued (shutdown: the
+    /// final status must not wait for a timer).
     pub fn flush(&self) {
         self.writer.unpark();
     }
@@ -95,15 +122,37 @@ impl Drop for Writer {
     }
 }
 
+/// How the writer thread runs.
+#[derive(Debug, Clone)]
+pub struct WriterSettings {
+    /// Notify status listeners every this many statuses (≥ 1).
+    pub status_notify_every: u64,
+    /// How the writer learns that a tick is done.
+    pub wake: WriterWake,
+    /// The loop's period [ns] (bounds how long the writer waits for a tick).
+    pub period: Nanos,
+    /// CPUs to pin the writer to (empty: any).
+    pub cpus: Vec<u32>,
+    /// Wake-ups the loop requested of other threads, delivered after every
+    /// tick (so the loop itself makes no syscall for them).
+    pub doorbells: Vec<Arc<Doorbell>>,
+}
+
 /// Starts the writer thread `gaitd-writer` on `services`; returns once its
 /// ports exist (so `READY=1` after this means clients get data).
 pub fn spawn(
     services: OutServices,
     names: ServiceNames,
-    status_notify_every: u64,
+    settings: WriterSettings,
     shared: Arc<Shared>,
-    cpus: Vec<u32>,
 ) -> Result<(Outbox, Writer), IpcError> {
+    let WriterSettings {
+        status_notify_every,
+        wake,
+        period,
+        cpus,
+        doorbells,
+    } = settings;
     let (tx, rx) = handoff::channel::<Outbound>(CAPACITY);
     let stop = Arc::new(AtomicBool::new(false));
     let stop2 = stop.clone();
@@ -115,6 +164,9 @@ pub fn spawn(
             if let Err(e) = crate::rt::pin_current_thread(&cpus) {
                 tracing::warn!(?cpus, error = %e, "cannot pin the writer thread");
             }
+            if wake == WriterWake::Timer {
+                crate::rt::precise_timers();
+            }
             let ports = match services.ports(&names) {
                 Ok(p) => {
                     let _ = ready_tx.send(Ok(()));
@@ -125,7 +177,14 @@ pub fn spawn(
                     return;
                 }
             };
-            run(ports, rx, status_notify_every.max(1), &shared2, &stop2);
+            let waiter = Waiter {
+                wake,
+                period,
+                shared: &shared2,
+                stop: &stop2,
+                last: std::cell::Cell::new(0),
+            };
+            run(ports, rx, status_notify_every.max(1), &waiter, &doorbells);
         })
         .map_err(|e| IpcError::Service {
             service: "writer thread".into(),
@@ -137,7 +196,16 @@ pub fn spawn(
         handle: Some(handle),
     };
     match ready_rx.recv() {
-        Ok(Ok(())) => Ok((Outbox { tx, writer, shared }, guard)),
+        Ok(Ok(())) => Ok((
+            Outbox {
+                tx,
+                writer,
+                shared,
+                wake,
+                pushed: 0,
+            },
+            guard,
+        )),
         Ok(Err(e)) => Err(e),
         Err(_) => Err(IpcError::Service {
             service: "writer thread".into(),
@@ -156,14 +224,62 @@ fn send<T: std::fmt::Debug + ZeroCopySend + Copy>(
     }
 }
 
+/// The writer's way of waiting for the next tick.
+struct Waiter<'a> {
+    wake: WriterWake,
+    period: Nanos,
+    shared: &'a Shared,
+    stop: &'a AtomicBool,
+    /// The deadline waited for last time.
+    last: std::cell::Cell<Nanos>,
+}
+
+impl Waiter<'_> {
+    fn wait(&self) {
+        let next = self.shared.next_deadline.load(Ordering::Acquire);
+        if self.wake == WriterWake::Unpark || next == 0 {
+            // Woken by the loop (or the loop has not ticked yet); the
+            // timeout only bounds a lost wake-up.
+            std::thread::park_timeout(Duration::from_millis(50));
+            return;
+        }
+        if next == self.last.get() {
+            // The loop has not finished that tick in half a period (late,
+            // stopped or shutting down): poll gently instead of spinning;
+            // `Outbox::flush` cuts the wait short.
+            std::thread::park_timeout(Duration::from_nanos(self.period / 4));
+            return;
+        }
+        self.last.set(next);
+        MonotonicClock.sleep_until(next);
+        // The loop woke for the same deadline: wait for it to finish that
+        // tick (its compute time, typically µs), at most half a period.
+        let give_up = next + self.period / 2;
+        let mut spins = 0u32;
+        while self.shared.done_deadline.load(Ordering::Acquire) < next
+            && !self.stop.load(Ordering::Acquire)
+        {
+            spins += 1;
+            if spins < 256 {
+                std::hint::spin_loop();
+            } else if monotonic_now() > give_up {
+                break;
+            } else {
+                std::thread::yield_now();
+            }
+        }
+    }
+}
+
 fn run(
     ports: OutPorts,
     mut rx: Consumer<Outbound>,
     status_notify_every: u64,
-    shared: &Shared,
-    stop: &AtomicBool,
+    w: &Waiter<'_>,
+    doorbells: &[Arc<Doorbell>],
 ) {
-    let mut statuses = 0u64;
+    let (shared, stop) = (w.shared, w.stop);
+    let (mut statuses, mut published) = (0u64, 0u64);
     loop {
         // Read the stop flag before draining: whatever the loop queued
         // before setting it is published below.
@@ -171,6 +287,7 @@ fn run(
         let (mut answers, mut events, mut wake_status) = (false, false, false);
         let mut errors = 0;
         while let Some(m) = rx.pop() {
+            published += 1;
             let ok = match m {
                 Outbound::Answer(a) => {
                     answers = true;
@@ -213,10 +330,13 @@ fn run(
         if errors > 0 {
             shared.ipc_errors.fetch_add(errors, Ordering::Relaxed);
         }
+        shared.published.store(published, Ordering::Release);
+        for d in doorbells {
+            d.deliver();
+        }
         if stopping {
             break;
         }
-        // The loop unparks every tick; the timeout only bounds a lost wake-up.
-        std::thread::park_timeout(Duration::from_millis(50));
+        w.wait();
     }
 }

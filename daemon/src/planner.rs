@@ -12,11 +12,17 @@
 //! The loop only moves boxes: nothing is allocated or freed on it. A
 //! controller that plans (issue 4's executor) owns a [`PlannerLink`]; the
 //! daemon starts the thread with [`spawn`].
+//!
+//! Waking the planner is a futex syscall (plus an inter-processor interrupt
+//! on a VM, several µs). By default the link makes it at once; the daemon
+//! instead gives it a [`Doorbell`] that the loop only flags and the writer
+//! thread, which runs right after every tick anyway, rings — so a flood of
+//! goals costs the loop no syscalls, and planning starts a few µs later.
 
 use crate::handoff::{self, Consumer, Producer};
 use shm_schema::ReasonCode;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
 use std::thread::{JoinHandle, Thread};
 use std::time::Duration;
 
@@ -39,6 +45,31 @@ pub struct Reply<P> {
     pub result: Result<Box<P>, ReasonCode>,
 }
 
+/// A wake-up that the real-time loop requests without a system call and
+/// another thread delivers (module docs).
+#[derive(Debug, Default)]
+pub struct Doorbell {
+    pending: AtomicBool,
+    thread: OnceLock<Thread>,
+}
+
+impl Doorbell {
+    /// Requests a wake-up (one atomic store).
+    pub fn press(&self) {
+        self.pending.store(true, Ordering::Release);
+    }
+
+    /// Wakes the thread if a wake-up was requested since the last call
+    /// (called off the loop, e.g. by the writer thread every tick).
+    pub fn deliver(&self) {
+        if self.pending.swap(false, Ordering::AcqRel)
+            && let Some(t) = self.thread.get()
+        {
+            t.unpark();
+        }
+    }
+}
+
 /// The loop's end of the planner link. Every method is wait-free and
 /// allocation-free.
 pub struct PlannerLink<Req, P> {
@@ -46,6 +77,7 @@ pub struct PlannerLink<Req, P> {
     replies: Consumer<Reply<P>>,
     retired: Producer<Box<P>>,
     planner: Thread,
+    doorbell: Option<Arc<Doorbell>>,
     next_seq: u64,
 }
 
@@ -58,13 +90,27 @@ impl<Req, P> std::fmt::Debug for PlannerLink<Req, P> {
 }
 
 impl<Req: Send, P: Send> PlannerLink<Req, P> {
+    /// From now on the planner is woken through `doorbell` (flagged here,
+    /// delivered by whoever calls [`Doorbell::deliver`]) instead of at once.
+    pub fn wake_through(&mut self, doorbell: Arc<Doorbell>) {
+        let _ = doorbell.thread.set(self.planner.clone());
+        self.doorbell = Some(doorbell);
+    }
+
+    fn wake(&self) {
+        match &self.doorbell {
+            Some(d) => d.press(),
+            None => self.planner.unpark(),
+        }
+    }
+
     /// Queues a request and wakes the planner; returns its sequence number,
     /// or the request back when the queue is full.
     pub fn submit(&mut self, request: Req) -> Result<u64, Req> {
         let seq = self.next_seq;
         self.requests.push((seq, request)).map_err(|(_, r)| r)?;
         self.next_seq += 1;
-        self.planner.unpark();
+        self.wake();
         Ok(seq)
     }
 
@@ -78,7 +124,7 @@ impl<Req: Send, P: Send> PlannerLink<Req, P> {
     /// tick: never drop it on the loop thread).
     pub fn retire(&mut self, plan: Box<P>) -> Result<(), Box<P>> {
         self.retired.push(plan)?;
-        self.planner.unpark();
+        self.wake();
         Ok(())
     }
 }
@@ -166,6 +212,7 @@ pub fn spawn<Pl: Planner>(
         replies: rep_rx,
         retired: ret_tx,
         planner: handle.thread().clone(),
+        doorbell: None,
         next_seq: 1,
     };
     Ok((
@@ -242,5 +289,31 @@ mod tests {
         }
         thread.join();
         assert_eq!(dropped.load(Ordering::Relaxed), 19);
+    }
+
+    /// Through a doorbell, a request waits for the delivery (the planner
+    /// only polls every 100 ms on its own), then is planned.
+    #[test]
+    fn a_doorbell_wakes_the_planner_when_delivered() {
+        let dropped = Arc::new(AtomicUsize::new(0));
+        let (mut link, thread) = spawn(Squares(dropped), 4, || {}).unwrap();
+        let bell = Arc::new(Doorbell::default());
+        link.wake_through(bell.clone());
+        // Let the planner park (its first poll finds nothing).
+        std::thread::sleep(Duration::from_millis(20));
+        let seq = link.submit(3).unwrap();
+        assert!(bell.pending.load(Ordering::Acquire), "flagged, not woken");
+        bell.deliver();
+        assert!(!bell.pending.load(Ordering::Acquire));
+        let reply = loop {
+            if let Some(r) = link.poll() {
+                break r;
+            }
+            std::thread::yield_now();
+        };
+        assert_eq!(reply.seq, seq);
+        link.retire(reply.result.unwrap()).unwrap();
+        bell.deliver();
+        thread.join();
     }
 }

@@ -4,8 +4,9 @@
 //!    most `max_commands_per_tick` commands: validate, decide, answer;
 //! 2. **process** — one [`Controller::tick`];
 //! 3. **postprocess** — hand the tick's answers, events and status (every
-//!    `status_every` ticks) to the writer thread (`outbox`), feed the
-//!    systemd watchdog;
+//!    `status_every` ticks) to the writer thread (`outbox`; by default the
+//!    writer wakes on its own timer, so this is atomic stores, no syscall),
+//!    feed the systemd watchdog;
 //! 4. **stats** — record the compute time.
 //!
 //! Contract: after construction nothing here allocates, frees, blocks or
@@ -59,6 +60,16 @@ pub struct Shared {
     pub events_dropped: AtomicU64,
     /// Client nodes alive (housekeeping writes).
     pub clients: AtomicU32,
+    /// The loop's next deadline [ns] (loop writes; the writer thread sleeps
+    /// until it). 0 before the first tick.
+    pub next_deadline: AtomicU64,
+    /// Deadline of the last tick whose output is queued (loop writes).
+    pub done_deadline: AtomicU64,
+    /// Messages the loop queued for the writer so far (loop writes, once
+    /// per tick).
+    pub queued: AtomicU64,
+    /// Messages the writer took from the ring so far (writer writes).
+    pub published: AtomicU64,
     /// Dead nodes cleaned up since start (housekeeping writes).
     pub cleaned: AtomicU64,
 }
@@ -285,7 +296,8 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         if self.tick.is_multiple_of(self.settings.status_every) {
             self.publish_status(w.now, DaemonState::Running);
         }
-        self.outbox.flush();
+        self.outbox
+            .tick_done(w.deadline, self.ticker.next_deadline());
         self.feed_watchdog(w.now);
         self.shared.ticks.store(self.tick, Ordering::Relaxed);
         // 4. stats

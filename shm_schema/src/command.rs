@@ -87,7 +87,7 @@ pub struct Command {
 }
 
 const _: () = assert!(core::mem::size_of::<MotionLimits>() == 24);
-const _: () = assert!(core::mem::size_of::<Command>() == 144);
+const _: () = assert!(core::mem::size_of::<Command>() == Command::SIZE);
 const _: () = assert!(core::mem::align_of::<Command>() == 8);
 
 impl Command {
@@ -117,6 +117,27 @@ impl Command {
             jerk: 0.0,
         },
     };
+
+    /// Size of the payload in bytes.
+    pub const SIZE: usize = 144;
+
+    /// The command that `bytes` in shared memory encode, exactly as the
+    /// daemon's subscriber sees another process's sample. Every bit pattern
+    /// is a `Command` (integers and floats only, no implicit padding), which
+    /// is why all meaning is checked by [`Command::validate`].
+    pub fn from_bytes(bytes: &[u8; Self::SIZE]) -> Self {
+        // SAFETY: Command is repr(C), exactly SIZE bytes, made of integers
+        // and floats without implicit padding: any bytes are a valid value;
+        // read_unaligned accepts the byte array's alignment of 1.
+        unsafe { core::ptr::read_unaligned(bytes.as_ptr().cast::<Command>()) }
+    }
+
+    /// The command's bytes as they travel (native endianness).
+    pub fn to_bytes(&self) -> [u8; Self::SIZE] {
+        // SAFETY: same layout facts as in `from_bytes`; no padding means no
+        // uninitialised bytes are read.
+        unsafe { core::mem::transmute::<Command, [u8; Self::SIZE]>(*self) }
+    }
 
     /// A reorientation goal with the configured limits.
     pub const fn goal(client_id: u64, goal_id: u64, frame: GoalFrame, target: [f64; 4]) -> Self {
@@ -393,6 +414,20 @@ mod tests {
     const ID: [f64; 4] = [1.0, 0.0, 0.0, 0.0];
 
     #[test]
+    fn bytes_round_trip() {
+        let c = Command::goal(7, 9, GoalFrame::Relative, [0.5, -0.5, 0.5, -0.5]).with_limit(
+            LimitKind::Object,
+            LimitOrder::Jerk,
+            3.0,
+        );
+        let b = c.to_bytes();
+        assert_eq!(Command::from_bytes(&b), c);
+        // Field offsets as LAYOUT.md documents them (little-endian hosts).
+        assert_eq!(u32::from_ne_bytes(b[0..4].try_into().unwrap()), 1);
+        assert_eq!(u64::from_ne_bytes(b[24..32].try_into().unwrap()), 9);
+    }
+
+    #[test]
     fn good_commands_pass() {
         let g = Command::goal(7, 1, GoalFrame::Absolute, ID).with_limit(
             LimitKind::Rolling,
@@ -536,13 +571,12 @@ mod tests {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x5eed);
         let mut passed = 0;
         for i in 0..200_000u32 {
-            let mut c = Command::ZERO;
+            let mut c;
             // Mix fully random bytes with mostly-valid commands mutated in one field.
             if i % 2 == 0 {
-                // SAFETY: Command is plain old data (integers and floats,
-                // explicit padding), so every byte pattern is a valid value.
-                let bytes: &mut [u8; 144] = unsafe { &mut *(&raw mut c).cast() };
+                let mut bytes = [0u8; Command::SIZE];
                 rng.fill(&mut bytes[..]);
+                c = Command::from_bytes(&bytes);
             } else {
                 c = Command::goal(
                     1 + rng.random_range(0..3),

@@ -2,10 +2,12 @@
 //! issue item 6). Figures are printed as a table and as JSON; nothing is
 //! asserted (these machines are shared and noisy).
 //!
-//! - goal → answer: a reorientation goal sent, its answer received (the
-//!   client blocks on the daemon's notification, as applications do);
+//! - goal → answer: a reorientation goal sent at a phase spread over the
+//!   period, its answer received (the client blocks on the daemon's
+//!   notification, as applications do);
 //! - status latency: `publish_time_ns` (stamped by the daemon's writer just
-//!   before publishing) to reception by this process busy-polling, beside a
+//!   before publishing) to reception by this process busy-polling (and,
+//!   separately, blocking on the notification like applications), beside a
 //!   bare iceoryx2 one-way latency measured in the same run between this
 //!   process and a child (`gaitctl __pong`), also busy-polling, with a
 //!   payload of the status's size — both as ping-pong (back-to-back) and
@@ -43,6 +45,27 @@ pub struct Args {
     /// Print only the JSON.
     #[arg(long)]
     json: bool,
+    /// Instead of the latency benchmarks: a soak run of this many seconds
+    /// (a stream of goals, daemon RSS sampled; see `soak`).
+    #[arg(long, value_name = "SECONDS")]
+    soak: Option<f64>,
+    /// Soak: seconds between RSS samples.
+    #[arg(long, default_value_t = 10.0)]
+    sample_every: f64,
+    /// Soak: seconds of warm-up before growth is counted (default: a tenth
+    /// of the run, at most 120 s).
+    #[arg(long)]
+    warmup: Option<f64>,
+    /// Also measure missed periods and tick compute time in two windows of
+    /// this many seconds, idle and under client load (0: skip).
+    #[arg(long, default_value_t = 0.0)]
+    load_seconds: f64,
+    /// Load: status readers (each its own client and thread).
+    #[arg(long, default_value_t = 8)]
+    load_readers: usize,
+    /// Load: goal writers (each its own client and thread).
+    #[arg(long, default_value_t = 4)]
+    load_writers: usize,
 }
 
 /// Options of the hidden echo process.
@@ -79,7 +102,7 @@ pub struct BenchPing {
 const _: () = assert!(size_of::<BenchPing>() == size_of::<Status>());
 
 /// n, p50, p99, max, mean of a sample.
-fn summary(v: &mut [f64]) -> serde_json::Value {
+pub fn summary(v: &mut [f64]) -> serde_json::Value {
     if v.is_empty() {
         return json!(null);
     }
@@ -342,31 +365,41 @@ fn periodic(
     Ok(lat)
 }
 
-fn rss_kb(pid: i32) -> Option<(u64, u64)> {
-    let text = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
-    let field = |name: &str| {
-        text.lines()
-            .find(|l| l.starts_with(name))
-            .and_then(|l| l.split_whitespace().nth(1))
-            .and_then(|v| v.parse().ok())
-    };
-    Some((field("VmRSS:")?, field("VmHWM:")?))
-}
-
 /// Runs the benchmarks.
 pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let mut c = conn.connect()?;
+    if let Some(seconds) = a.soak {
+        let warmup = a.warmup.unwrap_or((seconds / 10.0).min(120.0));
+        return crate::soak::run(
+            &mut c,
+            seconds,
+            Duration::from_secs_f64(a.sample_every.max(0.1)),
+            Duration::from_secs_f64(warmup.max(0.0)),
+            a.json,
+        );
+    }
     let first = c.wait_status(conn.timeout())?;
 
-    // goal → answer
+    // goal → answer. Commands are read at the start of a tick, so a goal
+    // sent right after a status (as a loop sending back to back does)
+    // always waits a whole period; each goal is sent at a spread-out phase
+    // of the period instead, as independent applications would.
     let mut goal_answer = Vec::with_capacity(a.goals);
     let mut verdicts: BTreeMap<String, usize> = BTreeMap::new();
+    let period_ns = first.timing.period_ns.max(1);
     for i in 0..a.goals {
         let goal = GoalSpec::axis_angle(
             [0.0, 0.0, 1.0],
             0.01 * (i % 7) as f64 + 0.01,
             GoalFrame::Relative,
         )?;
+        c.wait_status(conn.timeout())?;
+        // Golden-ratio sequence: phases evenly spread over [0, period).
+        let phase = ((i as f64 * 0.618_033_988_75).fract() * period_ns as f64) as u64;
+        let until = Instant::now() + Duration::from_nanos(phase);
+        while Instant::now() < until {
+            std::hint::spin_loop();
+        }
         let t0 = Instant::now();
         let t = c.reorient(&goal, conn.timeout())?;
         goal_answer.push(t0.elapsed().as_secs_f64() * 1e6);
@@ -416,7 +449,8 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     }
 
     // status publish → receive, busy-polling
-    let (mut status_lat, mut tick_lat) = (
+    let (mut status_lat, mut tick_lat, mut compute_seen) = (
+        Vec::with_capacity(a.statuses),
         Vec::with_capacity(a.statuses),
         Vec::with_capacity(a.statuses),
     );
@@ -431,11 +465,30 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
             last_tick = s.tick;
             status_lat.push(us(now.saturating_sub(s.publish_time_ns)));
             tick_lat.push(us(now.saturating_sub(s.time_ns)));
+            compute_seen.push(us(s.timing.compute_last_ns));
         } else {
             std::hint::spin_loop();
         }
     }
     let last = c.latest_status()?.unwrap_or(first);
+    // The same, blocking on the daemon's notification as applications do
+    // (`wait_status`): adds the wake-up of a sleeping thread.
+    let mut blocking_lat = Vec::with_capacity(a.statuses / 5);
+    for _ in 0..a.statuses / 5 {
+        let s = c.wait_status(conn.timeout())?;
+        blocking_lat.push(us(monotonic_ns().saturating_sub(s.publish_time_ns)));
+    }
+    let load = if a.load_seconds > 0.0 {
+        Some(crate::load::run(
+            conn,
+            &mut c,
+            a.load_seconds,
+            a.load_readers,
+            a.load_writers,
+        )?)
+    } else {
+        None
+    };
 
     // bare iceoryx2, same run
     let settings = c.settings().clone();
@@ -456,7 +509,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
             json!({"below_us": if i + 1 < JITTER_BUCKETS { Some(jitter_bucket_upper_ns(i) / 1000) } else { None }, "count": n})
         })
         .collect();
-    let rss = c.daemon_pid().and_then(rss_kb);
+    let rss = c.daemon_pid().and_then(crate::soak::rss_kb);
     let status_s = summary(&mut status_lat);
     let pp_s = summary(&mut one_way);
     let periodic_s = summary(&mut periodic_lat);
@@ -485,6 +538,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         "goal_to_first_motion_wall_ms": summary(&mut planning_ms),
         "status_publish_to_receive_us": status_s,
         "status_tick_to_receive_us": summary(&mut tick_lat),
+        "status_publish_to_receive_blocking_us": summary(&mut blocking_lat),
         "iceoryx2_one_way_us": pp_s,        "iceoryx2_half_round_trip_us": summary(&mut half_rtt),
         "iceoryx2_periodic_one_way_us": periodic_s,
         "status_vs_iceoryx2_pingpong_p50_ratio": ratio_pp,
@@ -493,6 +547,8 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
             "p50": t.compute_p50_ns, "p99": t.compute_p99_ns, "max": t.compute_max_ns,
             "since": "daemon start",
         },
+        "tick_compute_us_status_window": summary(&mut compute_seen),
+        "load": load,
         "missed_periods_in_window": t.overruns - window_start.timing.overruns,
         "jitter_histogram_window": hist,
         "jitter_p99_us_since_start": us(t.jitter_p99_ns),
@@ -539,6 +595,10 @@ fn print_table(r: &serde_json::Value) {
         &r["status_tick_to_receive_us"],
     );
     row(
+        "status publish -> receive, blocking",
+        &r["status_publish_to_receive_blocking_us"],
+    );
+    row(
         "bare iceoryx2 one-way (same run)",
         &r["iceoryx2_one_way_us"],
     );
@@ -568,10 +628,17 @@ fn print_table(r: &serde_json::Value) {
         c["p99"].as_f64().unwrap_or(0.0) / 1e3,
         c["max"].as_f64().unwrap_or(0.0) / 1e3
     );
+    row(
+        "tick compute, status window [us]",
+        &r["tick_compute_us_status_window"],
+    );
     println!(
         "missed periods in the bench window: {}",
         r["missed_periods_in_window"]
     );
+    if !r["load"].is_null() {
+        crate::load::print(&r["load"]);
+    }
     println!("wake-up jitter in the bench window:");
     for b in r["jitter_histogram_window"]
         .as_array()

@@ -6,10 +6,12 @@ mod common;
 mod control;
 mod demo;
 mod events;
+mod load;
 mod offline;
 mod plan;
 mod plot;
 mod reorient;
+mod soak;
 mod status;
 mod tracefile;
 mod watch;
@@ -43,7 +45,8 @@ enum Cmd {
     Reset,
     /// Print events (the daemon's history first).
     Events(events::Args),
-    /// Latency benchmarks against the running daemon.
+    /// Latency benchmarks against the running daemon (`--load-seconds`:
+    /// missed periods idle vs under client load; `--soak`: memory over a long run).
     Bench(bench::Args),
     /// The paper's scenario against gaitd (starts an embedded daemon if none
     /// is running), with live progress and a summary.

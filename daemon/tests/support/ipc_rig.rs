@@ -1,0 +1,231 @@
+//! The daemon's IPC pieces as `main` builds them, in an isolated iceoryx2
+//! namespace, and a raw client on them: shared by the loop tests
+//! (`loop_allocations.rs`, `long_run.rs`) that drive `Runtime` with the
+//! mock clock.
+
+#![allow(dead_code)]
+
+use gaitd::config::DaemonConfig;
+use gaitd::ipc::{self, Ipc};
+use gaitd::outbox;
+use gaitd::runtime::Shared;
+use iceoryx2::port::listener::Listener;
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::*;
+use shm_schema::{Answer, Command, Event, ServiceNames, Status};
+use std::sync::Arc;
+
+/// An isolated iceoryx2 namespace for this test, removed afterwards.
+pub struct Namespace {
+    /// The daemon config pointing at this namespace.
+    pub cfg: DaemonConfig,
+    root: std::path::PathBuf,
+    file_prefix: String,
+}
+
+impl Namespace {
+    /// A fresh namespace tagged `tag` (unique per process).
+    pub fn new(tag: &str) -> Self {
+        let id = format!("{}-{tag}", std::process::id());
+        let root = std::env::temp_dir().join(format!("gaitd-alloc-{id}"));
+        let mut cfg = DaemonConfig::default();
+        cfg.ipc.service_prefix = format!("alloc-{id}");
+        cfg.ipc.root_path = format!("{}/", root.display());
+        cfg.ipc.file_prefix = format!("ga{}{tag}_", std::process::id());
+        cfg.rt.lock_memory = false;
+        cfg.rt.fifo_priority = 0;
+        let file_prefix = cfg.ipc.file_prefix.clone();
+        Self {
+            cfg,
+            root,
+            file_prefix,
+        }
+    }
+}
+
+impl Drop for Namespace {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.root);
+        if let Ok(dir) = std::fs::read_dir("/dev/shm") {
+            for e in dir.flatten() {
+                if e.file_name()
+                    .to_string_lossy()
+                    .starts_with(&self.file_prefix)
+                {
+                    let _ = std::fs::remove_file(e.path());
+                }
+            }
+        }
+    }
+}
+
+/// The test's client: raw iceoryx2 ports on the daemon's services.
+pub struct TestClient {
+    commands: Publisher<Ipc, Command, ()>,
+    answers: Subscriber<Ipc, Answer, ()>,
+    status: Subscriber<Ipc, Status, ()>,
+    events: Subscriber<Ipc, Event, ()>,
+    listener: Listener<Ipc>,
+    _node: Node<Ipc>,
+}
+
+impl TestClient {
+    /// Opens the services named `names`.
+    pub fn open(config: &iceoryx2::config::Config, names: &ServiceNames) -> Self {
+        let node = NodeBuilder::new().config(config).create::<Ipc>().unwrap();
+        let sn = |s: &str| ServiceName::new(s).unwrap();
+        let commands = node
+            .service_builder(&sn(&names.commands))
+            .publish_subscribe::<Command>()
+            .open()
+            .unwrap()
+            .publisher_builder()
+            .create()
+            .unwrap();
+        let answers = node
+            .service_builder(&sn(&names.answers))
+            .publish_subscribe::<Answer>()
+            .open()
+            .unwrap()
+            .subscriber_builder()
+            .create()
+            .unwrap();
+        let status = node
+            .service_builder(&sn(&names.status))
+            .publish_subscribe::<Status>()
+            .open()
+            .unwrap()
+            .subscriber_builder()
+            .create()
+            .unwrap();
+        let events = node
+            .service_builder(&sn(&names.events))
+            .publish_subscribe::<Event>()
+            .open()
+            .unwrap()
+            .subscriber_builder()
+            .create()
+            .unwrap();
+        let listener = node
+            .service_builder(&sn(&names.notify))
+            .event()
+            .open()
+            .unwrap()
+            .listener_builder()
+            .create()
+            .unwrap();
+        Self {
+            commands,
+            answers,
+            status,
+            events,
+            listener,
+            _node: node,
+        }
+    }
+
+    /// Publishes a command (the daemon must be subscribed).
+    pub fn send(&self, c: Command) {
+        let n = self
+            .commands
+            .loan_uninit()
+            .unwrap()
+            .write_payload(c)
+            .send()
+            .unwrap();
+        assert_eq!(n, 1, "the daemon subscribes to commands");
+    }
+
+    /// Waits (bounded) for the writer thread to publish the next answer.
+    pub fn wait_answer(&self) -> Answer {
+        let t0 = std::time::Instant::now();
+        loop {
+            if let Some(s) = self.answers.receive().unwrap() {
+                return *s.payload();
+            }
+            assert!(
+                t0.elapsed() < std::time::Duration::from_secs(10),
+                "no answer"
+            );
+            std::thread::yield_now();
+        }
+    }
+
+    /// Drains status, events and notifications; returns (statuses, events).
+    pub fn drain(&self) -> (Vec<Status>, Vec<Event>) {
+        let mut st = Vec::new();
+        while let Some(s) = self.status.receive().unwrap() {
+            st.push(*s.payload());
+        }
+        let mut ev = Vec::new();
+        while let Some(s) = self.events.receive().unwrap() {
+            ev.push(*s.payload());
+        }
+        self.listener.try_wait(|_| {}).unwrap();
+        (st, ev)
+    }
+}
+
+/// The daemon's IPC pieces, as `main` builds them.
+pub struct Daemon {
+    /// The loop's command subscriber.
+    pub commands: Subscriber<Ipc, Command, ()>,
+    pub outbox: outbox::Outbox,
+    pub writer: outbox::Writer,
+    pub client: TestClient,
+    pub shared: Arc<Shared>,
+    _commands_service:
+        iceoryx2::service::port_factory::publish_subscribe::PortFactory<Ipc, Command, ()>,
+    _node: Node<Ipc>,
+}
+
+/// The daemon's ports and writer thread in `ns`, with a client connected.
+pub fn daemon(ns: &Namespace) -> Daemon {
+    let (ice, settings) = ipc::resolve(&ns.cfg.ipc).unwrap();
+    let node = ipc::create_node("gaitd", &ice).unwrap();
+    let services = ipc::create_services(&node, &ns.cfg, &settings.service_prefix).unwrap();
+    let commands = services.command_subscriber(8).unwrap();
+    let ipc::DaemonServices {
+        commands: commands_service,
+        out,
+        names,
+    } = services;
+    let client = TestClient::open(&ice, &names);
+    let shared = Arc::new(Shared::default());
+    // The loop runs on the mock clock: the writer must be woken by it.
+    let settings = outbox::WriterSettings {
+        status_notify_every: 1,
+        wake: outbox::WriterWake::Unpark,
+        period: ns.cfg.period_ns(),
+        cpus: Vec::new(),
+        doorbells: Vec::new(),
+    };
+    let (outbox, writer) = outbox::spawn(out, names, settings, shared.clone()).unwrap();
+    Daemon {
+        commands,
+        outbox,
+        writer,
+        client,
+        shared,
+        _commands_service: commands_service,
+        _node: node,
+    }
+}
+
+/// Waits (bounded) until the writer thread has published all but a few of
+/// the messages the loop queued: a loop on the mock clock runs far faster
+/// than real time, and when the writer falls behind by the ring's capacity
+/// the loop drops messages (counted), so tests that count events let it
+/// catch up.
+pub fn let_writer_catch_up(shared: &Shared) {
+    use std::sync::atomic::Ordering;
+    let t0 = std::time::Instant::now();
+    while shared.queued.load(Ordering::Acquire) > shared.published.load(Ordering::Acquire) + 128 {
+        assert!(
+            t0.elapsed() < std::time::Duration::from_secs(10),
+            "writer stuck"
+        );
+        std::thread::yield_now();
+    }
+}
