@@ -251,7 +251,7 @@ impl Step2 {
             ];
             let t_min = -a0 / j;
             let t_max = ((tf + 2.0 * amin / j - (a0 + af) / j) / 2.0).min((amax - a0) / j);
-            for_roots!(roots::quartic(&poly), |t| {
+            for_roots!(roots::quartic_in(&poly, t_min, t_max), |t| {
                 if t < t_min || t > t_max {
                     continue;
                 }
@@ -321,7 +321,7 @@ impl Step2 {
             ];
             let t_min = -a0 / j;
             let t_max = ((tf + ad / j - 2.0 * amax / j) / 2.0).min((amax - a0) / j);
-            for_roots!(roots::quartic(&poly), |t| {
+            for_roots!(roots::quartic_in(&poly, t_min, t_max), |t| {
                 if t > t_max || t < t_min {
                     continue;
                 }
@@ -382,7 +382,7 @@ impl Step2 {
             ];
             let t_min = -af / j;
             let t_max = (tf - (2.0 * amax - a0) / j).min(-amin / j);
-            for_roots!(roots::quartic(&poly), |t| {
+            for_roots!(roots::quartic_in(&poly, t_min, t_max), |t| {
                 if t < t_min || t > t_max {
                     continue;
                 }
@@ -438,7 +438,7 @@ impl Step2 {
             ];
             let t_min = af / j;
             let t_max = (tf - amax / j).min(amax / j);
-            for_roots!(roots::quartic(&poly), |t| {
+            for_roots!(roots::quartic_in(&poly, t_min, t_max), |t| {
                 if t < t_min || t > t_max {
                     continue;
                 }
