@@ -24,8 +24,9 @@ impl Step2 {
     /// `s` to an interval, on which the position reached is monotone in `s`
     /// (a larger `s` is faster at every instant: `∂v/∂s ≥ 0` in every
     /// phase), so the target must lie between the positions at its ends.
-    /// Conservative (generous slack): `false` only if `vel_uddu` cannot
-    /// succeed; skipping it saves its quintic without changing any result.
+    /// Conservative (generous slack, and NaN admits): `false` only if
+    /// `vel_uddu` cannot succeed; skipping it saves its quintic without
+    /// changing any result.
     fn vel_uddu_admissible(&self, m: &Lim) -> bool {
         let ij = 1.0 / m.j;
         let (a0j, afj) = (self.a0 * ij, self.af * ij);
@@ -47,7 +48,7 @@ impl Step2 {
         if hh >= 0.0 {
             hi = hi.min(hh.sqrt());
         }
-        if !(w >= -slack && q.max(0.0).sqrt() <= h_acc + slack && lo <= hi + slack) {
+        if w < -slack || q.max(0.0).sqrt() > h_acc + slack || lo > hi + slack {
             return false;
         }
         let reach = |s: f64| {
@@ -70,9 +71,10 @@ impl Step2 {
         let s_acc = m.a_max * ij;
         let w = 0.5 * (self.tf + a0j + afj);
         let slack = 1e-7 * (self.tf + a0j.abs() + afj.abs() + s_acc + r2.abs().sqrt());
-        if r2 < 0.0 {
-            return (-r2).sqrt() <= slack;
+        if r2 < 0.0 && (-r2).sqrt() > slack {
+            return false;
         }
+        let r2 = r2.max(0.0);
         let r = r2.sqrt();
         // h1 real, t6 = h1 - af/j ≥ 0, second peak j·h1 ≤ a_max.
         let mut hi = s_acc.min(0.5 * (self.tf + a0j)).min(r);
@@ -80,7 +82,7 @@ impl Step2 {
             hi = hi.min((r2 - afj * afj).max(0.0).sqrt());
         }
         let lo = a0j.max(0.0).max((r2 - s_acc * s_acc).max(0.0).sqrt());
-        if !(r <= w + slack && afj <= r + slack && lo <= hi + slack) {
+        if r > w + slack || afj > r + slack || lo > hi + slack {
             return false;
         }
         let reach = |s: f64| {
@@ -95,17 +97,16 @@ impl Step2 {
             let d = (2.0 * r2 - w * w).sqrt();
             (0.5 * (w - d), 0.5 * (w + d))
         };
-        let mut near = false;
-        for (x, y) in [(lo, hi.min(a)), (lo.max(b), hi)] {
+        // Infeasible only if each part is empty (beyond the slack) or
+        // misses the target.
+        let excluded = |x: f64, y: f64| {
             if x <= y {
-                if self.between(reach(x), reach(y), y, slack, m.j) {
-                    return true;
-                }
+                !self.between(reach(x), reach(y), y, slack, m.j)
             } else {
-                near |= x <= y + slack;
+                x > y + slack
             }
-        }
-        near
+        };
+        !(excluded(lo, hi.min(a)) && excluded(lo.max(b), hi))
     }
 
     /// Position reached from the start after the phases `t` (the VEL
@@ -128,7 +129,8 @@ impl Step2 {
         let ds = 2.0 * s_max.abs() * slack + slack * slack;
         let tol =
             2e-8 + 1e-9 * (x0.abs() + x1.abs() + self.pd.abs()) + 2.0 * self.tf * j.abs() * ds;
-        self.pd >= x0.min(x1) - tol && self.pd <= x0.max(x1) + tol
+        let outside = self.pd < x0.min(x1) - tol || self.pd > x0.max(x1) + tol;
+        !outside
     }
 
     /// VEL with jerk signs UDDU: the first phase duration is a root of a
