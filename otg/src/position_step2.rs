@@ -143,7 +143,21 @@ impl Step2 {
         } = *self;
         let (amax, amin, j) = (m.a_max, m.a_min, m.j);
 
-        if (2.0 * (amax - amin) + ad) / j < tf {
+        // Both ramps need their plateau, so the cruise velocity is at least
+        // as far from `v0` (and, UDDU, from `vf`) as the plateau ramps take,
+        // and within the velocity limit; UDUD ramps twice the same way.
+        // Checked in units of `v/j` with a margin far above the check's.
+        let ij = 1.0 / j;
+        let room0 = (m.v_max - self.v0) * ij;
+        let need0 = (amax * amax - 0.5 * a0_2) * ij * ij;
+        let roomf = (m.v_max - vf) * ij;
+        let needf = (amin * amin - 0.5 * af_2) * ij * ij;
+        let need_udud = (2.0 * amax * amax - 0.5 * (a0_2 + af_2)) * ij * ij;
+        let short =
+            |room: f64, need: f64| room < need - 1e-9 * (room.abs() + need.abs()) - 1e-9 * ij.abs();
+        let ramp0_fits = !short(room0, need0);
+
+        if ramp0_fits && !short(roomf, needf) && (2.0 * (amax - amin) + ad) / j < tf {
             let h1 = ((a0_4 + af_4
                 - 4.0 * a0_3 * (2.0 * amax + amin) / 3.0
                 - 4.0 * af_3 * (amax + 2.0 * amin) / 3.0
@@ -184,7 +198,7 @@ impl Step2 {
             }
         }
 
-        if (-a0 + 4.0 * amax - af) / j < tf {
+        if ramp0_fits && !short(vd * ij, need_udud) && (-a0 + 4.0 * amax - af) / j < tf {
             p.t[0] = (-a0 + amax) / j;
             p.t[1] = (3.0 * (a0_4 + af_4) - 4.0 * (a0_3 + af_3) * amax - 4.0 * af_3 * amax
                 + 24.0 * (a0 + af) * amax * amax * amax

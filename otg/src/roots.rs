@@ -310,16 +310,13 @@ pub(crate) fn quartic_in(c: &[f64; 4], lo: f64, hi: f64) -> Roots<4> {
 fn may_have_root_in(c: &[f64; 4], lo: f64, hi: f64) -> bool {
     let [a, b, cc, d] = *c;
     let m = 0.5 * (lo + hi);
-    // Widened relative to the range and to the scale of all roots (a
-    // Fujiwara-type bound, |c|^(1/3) ≤ max(|c|^(1/2), |c|^(1/4))): a root
-    // computed inside but off by rounding is never excluded.
-    let sc = cc.abs().sqrt();
-    let scale = a
-        .abs()
-        .max(b.abs().sqrt())
-        .max(sc)
-        .max(sc.sqrt())
-        .max(d.abs().sqrt().sqrt());
+    // Widened relative to the range and to the scale of all roots (the
+    // Fujiwara bound max |cₖ|^(1/k), within a factor of 4): a root computed
+    // inside but off by rounding is never excluded.
+    let scale = root_pow(a, 1)
+        .max(root_pow(b, 2))
+        .max(root_pow(cc, 3))
+        .max(root_pow(d, 4));
     let r = 0.5 * (hi - lo) * (1.0 + 1e-6) + 1e-6 * lo.abs().max(hi.abs()) + 1e-9 * scale;
     let b3 = 4.0 * m + a;
     let b2 = (6.0 * m + 3.0 * a) * m + b;
@@ -332,6 +329,24 @@ fn may_have_root_in(c: &[f64; 4], lo: f64, hi: f64) -> bool {
     let size = (((am + a.abs()) * am + b.abs()) * am + cc.abs()) * am + d.abs();
     let clear = bound * (1.0 + 1e-6) + 1e-12 * size;
     b0.abs() <= clear || b0.is_nan() || clear.is_nan()
+}
+
+/// An upper bound of `|x|^(1/k)` (at most 4 times too large) from the
+/// binary exponent alone: no roots needed. `|x| < 2^(e+1)`, so
+/// `|x|^(1/k) < 2^⌈(e+1)/k⌉`; NaN and infinity give infinity.
+#[inline]
+fn root_pow(x: f64, k: i64) -> f64 {
+    let biased = ((x.to_bits() >> 52) & 0x7ff) as i64;
+    if biased == 0x7ff {
+        return f64::INFINITY;
+    }
+    // Zero and subnormals: below 2^-1022.
+    let e = biased.max(1) - 1023 + 1;
+    let q = e.div_euclid(k) + 1;
+    if q > 1023 {
+        return f64::INFINITY;
+    }
+    f64::from_bits(((q + 1023) as u64) << 52)
 }
 
 /// Horner evaluation of `p[0] x^(M-1) + … + p[M-1]`.
@@ -474,6 +489,22 @@ mod tests {
         for (x, e) in r.iter().zip([0.5, 1.0, 2.0, 4.0]) {
             assert!((x - e).abs() < 1e-9, "{r:?}");
         }
+    }
+
+    #[test]
+    fn root_pow_bounds() {
+        for x in [1e-300, 3e-9, 0.5, 1.0, 2.0, 7.0, 1e5, 1e300, -42.0] {
+            for k in 1..=4 {
+                let r = root_pow(x, k);
+                let exact = x.abs().powf(1.0 / k as f64);
+                assert!(r >= exact && r <= 4.0 * exact, "{x} {k}: {r} vs {exact}");
+            }
+        }
+        assert_eq!(root_pow(0.0, 2), root_pow(1e-310, 2));
+        assert!(root_pow(0.0, 3) < 1e-100);
+        assert_eq!(root_pow(f64::NAN, 2), f64::INFINITY);
+        assert_eq!(root_pow(f64::MAX, 1), f64::INFINITY);
+        assert!(root_pow(f64::MAX, 2) >= f64::MAX.sqrt());
     }
 
     #[test]
