@@ -175,9 +175,6 @@ impl Step2 {
                 }
                 p.t = [t, 0.0, t, tf - 4.0 * t, t, 0.0, t];
                 if Self::chk(p, S::Uddu, L::Vel, m) {
-                    if std::env::var_os("DBG").is_some() {
-                        eprintln!("OK t {:?} s {}", p.t, p.t[2]);
-                    }
                     return true;
                 }
             });
@@ -250,11 +247,7 @@ impl Step2 {
                     0.0,
                     h1 + af / j,
                 ];
-                let ok = Self::chk(p, S::Uddu, L::Vel, m);
-                if ok && std::env::var_os("DBGX").is_some() {
-                    eprintln!("OK t {:?} s {}", p.t, p.t[2]);
-                }
-                ok
+                Self::chk(p, S::Uddu, L::Vel, m)
             };
 
             let mut tz_cur = tz_min;
