@@ -314,11 +314,9 @@ impl Step1 {
             h0_acc1 / (jj * jj),
         ];
 
-        let roots_none = roots::quartic(&poly_none);
-        let roots_acc0 = roots::quartic(&poly_acc0);
-        let roots_acc1 = roots::quartic(&poly_acc1);
-
-        for_roots!(roots_none, |t| {
+        // Only roots in each shape's range are used: the quartics are
+        // solved lazily, and not at all without a root there.
+        for_roots!(roots::quartic_in(&poly_none, t_min_none, t_max_none), |t| {
             if t < t_min_none || t > t_max_none {
                 continue;
             }
@@ -353,7 +351,7 @@ impl Step1 {
             }
         });
 
-        for_roots!(roots_acc0, |t| {
+        for_roots!(roots::quartic_in(&poly_acc0, t_min_acc0, t_max_acc0), |t| {
             if t < t_min_acc0 || t > t_max_acc0 {
                 continue;
             }
@@ -381,7 +379,7 @@ impl Step1 {
             }
         });
 
-        for_roots!(roots_acc1, |t| {
+        for_roots!(roots::quartic_in(&poly_acc1, t_min_acc1, t_max_acc1), |t| {
             if t < t_min_acc1 || t > t_max_acc1 {
                 continue;
             }

@@ -121,6 +121,45 @@ impl Step2 {
             || self.none(p, &n)
     }
 
+    /// Which acceleration plateaus can fit: a plateau ramp from `v0` (or to
+    /// `vf`) changes the velocity by at least `(2·a² - a₀²)/(2j)`, and the
+    /// cruise velocity between the ramps is within the velocity limit, so
+    /// shapes whose ramps cannot fit are skipped before their closed forms
+    /// (necessary conditions for non-negative plateaus, compared in units
+    /// of `v/j` with a margin far above the check's).
+    #[inline]
+    fn plateau_room(&self, m: &Lim) -> PlateauRoom {
+        let ij = 1.0 / m.j;
+        let (amax2, amin2) = (m.a_max * m.a_max, m.a_min * m.a_min);
+        let fits = |room: f64, need: f64| {
+            let short = room < need - 1e-9 * (room.abs() + need.abs()) - 1e-9 * ij.abs();
+            !short
+        };
+        PlateauRoom {
+            // Start ramp at a_max up to the cruise (≤ the limit).
+            first: fits(
+                (m.v_max - self.v0) * ij,
+                (amax2 - 0.5 * self.a0_2) * ij * ij,
+            ),
+            // UDDU end ramp at a_min from the cruise (≤ the limit) to vf.
+            last_down: fits(
+                (m.v_max - self.vf) * ij,
+                (amin2 - 0.5 * self.af_2) * ij * ij,
+            ),
+            // UDUD end ramp at a_max from the cruise up to vf (the start
+            // ramp, without plateau, changes the velocity by ≥ -a0²/(2j)).
+            last_up: fits(
+                self.vd * ij,
+                (amax2 - 0.5 * (self.a0_2 + self.af_2)) * ij * ij,
+            ),
+            // UDUD with both ramps at a_max.
+            twice_up: fits(
+                self.vd * ij,
+                (2.0 * amax2 - 0.5 * (self.a0_2 + self.af_2)) * ij * ij,
+            ),
+        }
+    }
+
     fn acc0_acc1_vel(&self, p: &mut Profile, m: &Lim) -> bool {
         let Self {
             tf,
@@ -143,7 +182,8 @@ impl Step2 {
         } = *self;
         let (amax, amin, j) = (m.a_max, m.a_min, m.j);
 
-        if (2.0 * (amax - amin) + ad) / j < tf {
+        let room = self.plateau_room(m);
+        if room.first && room.last_down && (2.0 * (amax - amin) + ad) / j < tf {
             let h1 = ((a0_4 + af_4
                 - 4.0 * a0_3 * (2.0 * amax + amin) / 3.0
                 - 4.0 * af_3 * (amax + 2.0 * amin) / 3.0
@@ -184,7 +224,7 @@ impl Step2 {
             }
         }
 
-        if (-a0 + 4.0 * amax - af) / j < tf {
+        if room.first && room.twice_up && (-a0 + 4.0 * amax - af) / j < tf {
             p.t[0] = (-a0 + amax) / j;
             p.t[1] = (3.0 * (a0_4 + af_4) - 4.0 * (a0_3 + af_3) * amax - 4.0 * af_3 * amax
                 + 24.0 * (a0 + af) * amax * amax * amax
@@ -233,9 +273,10 @@ impl Step2 {
             ..
         } = *self;
         let (amax, amin, j) = (m.a_max, m.a_min, m.j);
+        let room = self.plateau_room(m);
 
-        // UDDU
-        {
+        // UDDU: the end ramp has its a_min plateau.
+        if room.last_down {
             let ph1 = a0_2 + af_2 - amin * (a0 + 2.0 * af - amin) - 2.0 * j * (vd - amin * tf);
             let ph2 = 2.0 * amin * (j * g1 + af * vd) - amin * amin * vd + j * vd_2;
             let ph3 = af_2 + amin * (amin - 2.0 * af) - 2.0 * j * (vd - amin * tf);
@@ -251,7 +292,7 @@ impl Step2 {
             ];
             let t_min = -a0 / j;
             let t_max = ((tf + 2.0 * amin / j - (a0 + af) / j) / 2.0).min((amax - a0) / j);
-            for_roots!(roots::quartic(&poly), |t| {
+            for_roots!(roots::quartic_in(&poly, t_min, t_max), |t| {
                 if t < t_min || t > t_max {
                     continue;
                 }
@@ -300,8 +341,8 @@ impl Step2 {
             });
         }
 
-        // UDUD
-        {
+        // UDUD: the end ramp has its a_max plateau.
+        if room.last_up {
             let ph1 =
                 a0_2 - af_2 + (2.0 * af - a0) * amax - amax * amax - 2.0 * j * (vd - amax * tf);
             let ph2 = amax * amax + 2.0 * j * vd;
@@ -321,7 +362,7 @@ impl Step2 {
             ];
             let t_min = -a0 / j;
             let t_max = ((tf + ad / j - 2.0 * amax / j) / 2.0).min((amax - a0) / j);
-            for_roots!(roots::quartic(&poly), |t| {
+            for_roots!(roots::quartic_in(&poly, t_min, t_max), |t| {
                 if t > t_max || t < t_min {
                     continue;
                 }
@@ -365,6 +406,10 @@ impl Step2 {
         if tf < ((-a0 + amax) / j).max(0.0) + (amax / j).max(0.0) {
             return false;
         }
+        // Both jerk patterns start with the a_max plateau ramp.
+        if !self.plateau_room(m).first {
+            return false;
+        }
         let ph1 = 12.0 * j * (-amax * amax * vd - j * vd_2 + 2.0 * amax * j * (-pd + tf * vf));
 
         // UDDU
@@ -382,7 +427,7 @@ impl Step2 {
             ];
             let t_min = -af / j;
             let t_max = (tf - (2.0 * amax - a0) / j).min(-amin / j);
-            for_roots!(roots::quartic(&poly), |t| {
+            for_roots!(roots::quartic_in(&poly, t_min, t_max), |t| {
                 if t < t_min || t > t_max {
                     continue;
                 }
@@ -438,7 +483,7 @@ impl Step2 {
             ];
             let t_min = af / j;
             let t_max = (tf - amax / j).min(amax / j);
-            for_roots!(roots::quartic(&poly), |t| {
+            for_roots!(roots::quartic_in(&poly, t_min, t_max), |t| {
                 if t < t_min || t > t_max {
                     continue;
                 }
@@ -476,4 +521,13 @@ impl Step2 {
         }
         false
     }
+}
+
+/// Result of [`Step2::plateau_room`]: whether each plateau ramp can fit.
+#[derive(Clone, Copy)]
+struct PlateauRoom {
+    first: bool,
+    last_down: bool,
+    last_up: bool,
+    twice_up: bool,
 }

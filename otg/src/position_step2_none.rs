@@ -181,7 +181,7 @@ impl Step2 {
             ];
             let t_min = ad / j;
             let t_max = ((amax - a0) / j).min((ad / j + tf) / 2.0);
-            for_roots!(roots::quartic(&poly), |t| {
+            for_roots!(roots::quartic_in(&poly, t_min, t_max), |t| {
                 if t < t_min || t > t_max {
                     continue;
                 }

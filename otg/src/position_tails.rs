@@ -7,7 +7,7 @@
 //! optimum is dropped before it is integrated.
 
 use crate::position_step1::{Lim, Step1, Valid};
-use crate::profile::{ControlSigns as S, ReachedLimits as L};
+use crate::profile::{ControlSigns as S, ReachedLimits as L, integrate};
 
 impl Step1 {
     /// Integrates and checks the candidate phases `t` (UDDU signs in the
@@ -21,15 +21,42 @@ impl Step1 {
         }
         // Three-phase tails reach the target velocity and acceleration by
         // construction; their distance decides, and is cheap to get first.
-        if t[3..].iter().all(|&x| x == 0.0) {
-            let (mut x, mut v, mut a) = (0.0, self.v0, self.a0);
-            for (dt, j) in t[..3].iter().zip([m.j, 0.0, -m.j]) {
-                (x, v, a) = crate::profile::integrate(*dt, x, v, a, j);
-            }
-            if (x - self.pd).abs() > 1e-8 {
-                return;
-            }
+        if t[3..].iter().all(|&x| x == 0.0) && !self.reaches(t[0], t[1], t[2], m.j) {
+            return;
         }
+        Self::check_tail(out, t, l, m);
+    }
+
+    /// [`Step1::try_tail`] for a three-phase tail `(t0, t1, t2)`: the
+    /// same tests, inlined without building the phase array (most tails
+    /// fail them, and every Step 1 tries about eight).
+    #[inline(always)]
+    fn try_tail3(&self, out: &mut Valid, t0: f64, t1: f64, t2: f64, l: L, m: &Lim) {
+        // NaN fails the tests.
+        if t0 >= 0.0
+            && t1 >= 0.0
+            && t2 >= 0.0
+            && t0 + t1 + t2 < out.bound()
+            && self.reaches(t0, t1, t2, m.j)
+        {
+            Self::check_tail(out, [t0, t1, t2, 0.0, 0.0, 0.0, 0.0], l, m);
+        }
+    }
+
+    /// Whether jerks `j`, 0, `-j` for `t0`, `t1`, `t2` end at the target
+    /// distance (within the check's precision).
+    #[inline(always)]
+    fn reaches(&self, t0: f64, t1: f64, t2: f64, j: f64) -> bool {
+        let (x, v, a) = integrate(t0, 0.0, self.v0, self.a0, j);
+        let (x, v, a) = integrate(t1, x, v, a, 0.0);
+        let (x, _, _) = integrate(t2, x, v, a, -j);
+        (x - self.pd).abs() <= 1e-8
+    }
+
+    /// Integrates and checks a tail that passed the cheap tests (rare).
+    #[cold]
+    #[inline(never)]
+    fn check_tail(out: &mut Valid, t: [f64; 7], l: L, m: &Lim) {
         let p = out.cur();
         p.t = t;
         if p.check(S::Uddu, l, false, m.j, m.v_max, m.v_min, m.a_max, m.a_min) {
@@ -59,7 +86,7 @@ impl Step1 {
         // One jerk phase.
         let t = (af - a0) / j;
         if t >= 0.0 {
-            self.try_tail(out, [t, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], L::None, m);
+            self.try_tail3(out, t, 0.0, 0.0, L::None, m);
         }
 
         // Two jerk phases, intermediate acceleration of either sign.
@@ -67,12 +94,7 @@ impl Step1 {
         if hh >= 0.0 {
             let h = hh.sqrt();
             for h0 in [h, -h] {
-                self.try_tail(
-                    out,
-                    [(h0 - a0) / j, 0.0, (h0 - af) / j, 0.0, 0.0, 0.0, 0.0],
-                    L::None,
-                    m,
-                );
+                self.try_tail3(out, (h0 - a0) / j, 0.0, (h0 - af) / j, L::None, m);
             }
         }
 
@@ -80,14 +102,14 @@ impl Step1 {
         let t2 = (a0 - af) / j;
         if a0 != 0.0 && t2 >= 0.0 {
             let t1 = (af_2 - a0_2 + 2.0 * j * (vf - v0)) / (2.0 * a0 * j);
-            self.try_tail(out, [0.0, t1, t2, 0.0, 0.0, 0.0, 0.0], L::Acc0, m);
+            self.try_tail3(out, 0.0, t1, t2, L::Acc0, m);
         }
 
         // Jerk to the acceleration limit, hold, jerk to the target.
         let (t0, t2) = ((amax - a0) / j, (amax - af) / j);
         if t0 >= 0.0 && t2 >= 0.0 {
             let t1 = (a0_2 + af_2 - 2.0 * amax * amax + 2.0 * j * (vf - v0)) / (2.0 * amax * j);
-            self.try_tail(out, [t0, t1, t2, 0.0, 0.0, 0.0, 0.0], L::Acc0, m);
+            self.try_tail3(out, t0, t1, t2, L::Acc0, m);
         }
 
         // Tails with a cruise at the velocity limit: only from a state whose

@@ -288,6 +288,67 @@ pub(crate) fn quartic(c: &[f64; 4]) -> Roots<4> {
     quartic_monic(c[0], c[1], c[2], c[3])
 }
 
+/// [`quartic`], skipped (no roots) when a Taylor bound around the middle
+/// of `[lo, hi]` proves that the quartic has no root there: callers keep
+/// only roots in that range, and most Step 1 shapes have none (the
+/// closed-form solution costs several times the test). The range is
+/// widened generously (far beyond the solver's own error), so no root the
+/// solver would place inside is ever dropped.
+#[inline]
+pub(crate) fn quartic_in(c: &[f64; 4], lo: f64, hi: f64) -> Roots<4> {
+    // A NaN bound filters nothing (comparisons with it are false).
+    if lo > hi || !may_have_root_in(c, lo, hi) {
+        return Roots::new();
+    }
+    quartic(c)
+}
+
+/// `false` only if the monic quartic `c` provably has no root in
+/// `[lo, hi]` (widened): `|p(m)| > Σ |p⁽ᵏ⁾(m)/k!|·rᵏ` around the middle `m`
+/// with half-width `r`. NaN gives `true`.
+#[inline]
+fn may_have_root_in(c: &[f64; 4], lo: f64, hi: f64) -> bool {
+    let [a, b, cc, d] = *c;
+    let m = 0.5 * (lo + hi);
+    // Widened relative to the range and to the scale of all roots (the
+    // Fujiwara bound max |cₖ|^(1/k), within a factor of 4): a root computed
+    // inside but off by rounding is never excluded.
+    let scale = root_pow(a, 1)
+        .max(root_pow(b, 2))
+        .max(root_pow(cc, 3))
+        .max(root_pow(d, 4));
+    let r = 0.5 * (hi - lo) * (1.0 + 1e-6) + 1e-6 * lo.abs().max(hi.abs()) + 1e-9 * scale;
+    let b3 = 4.0 * m + a;
+    let b2 = (6.0 * m + 3.0 * a) * m + b;
+    let b1 = ((4.0 * m + 3.0 * a) * m + 2.0 * b) * m + cc;
+    let b0 = (((m + a) * m + b) * m + cc) * m + d;
+    let bound = (((r + b3.abs()) * r + b2.abs()) * r + b1.abs()) * r;
+    // Rounding (and the solver's backward error): relative to the size of
+    // the terms over the range.
+    let am = m.abs() + r;
+    let size = (((am + a.abs()) * am + b.abs()) * am + cc.abs()) * am + d.abs();
+    let clear = bound * (1.0 + 1e-6) + 1e-12 * size;
+    b0.abs() <= clear || b0.is_nan() || clear.is_nan()
+}
+
+/// An upper bound of `|x|^(1/k)` (at most 4 times too large) from the
+/// binary exponent alone: no roots needed. `|x| < 2^(e+1)`, so
+/// `|x|^(1/k) < 2^⌈(e+1)/k⌉`; NaN and infinity give infinity.
+#[inline]
+fn root_pow(x: f64, k: i64) -> f64 {
+    let biased = ((x.to_bits() >> 52) & 0x7ff) as i64;
+    if biased == 0x7ff {
+        return f64::INFINITY;
+    }
+    // Zero and subnormals: below 2^-1022.
+    let e = biased.max(1) - 1023 + 1;
+    let q = e.div_euclid(k) + 1;
+    if q > 1023 {
+        return f64::INFINITY;
+    }
+    f64::from_bits(((q + 1023) as u64) << 52)
+}
+
 /// Horner evaluation of `p[0] x^(M-1) + … + p[M-1]`.
 #[inline]
 pub(crate) fn eval<const M: usize>(p: &[f64; M], x: f64) -> f64 {
@@ -427,6 +488,60 @@ mod tests {
         assert_eq!(r.len(), 4, "{r:?}");
         for (x, e) in r.iter().zip([0.5, 1.0, 2.0, 4.0]) {
             assert!((x - e).abs() < 1e-9, "{r:?}");
+        }
+    }
+
+    #[test]
+    fn root_pow_bounds() {
+        for x in [1e-300, 3e-9, 0.5, 1.0, 2.0, 7.0, 1e5, 1e300, -42.0] {
+            for k in 1..=4 {
+                let r = root_pow(x, k);
+                let exact = x.abs().powf(1.0 / k as f64);
+                assert!(r >= exact && r <= 4.0 * exact, "{x} {k}: {r} vs {exact}");
+            }
+        }
+        assert_eq!(root_pow(0.0, 2), root_pow(1e-310, 2));
+        assert!(root_pow(0.0, 3) < 1e-100);
+        assert_eq!(root_pow(f64::NAN, 2), f64::INFINITY);
+        assert_eq!(root_pow(f64::MAX, 1), f64::INFINITY);
+        assert!(root_pow(f64::MAX, 2) >= f64::MAX.sqrt());
+    }
+
+    #[test]
+    fn quartic_in_keeps_roots_in_range() {
+        // (x-0.5)(x-1)(x-2)(x-4)
+        let c = [-7.5, 17.5, -15.0, 4.0];
+        assert_eq!(collect(quartic_in(&c, 0.4, 0.6)).len(), 4);
+        assert_eq!(collect(quartic_in(&c, 1.0 - 1e-12, 1.0 - 1e-12)).len(), 4);
+        assert_eq!(collect(quartic_in(&c, 2.5, 3.5)).len(), 0);
+        assert_eq!(collect(quartic_in(&c, 5.0, 5.5)).len(), 0);
+        assert_eq!(collect(quartic_in(&c, 3.0, 2.0)).len(), 0);
+        // Random monic quartics with roots near the range ends.
+        let mut seed = 12345u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..20000 {
+            let x: [f64; 4] = core::array::from_fn(|_| 4.0 * rnd() - 1.0);
+            let c = [
+                -(x[0] + x[1] + x[2] + x[3]),
+                x[0] * x[1] + x[0] * x[2] + x[0] * x[3] + x[1] * x[2] + x[1] * x[3] + x[2] * x[3],
+                -(x[0] * x[1] * x[2]
+                    + x[0] * x[1] * x[3]
+                    + x[0] * x[2] * x[3]
+                    + x[1] * x[2] * x[3]),
+                x[0] * x[1] * x[2] * x[3],
+            ];
+            let lo = 3.0 * rnd() - 0.5;
+            let hi = lo + rnd() * rnd();
+            let all = collect(quartic(&c));
+            let kept = collect(quartic_in(&c, lo, hi));
+            if all.iter().any(|&t| t >= lo && t <= hi) {
+                assert_eq!(all, kept, "{c:?} [{lo}, {hi}]");
+            }
         }
     }
 
