@@ -8,6 +8,7 @@
 //! otherwise all are collected to find blocked intervals.
 
 use crate::block::Block;
+use crate::calculator::close_tol;
 pub(crate) use crate::candidates::{Keep, Valid};
 use crate::profile::{ControlSigns as S, Profile, ReachedLimits as L};
 use crate::roots::{self, EPS, for_roots};
@@ -53,6 +54,8 @@ pub(crate) struct Step1 {
     pub(crate) af_3: f64,
     pub(crate) af_4: f64,
     pub(crate) jj: f64,
+    /// Solve the quartics in units of their root scale (`quartic_scaled`).
+    pub(crate) scaled: bool,
 }
 
 impl Step1 {
@@ -74,6 +77,7 @@ impl Step1 {
             af_3: af * af_2,
             af_4: af_2 * af_2,
             jj: j_max * j_max,
+            scaled: false,
         }
     }
 
@@ -99,6 +103,7 @@ impl Step1 {
             af_3,
             af_4,
             jj,
+            ..
         } = *self;
         let (vmax, amax, amin, j) = (m.v_max, m.a_max, m.a_min, m.j);
 
@@ -201,6 +206,7 @@ impl Step1 {
             af_3,
             af_4,
             jj,
+            ..
         } = *self;
         let (amax, amin, j) = (m.a_max, m.a_min, m.j);
 
@@ -261,8 +267,14 @@ impl Step1 {
             af_3,
             af_4,
             jj,
+            scaled,
         } = *self;
         let (amax, amin, j) = (m.a_max, m.a_min, m.j);
+        let quartic_in = if scaled {
+            roots::quartic_in_scaled
+        } else {
+            roots::quartic_in
+        };
 
         // NONE: t7 == 0 (UDDU and UDUD coincide); prone to numerical issues.
         let h2_none = (a0_2 - af_2) / (2.0 * j) + (vf - v0);
@@ -316,7 +328,7 @@ impl Step1 {
 
         // Only roots in each shape's range are used: the quartics are
         // solved lazily, and not at all without a root there.
-        for_roots!(roots::quartic_in(&poly_none, t_min_none, t_max_none), |t| {
+        for_roots!(quartic_in(&poly_none, t_min_none, t_max_none), |t| {
             if t < t_min_none || t > t_max_none {
                 continue;
             }
@@ -351,7 +363,7 @@ impl Step1 {
             }
         });
 
-        for_roots!(roots::quartic_in(&poly_acc0, t_min_acc0, t_max_acc0), |t| {
+        for_roots!(quartic_in(&poly_acc0, t_min_acc0, t_max_acc0), |t| {
             if t < t_min_acc0 || t > t_max_acc0 {
                 continue;
             }
@@ -379,7 +391,7 @@ impl Step1 {
             }
         });
 
-        for_roots!(roots::quartic_in(&poly_acc1, t_min_acc1, t_max_acc1), |t| {
+        for_roots!(quartic_in(&poly_acc1, t_min_acc1, t_max_acc1), |t| {
             if t < t_min_acc1 || t > t_max_acc1 {
                 continue;
             }
@@ -438,10 +450,59 @@ impl Step1 {
         block: &mut Block,
         out: &mut Valid,
     ) -> bool {
+        let found = self.block_unscaled(input, lim, block, out);
+        if !(self.vf.abs() < EPS && self.af.abs() < EPS && self.tiny_scale(lim.j)) {
+            return found;
+        }
+        // The quartics of a tiny motion (phases well below 10 ms) can lose
+        // their roots to the solver's absolute zero tests (as Ruckig's),
+        // leaving a much longer profile or none. Searched again with
+        // scaled quartics, the shorter profile wins (both passed the same
+        // check): Ruckig's result wherever it is the shorter one, and a
+        // consistent optimum from states sampled on it.
+        let scaled = Step1 {
+            scaled: true,
+            ..*self
+        };
+        out.reset(input, Keep::All, f64::INFINITY);
+        let (fwd, bwd) = if self.pd >= 0.0 {
+            (*lim, lim.flip())
+        } else {
+            (lim.flip(), *lim)
+        };
+        scaled.rest_search(out, &fwd, &bwd);
+        let mut best = (out.n > 0).then(|| out.list[0]);
+        out.reset(input, Keep::All, f64::INFINITY);
+        if self.brake_tail(out, lim) && best.is_none_or(|b| out.list[0].duration() < b.duration()) {
+            best = Some(out.list[0]);
+        }
+        let Some(best) = best else {
+            return found;
+        };
+        if found && best.duration() >= block.t_min - close_tol(block.t_min) {
+            return found;
+        }
+        out.reset(input, Keep::All, f64::INFINITY);
+        *out.cur() = best;
+        out.accept();
+        block.set_min(&out.list[0]);
+        block.a = None;
+        block.b = None;
+        scaled.repair(lim, &lim.flip(), block, out);
+        true
+    }
+
+    /// [`Step1::block`] with the quartics solved as Ruckig does.
+    fn block_unscaled(
+        &self,
+        input: &Profile,
+        lim: &Lim,
+        block: &mut Block,
+        out: &mut Valid,
+    ) -> bool {
         out.reset(input, Keep::All, f64::INFINITY);
         let up = *lim;
         let down = lim.flip();
-        let done = |o: &Valid| o.n > 0;
 
         if self.vf.abs() < EPS && self.af.abs() < EPS {
             // At rest at the target: no blocked intervals, the first valid
@@ -451,26 +512,7 @@ impl Step1 {
             } else {
                 (down, up)
             };
-            if self.v0.abs() < EPS && self.a0.abs() < EPS && self.pd.abs() < EPS {
-                self.none_acc0_acc1(out, &fwd, true);
-            } else {
-                'search: {
-                    for m in [&fwd, &bwd] {
-                        self.all_vel(out, m);
-                        if done(out) {
-                            break 'search;
-                        }
-                        self.none_acc0_acc1(out, m, true);
-                        if done(out) {
-                            break 'search;
-                        }
-                        self.acc0_acc1(out, m, true);
-                        if done(out) {
-                            break 'search;
-                        }
-                    }
-                }
-            }
+            self.rest_search(out, &fwd, &bwd);
         } else {
             self.none_acc0_acc1(out, &up, false);
             self.none_acc0_acc1(out, &down, false);
@@ -510,6 +552,72 @@ impl Step1 {
         true
     }
 
+    /// At rest at the target: the first valid profile, searched in the
+    /// likely direction `fwd` first.
+    fn rest_search(&self, out: &mut Valid, fwd: &Lim, bwd: &Lim) {
+        if self.v0.abs() < EPS && self.a0.abs() < EPS && self.pd.abs() < EPS {
+            self.none_acc0_acc1(out, fwd, true);
+            return;
+        }
+        for m in [fwd, bwd] {
+            self.all_vel(out, m);
+            if out.n > 0 {
+                return;
+            }
+            self.none_acc0_acc1(out, m, true);
+            if out.n > 0 {
+                return;
+            }
+            self.acc0_acc1(out, m, true);
+            if out.n > 0 {
+                return;
+            }
+        }
+    }
+
+    /// A state exactly on the braking curve of a rest target (one jerk
+    /// phase takes velocity and acceleration to zero together, as in the
+    /// last phase of a profile): that phase, if the check accepts where it
+    /// stops. Re-planning from a trajectory that stops within the check's
+    /// tolerance of the target (Ruckig's velocity-only fallback, which we
+    /// match) then continues it instead of turning around for the exact
+    /// target. Off the curve (every state not sampled on such a phase)
+    /// nothing is added.
+    fn brake_tail(&self, out: &mut Valid, up: &Lim) -> bool {
+        let (v0, a0) = (self.v0, self.a0);
+        if a0 == 0.0 {
+            return false;
+        }
+        let j = up.j.abs();
+        let v_end = v0 + a0 * a0.abs() / (2.0 * j);
+        if v_end.abs() > 1e-9 * v0.abs() {
+            return false;
+        }
+        // The phase's jerk is -m.j: against the acceleration.
+        let m = if a0 > 0.0 { *up } else { up.flip() };
+        let p = out.cur();
+        p.t = [0.0, 0.0, a0.abs() / j, 0.0, 0.0, 0.0, 0.0];
+        if Self::chk(p, S::Uddu, L::None, false, &m) {
+            out.accept();
+            return true;
+        }
+        false
+    }
+
+    /// Whether the natural time scale of the motion (the phase durations
+    /// that the boundary values alone call for) is below 10 ms: only then
+    /// can the quartics' absolute zero tests matter.
+    #[inline]
+    fn tiny_scale(&self, j: f64) -> bool {
+        let j = j.abs();
+        let t = (self.pd.abs() / j).cbrt()
+            + (self.v0.abs() / j).sqrt()
+            + self.a0.abs() / j
+            + (self.vf.abs() / j).sqrt()
+            + self.af.abs() / j;
+        t < 1e-2
+    }
+
     /// Bellman repair: on states exactly on a phase boundary or a limit
     /// (typically states sampled from an earlier trajectory) the quartic
     /// roots of the optimal shape can fall just outside their admissible
@@ -536,6 +644,14 @@ impl Step1 {
         let best = extra.list[0];
         let old = block.p_min;
         if best.t_sum[6] >= old.t_sum[6] - 1e-12 * old.t_sum[6].max(1.0) {
+            return;
+        }
+        if self.vf.abs() < EPS && self.af.abs() < EPS {
+            // At rest at the target no duration beyond the optimum is
+            // blocked (see `block`): nothing to treat conservatively.
+            block.set_min(&best);
+            block.a = None;
+            block.b = None;
             return;
         }
         block.merge_shorter(&best);

@@ -64,6 +64,7 @@ impl Step1 {
             af_3,
             af_4,
             jj,
+            ..
         } = *self;
         let (amax, amin, j) = (m.a_max, m.a_min, m.j);
 

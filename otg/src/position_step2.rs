@@ -95,7 +95,34 @@ impl Step2 {
     }
 
     /// Fills `p` with a profile of duration `tf`; `false` if none exists.
+    ///
+    /// The check accepts final positions within 1e-8, which for a tiny move
+    /// can be a profile of another shape that really goes somewhere else
+    /// (1e-8 instead of 2e-9); the state sampled on it is then not on the
+    /// way to the target, and re-planning from it costs a turnaround. So if
+    /// the first profile misses the target by more than 1e-12 relative, the
+    /// remaining shapes are tried too and the one closest to the target
+    /// wins (an alternative only if it respects the limits everywhere).
     pub(crate) fn profile(&self, p: &mut Profile, lim: &Lim) -> bool {
+        type Shape = fn(&Step2, &mut Profile, &Lim) -> bool;
+        const SHAPES: [(Shape, bool); 16] = [
+            (Step2::acc0_acc1_vel, true),
+            (Step2::vel, true),
+            (Step2::acc0_vel, true),
+            (Step2::acc1_vel, true),
+            (Step2::acc0_acc1_vel, false),
+            (Step2::vel, false),
+            (Step2::acc0_vel, false),
+            (Step2::acc1_vel, false),
+            (Step2::acc0_acc1, true),
+            (Step2::acc0, true),
+            (Step2::acc1, true),
+            (Step2::none, true),
+            (Step2::acc0_acc1, false),
+            (Step2::acc0, false),
+            (Step2::acc1, false),
+            (Step2::none, false),
+        ];
         // Guess the likely direction first.
         let up_first = self.pd > self.tf * self.v0;
         let (m, n) = if up_first {
@@ -103,22 +130,68 @@ impl Step2 {
         } else {
             (lim.flip(), *lim)
         };
-        self.acc0_acc1_vel(p, &m)
-            || self.vel(p, &m)
-            || self.acc0_vel(p, &m)
-            || self.acc1_vel(p, &m)
-            || self.acc0_acc1_vel(p, &n)
-            || self.vel(p, &n)
-            || self.acc0_vel(p, &n)
-            || self.acc1_vel(p, &n)
-            || self.acc0_acc1(p, &m)
-            || self.acc0(p, &m)
-            || self.acc1(p, &m)
-            || self.none(p, &m)
-            || self.acc0_acc1(p, &n)
-            || self.acc0(p, &n)
-            || self.acc1(p, &n)
-            || self.none(p, &n)
+        let mut best: Option<(f64, Profile)> = None;
+        for (shape, first) in SHAPES {
+            if !shape(self, p, if first { &m } else { &n }) {
+                continue;
+            }
+            if best.is_none() && Self::on_target(p) {
+                return true;
+            }
+            let miss = Self::miss(p);
+            match best {
+                None => best = Some((miss, *p)),
+                Some((b, _)) if miss < b && Self::within(p, lim) => {
+                    if Self::on_target(p) {
+                        return true;
+                    }
+                    best = Some((miss, *p));
+                }
+                Some(_) => {}
+            }
+        }
+        match best {
+            Some((_, b)) => {
+                *p = b;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Whether a checked profile reaches the target to 1e-12 relative (far
+    /// below the check's tolerances, well above rounding).
+    #[inline]
+    fn on_target(p: &Profile) -> bool {
+        let near = |x: f64, x0: f64, target: f64| {
+            (x - target).abs() <= 1e-12 * (1.0 + x0.abs() + target.abs())
+        };
+        near(p.p[7], p.p[0], p.pf) && near(p.v[7], p.v[0], p.vf) && near(p.a[7], p.a[0], p.af)
+    }
+
+    /// The largest fraction of the check's final-state tolerances (1e-8,
+    /// 1e-8, 1e-10) that a checked profile uses.
+    #[inline]
+    fn miss(p: &Profile) -> f64 {
+        ((p.p[7] - p.pf).abs() * 1e8)
+            .max((p.v[7] - p.vf).abs() * 1e8)
+            .max((p.a[7] - p.af).abs() * 1e10)
+    }
+
+    /// Whether a checked profile respects the velocity and acceleration
+    /// limits at every instant (the check itself, as Ruckig's, does not
+    /// look at velocity extrema inside the first two phases).
+    fn within(p: &Profile, lim: &Lim) -> bool {
+        let (v_hi, v_lo) = (lim.v_max.max(lim.v_min), lim.v_max.min(lim.v_min));
+        let (a_hi, a_lo) = (lim.a_max.max(lim.a_min), lim.a_max.min(lim.a_min));
+        (0..8).all(|i| (v_lo..=v_hi).contains(&p.v[i]) && (a_lo..=a_hi).contains(&p.a[i]))
+            && (0..7).all(|i| {
+                if p.j[i] == 0.0 || p.a[i] * p.a[i + 1] >= 0.0 {
+                    return true;
+                }
+                let v_ext = p.v[i] - p.a[i] * p.a[i] / (2.0 * p.j[i]);
+                (v_lo..=v_hi).contains(&v_ext)
+            })
     }
 
     /// Which acceleration plateaus can fit: a plateau ramp from `v0` (or to

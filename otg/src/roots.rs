@@ -288,6 +288,39 @@ pub(crate) fn quartic(c: &[f64; 4]) -> Roots<4> {
     quartic_monic(c[0], c[1], c[2], c[3])
 }
 
+/// [`quartic`] solved in units of its root scale: [`quartic_monic`]'s
+/// "numerically zero" tests are absolute (as Ruckig's), so a quartic whose
+/// roots are all tiny (a move of 1e-8 has phases of 1e-4 s and a constant
+/// term of 1e-22) can lose its roots to them. With `x = s·u` for the power
+/// of two `s` bounding the roots the coefficients are O(1); the scaling
+/// itself is exact.
+#[inline]
+pub(crate) fn quartic_scaled(c: &[f64; 4]) -> Roots<4> {
+    let s = root_pow(c[0], 1)
+        .max(root_pow(c[1], 2))
+        .max(root_pow(c[2], 3))
+        .max(root_pow(c[3], 4));
+    if !(1e-60..=1.0).contains(&s) {
+        return quartic(c);
+    }
+    let is = 1.0 / s;
+    let (is2, is3) = (is * is, is * is * is);
+    let mut r = quartic_monic(c[0] * is, c[1] * is2, c[2] * is3, c[3] * is2 * is2);
+    for x in &mut r.data[..r.len] {
+        *x *= s;
+    }
+    r
+}
+
+/// [`quartic_in`] with [`quartic_scaled`].
+#[inline]
+pub(crate) fn quartic_in_scaled(c: &[f64; 4], lo: f64, hi: f64) -> Roots<4> {
+    if lo > hi || !may_have_root_in(c, lo, hi) {
+        return Roots::new();
+    }
+    quartic_scaled(c)
+}
+
 /// [`quartic`], skipped (no roots) when a Taylor bound around the middle
 /// of `[lo, hi]` proves that the quartic has no root there: callers keep
 /// only roots in that range, and most Step 1 shapes have none (the
@@ -489,6 +522,33 @@ mod tests {
         for (x, e) in r.iter().zip([0.5, 1.0, 2.0, 4.0]) {
             assert!((x - e).abs() < 1e-9, "{r:?}");
         }
+    }
+
+    #[test]
+    fn scaled_quartic_keeps_tiny_roots() {
+        // Step 1 NONE quartic of a 1.5e-8 move from v 7.2e-7 (j 3.9e4): the
+        // absolute zero tests lose the root near 1.16e-4 s.
+        let c = [
+            0.0,
+            7.385184240585768e-11,
+            -1.5533784797893123e-12,
+            -3.4088091417122748e-22,
+        ];
+        assert!(
+            collect(quartic(&c))
+                .iter()
+                .all(|x| (x - 1.16e-4).abs() > 1e-5)
+        );
+        let r = collect(quartic_scaled(&c));
+        let x = *r
+            .iter()
+            .find(|x| (**x - 1.16e-4).abs() < 1e-5)
+            .expect("root");
+        let p = (((x + c[0]) * x + c[1]) * x + c[2]) * x + c[3];
+        assert!(p.abs() < 1e-28, "{r:?} {p:e}");
+        // The scaling is exact: O(1) roots are unchanged.
+        let q = [-7.5, 17.5, -15.0, 4.0];
+        assert_eq!(collect(quartic_scaled(&q)), collect(quartic(&q)));
     }
 
     #[test]
