@@ -24,7 +24,7 @@ impl Default for ControlConfig {
 }
 
 /// `[daemon]`: what the loop does besides control.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DaemonSection {
     /// Publish the status every this many ticks (1 = every tick).
@@ -45,6 +45,10 @@ pub struct DaemonSection {
     pub housekeeping_period_ms: u32,
     /// How the writer thread learns that a tick's output is queued.
     pub writer_wake: WriterWake,
+    /// Directory where every goal's execution is recorded as a
+    /// `gait-trajectory/1` trace (SPEC §8, §10); empty = no traces. Must be
+    /// an existing directory the daemon can write to.
+    pub trace_dir: String,
 }
 
 /// How the writer thread (which publishes what the loop produced) is woken.
@@ -73,6 +77,7 @@ impl Default for DaemonSection {
             shutdown_timeout_ms: 2000,
             housekeeping_period_ms: 1000,
             writer_wake: WriterWake::Timer,
+            trace_dir: String::new(),
         }
     }
 }
@@ -276,8 +281,52 @@ impl DaemonSection {
             100,
             60_000,
             "in [100, 60000] ms",
-        )
+        )?;
+        trace_dir("daemon.trace_dir", &self.trace_dir)
     }
+}
+
+/// An empty value (tracing off) or an existing directory this process may
+/// create files in. Checked at start (and by `--check-config`) so a typo
+/// fails loudly instead of silently losing every trace.
+fn trace_dir(key: &'static str, dir: &str) -> Result<(), KeyError> {
+    if dir.is_empty() {
+        return Ok(());
+    }
+    if dir.contains('\0') {
+        return Err(KeyError::Invalid {
+            key,
+            why: "contains a NUL byte",
+        });
+    }
+    match std::fs::metadata(dir) {
+        Ok(m) if m.is_dir() => {}
+        Ok(_) => {
+            return Err(KeyError::Invalid {
+                key,
+                why: "is not a directory",
+            });
+        }
+        Err(_) => {
+            return Err(KeyError::Invalid {
+                key,
+                why: "does not exist (create it, e.g. StateDirectory=gaitd in the unit)",
+            });
+        }
+    }
+    let c = std::ffi::CString::new(dir).map_err(|_| KeyError::Invalid {
+        key,
+        why: "contains a NUL byte",
+    })?;
+    // SAFETY: `c` is a valid NUL-terminated path; access(2) only reads it.
+    // W_OK|X_OK: creating files in a directory needs both.
+    if unsafe { libc::access(c.as_ptr(), libc::W_OK | libc::X_OK) } != 0 {
+        return Err(KeyError::Invalid {
+            key,
+            why: "is not writable by this user",
+        });
+    }
+    Ok(())
 }
 
 impl IpcSection {
@@ -513,5 +562,40 @@ mod tests {
         assert_eq!(c.daemon.status_every, 2);
         assert_eq!(c.rt.loop_cpus, vec![1]);
         assert_eq!(c.period_ns(), 1_000_000);
+    }
+
+    #[test]
+    fn trace_dir_must_be_a_writable_directory() {
+        let c = DaemonConfig::from_toml("", "x.toml").unwrap();
+        assert_eq!(c.daemon.trace_dir, "", "tracing is off by default");
+        let dir = std::env::temp_dir().join(format!("gaitd-cfg-trace-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("a-file");
+        std::fs::write(&file, "").unwrap();
+        let ok = format!("[daemon]\ntrace_dir = \"{}\"\n", dir.display());
+        let c = DaemonConfig::from_toml(&ok, "x.toml").unwrap();
+        assert_eq!(c.daemon.trace_dir, dir.display().to_string());
+        for (path, why) in [
+            (dir.join("missing"), "does not exist"),
+            (file.clone(), "is not a directory"),
+        ] {
+            let text = format!("[daemon]\ntrace_dir = \"{}\"\n", path.display());
+            let e = DaemonConfig::from_toml(&text, "x.toml").unwrap_err();
+            let e = e.to_string();
+            assert!(e.contains("daemon.trace_dir") && e.contains(why), "{e}");
+        }
+        // A read-only directory (root may write anyway: only check if not).
+        let ro = dir.join("ro");
+        std::fs::create_dir_all(&ro).unwrap();
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o555)).unwrap();
+        // SAFETY: plain syscall.
+        if unsafe { libc::geteuid() } != 0 {
+            let text = format!("[daemon]\ntrace_dir = \"{}\"\n", ro.display());
+            let e = DaemonConfig::from_toml(&text, "x.toml").unwrap_err();
+            assert!(e.to_string().contains("not writable"), "{e}");
+        }
+        std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o755)).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -12,6 +12,7 @@ use crate::controller::{
     ControlCommand, ControlOutput, Controller, FingerReport, GoalReport, GoalTarget, TickContext,
 };
 use crate::planner::{Planner, PlannerLink};
+use crate::tracer::{Sample, TraceRecorder};
 use gait::executor::{self, Command, Event, Executor, FaultKind, PlanRequest, Reason, TickReport};
 use gait::planner::{Plan, StepKind};
 use gait::sim::{KinematicHand, Plant};
@@ -56,6 +57,12 @@ pub struct GaitController {
     safe_hold_requested: bool,
     /// The configured workspace margin [rad].
     workspace_margin: f64,
+    /// Targets of the goals in `goals` (same slots), for trace headers.
+    targets: [Option<executor::GoalTarget>; GOAL_SLOTS],
+    /// Goal traces, when configured ([`GaitController::set_trace`]).
+    trace: Option<TraceRecorder>,
+    /// Terminal state of the goal being traced, seen in this tick's events.
+    trace_end: Option<(GoalState, ReasonCode)>,
 }
 
 impl std::fmt::Debug for GaitController {
@@ -86,7 +93,49 @@ impl GaitController {
             last_place: None,
             safe_hold_requested: false,
             workspace_margin: config.model.workspace_margin_deg.to_radians(),
+            targets: [None; GOAL_SLOTS],
+            trace: None,
+            trace_end: None,
         })
+    }
+
+    /// Records every goal's execution through `recorder` (SPEC §8; see
+    /// [`crate::tracer`]).
+    pub fn set_trace(&mut self, recorder: TraceRecorder) {
+        self.trace = Some(recorder);
+    }
+
+    /// Feeds this tick to the trace recorder: a goal is recorded from the
+    /// tick it is first reported `Executing` to the tick its terminal state
+    /// is seen (that tick included). Copies one `Sample`; no allocation.
+    fn record_trace(&mut self, r: &TickReport) {
+        let Some(rec) = &mut self.trace else { return };
+        let sample = Sample::from_report(r);
+        let starting = match r.goal {
+            Some((id, executor::GoalState::Executing, _)) if rec.recording() != Some(id) => {
+                Some(id)
+            }
+            _ => None,
+        };
+        // This tick belongs to the goal being recorded unless another one
+        // starts executing in it.
+        if starting.is_none() {
+            rec.record(&sample);
+        }
+        if let Some(end) = self.trace_end.take() {
+            rec.end(Some(end));
+        }
+        if let Some(id) = starting {
+            let slot = (id as usize) % GOAL_SLOTS;
+            let (g, client, goal) = self.goals[slot];
+            let (client, goal, target) = if g == id {
+                (client, goal, self.targets[slot])
+            } else {
+                (0, id, None)
+            };
+            rec.begin(id, client, goal, target);
+            rec.record(&sample);
+        }
     }
 
     /// The executor's phase.
@@ -163,6 +212,11 @@ impl GaitController {
                         (executor::GoalState::Succeeded, _) => ReasonCode::Reached,
                         _ => reason_code(reason),
                     };
+                    if state.is_terminal()
+                        && self.trace.as_ref().and_then(TraceRecorder::recording) == Some(id)
+                    {
+                        self.trace_end = Some((goal_state(state), reason));
+                    }
                     ctx.events
                         .goal_transition(client, goal, goal_state(state), reason, remaining);
                 }
@@ -342,6 +396,7 @@ impl Controller for GaitController {
                         executor::GoalTarget::Rotation { axis, angle }
                     }
                 };
+                self.targets[(id as usize) % GOAL_SLOTS] = Some(target);
                 self.exec.command(Command::Goal {
                     id,
                     target,
@@ -388,6 +443,7 @@ impl Controller for GaitController {
         self.plant.write(&r.setpoint);
         self.pump_planner();
         self.forward_events(ctx, r.remaining_angle);
+        self.record_trace(&r);
         self.output(&r, out);
     }
 

@@ -13,6 +13,7 @@
 //! - [`ipc`]: iceoryx2 services and ports; [`outbox`]: the writer thread
 //!   that publishes what the loop produced (the loop never publishes);
 //! - [`planner`], [`handoff`]: the planner thread and its lock-free link;
+//! - [`tracer`]: goal traces (`gait-trajectory/1`) written off the loop;
 //! - [`housekeeping`]: dead-node cleanup, client bookkeeping, rate-limited
 //!   warnings, `STATUS=`;
 //! - [`stats`], [`histogram`]: loop timing;
@@ -39,6 +40,7 @@ pub mod sd_notify;
 pub mod signals;
 pub mod stats;
 pub mod ticker;
+pub mod tracer;
 
 /// A random id for this daemon run (clients see a restart as a new id).
 pub fn new_instance_id() -> u64 {

@@ -118,9 +118,28 @@ fn main() -> Result<()> {
     })
     .context("starting the planner thread")?;
     link.wake_through(planner_bell);
-    let controller = GaitController::new(&cfg.hand(), 1.0 / cfg.control.tick_hz, link)
+    let mut controller = GaitController::new(&cfg.hand(), 1.0 / cfg.control.tick_hz, link)
         .context("building the controller")?;
     let instance = gaitd::new_instance_id();
+    // Goal traces (SPEC §8): the loop copies samples into a ring, the
+    // trace thread formats and writes them.
+    let tracer = if cfg.daemon.trace_dir.is_empty() {
+        None
+    } else {
+        let (recorder, tracer) = gaitd::tracer::spawn(
+            gaitd::tracer::TraceSettings {
+                dir: cfg.daemon.trace_dir.clone().into(),
+                instance,
+                hand: cfg.hand(),
+                dt: 1.0 / cfg.control.tick_hz,
+                cpus: cfg.rt.background_cpus.clone(),
+            },
+            gaitd::tracer::DEFAULT_CAPACITY,
+        )?;
+        controller.set_trace(recorder);
+        info!(dir = %cfg.daemon.trace_dir, "recording a trace of every goal");
+        Some(tracer)
+    };
     let mut runtime = Runtime::new(
         commands,
         outbox,
@@ -178,6 +197,9 @@ fn main() -> Result<()> {
         "stopped: final status published"
     );
     writer.join();
+    if let Some(t) = tracer {
+        t.join();
+    }
     hk.join();
     drop(runtime);
     planner_thread.join();

@@ -372,8 +372,9 @@ fn plans_cross_the_loop_without_allocation() {
 /// The real controller (planner thread, executor, kinematic hand) in the
 /// real loop: goals (absolute, relative, full turns), preemption by newer
 /// goals mid-motion, cancels and holds, over 10⁵ ticks that include
-/// rolling, gaits and status publishing — no allocation or free on the
-/// loop thread.
+/// rolling, gaits and status publishing, with every goal traced
+/// (`trace_dir` set: samples copied into the trace ring) — no allocation
+/// or free on the loop thread.
 #[test]
 fn the_loop_does_not_allocate_with_the_gait_controller() {
     use gaitd::gait_controller::{GaitController, GaitPlanner};
@@ -383,7 +384,22 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
     let hand = ns.cfg.hand();
     let planner = gait::planner::Planner::new(&hand).unwrap();
     let (link, planner_thread) = planner::spawn(GaitPlanner(planner), 4, || {}).unwrap();
-    let controller = GaitController::new(&hand, 1e-3, link).unwrap();
+    let mut controller = GaitController::new(&hand, 1e-3, link).unwrap();
+    let trace_dir = std::env::temp_dir().join(format!("gaitd-alloc-traces-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&trace_dir);
+    std::fs::create_dir_all(&trace_dir).unwrap();
+    let (recorder, tracer) = gaitd::tracer::spawn(
+        gaitd::tracer::TraceSettings {
+            dir: trace_dir.clone(),
+            instance: 44,
+            hand,
+            dt: 1e-3,
+            cpus: Vec::new(),
+        },
+        gaitd::tracer::DEFAULT_CAPACITY,
+    )
+    .unwrap();
+    controller.set_trace(recorder);
     let clock = MockClock::new(0);
     let mut rt = Runtime::new(
         d.commands,
@@ -488,7 +504,20 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
     );
     drop(rt);
     d.writer.join();
+    tracer.join();
     planner_thread.join();
+    // Traces were really recorded (the mock clock outruns the trace
+    // thread, so some may be marked incomplete; that is the overflow path).
+    let traces = std::fs::read_dir(&trace_dir)
+        .unwrap()
+        .filter(|e| {
+            e.as_ref()
+                .is_ok_and(|e| e.file_name().to_string_lossy().ends_with(".jsonl"))
+        })
+        .count();
+    println!("gait controller: {traces} traces written");
+    std::fs::remove_dir_all(&trace_dir).ok();
+    assert!(traces >= 4, "goals were traced ({traces} files)");
 }
 
 /// The counter itself works (otherwise the tests above prove nothing).

@@ -102,39 +102,104 @@ pub fn phase_name(phase: Phase, step: Option<StepKind>) -> &'static str {
     }
 }
 
+/// One fingertip in a [`Sample`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FingerSample {
+    /// Fingertip centre `p` [m].
+    pub p: Vector3<f64>,
+    /// Fingertip orientation `q` (world-from-fingertip).
+    pub q: UnitQuaternion<f64>,
+    /// Touching the object (|p| = R + r).
+    pub contact: bool,
+    /// Intended normal force [N] (0 when not in contact).
+    pub grip_force: f64,
+    /// Roll angle [rad].
+    pub roll: f64,
+}
+
+/// Everything one tick's line holds, as a small fixed-size `Copy` value.
+///
+/// Why it exists: a real-time loop copies this (no allocation, no
+/// formatting) and another thread formats it later with [`sample_line`];
+/// [`line`] goes through the same path, so offline planning and the daemon
+/// write byte-identical lines for the same tick.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    /// Planned object orientation (world-from-body).
+    pub object_q: UnitQuaternion<f64>,
+    /// The `phase` key ([`phase_name`]).
+    pub phase: &'static str,
+    /// Per finger.
+    pub fingers: [FingerSample; crate::FINGERS],
+    /// Force closure of the commanded grasp.
+    pub fc: bool,
+    /// Force-closure margin [rad].
+    pub fc_margin: f64,
+    /// Angle still to rotate [rad].
+    pub remaining_angle: f64,
+    /// Gaits done.
+    pub gaits: u32,
+}
+
+impl Sample {
+    /// The sample of one executor tick.
+    pub fn from_report(r: &TickReport) -> Self {
+        let s = &r.setpoint.state;
+        let fingers = core::array::from_fn(|k| {
+            let f = &s.fingers[k];
+            let contact = f.mode == FingerMode::Grasping;
+            FingerSample {
+                p: f.center,
+                q: f.orientation,
+                contact,
+                grip_force: if contact { r.grip[k] } else { 0.0 },
+                roll: f.roll,
+            }
+        });
+        Self {
+            object_q: s.object,
+            phase: phase_name(r.phase, r.step_kind),
+            fingers,
+            fc: r.force_closure.0,
+            fc_margin: r.force_closure.1,
+            remaining_angle: r.remaining_angle,
+            gaits: r.gaits.0,
+        }
+    }
+}
+
 /// Appends one tick's line (with newline) at time `t`.
 pub fn line(out: &mut String, t: f64, r: &TickReport) {
-    let s = &r.setpoint.state;
+    sample_line(out, t, &Sample::from_report(r));
+}
+
+/// Appends the line (with newline) of sample `s` at time `t`.
+pub fn sample_line(out: &mut String, t: f64, s: &Sample) {
     out.push_str("{\"t\":");
     num(out, t);
     out.push_str(",\"object_q\":");
-    quat(out, &s.object);
-    let _ = write!(
-        out,
-        ",\"phase\":\"{}\",\"fingers\":[",
-        phase_name(r.phase, r.step_kind)
-    );
+    quat(out, &s.object_q);
+    let _ = write!(out, ",\"phase\":\"{}\",\"fingers\":[", s.phase);
     for (k, f) in s.fingers.iter().enumerate() {
         if k > 0 {
             out.push(',');
         }
         out.push_str("{\"p\":");
-        vec3(out, &f.center);
+        vec3(out, &f.p);
         out.push_str(",\"q\":");
-        quat(out, &f.orientation);
-        let contact = f.mode == FingerMode::Grasping;
-        let _ = write!(out, ",\"contact\":{contact},\"grip_force\":");
-        num(out, if contact { r.grip[k] } else { 0.0 });
+        quat(out, &f.q);
+        let _ = write!(out, ",\"contact\":{},\"grip_force\":", f.contact);
+        num(out, f.grip_force);
         out.push_str(",\"roll\":");
         num(out, f.roll);
         out.push('}');
     }
     out.push_str("],\"fc\":");
-    out.push_str(if r.force_closure.0 { "true" } else { "false" });
+    out.push_str(if s.fc { "true" } else { "false" });
     out.push_str(",\"fc_margin\":");
-    num(out, r.force_closure.1);
+    num(out, s.fc_margin);
     out.push_str(",\"remaining_angle\":");
-    num(out, r.remaining_angle);
-    let _ = write!(out, ",\"gaits\":{}", r.gaits.0);
+    num(out, s.remaining_angle);
+    let _ = write!(out, ",\"gaits\":{}", s.gaits);
     out.push_str("}\n");
 }

@@ -41,6 +41,34 @@ fn bad_key_is_named_in_the_error() {
 }
 
 #[test]
+fn a_missing_trace_dir_is_named_in_the_error() {
+    let dir = std::env::temp_dir().join(format!("gaitd-check-trace-dir-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "[daemon]\ntrace_dir = \"{}\"\n",
+            dir.join("no-such-dir").display()
+        ),
+    )
+    .unwrap();
+    let out = gaitd()
+        .arg("--config")
+        .arg(&path)
+        .arg("--check-config")
+        .output()
+        .unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("daemon.trace_dir") && err.contains("does not exist"),
+        "{err}"
+    );
+}
+
+#[test]
 fn missing_file_is_a_clear_error() {
     let out = gaitd()
         .args(["--config", "/nonexistent/gaitd.toml", "--check-config"])

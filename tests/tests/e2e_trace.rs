@@ -1,0 +1,201 @@
+//! Goal traces recorded by the daemon (SPEC §8, §10): gaitd with
+//! `[daemon] trace_dir` set and a client in another process. A goal that
+//! succeeds leaves exactly one `gait-trajectory/1` file whose lines obey
+//! the format's rules (t strictly increasing by dt, unit quaternions,
+//! `contact` ⇔ touching, ending at the goal), and that trace replays in
+//! MuJoCo with the same oracle as `gaitctl plan`'s exports.
+
+use gaitd_client::{GoalSpec, GoalState, ReasonCode, Verdict};
+use gaitd_tests::{TestDaemon, oracle_python, repo_root};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+const T: Duration = Duration::from_secs(10);
+const LONG: Duration = Duration::from_secs(90);
+
+/// A daemon recording traces into `<its dir>/traces` (removed with it).
+fn traced_daemon(tag: &str, extra_config: &str) -> (TestDaemon, PathBuf) {
+    let mut d = TestDaemon::new(tag, extra_config);
+    let traces = d.dir.join("traces");
+    std::fs::create_dir_all(&traces).unwrap();
+    let mut cfg = std::fs::read_to_string(d.config_path()).unwrap();
+    cfg.push_str(&format!("[daemon]\ntrace_dir = \"{}\"\n", traces.display()));
+    std::fs::write(d.config_path(), cfg).unwrap();
+    d.spawn();
+    d.wait_ready(T);
+    (d, traces)
+}
+
+/// Sends `target` (absolute, unit) and waits for success; returns the goal id.
+fn reach(d: &TestDaemon, target: [f64; 4]) -> u64 {
+    let mut c = d.client();
+    let t = c.reorient(&GoalSpec::absolute(target), T).unwrap();
+    assert_eq!(t.verdict, Verdict::Accepted);
+    let o = c.wait_outcome(t.goal_id, LONG).unwrap();
+    assert_eq!(
+        (o.state, o.reason),
+        (GoalState::Succeeded, ReasonCode::Reached),
+        "{}",
+        d.log()
+    );
+    t.goal_id
+}
+
+/// Waits (bounded) for the trace thread to finish the file; returns the
+/// only trace in `dir`.
+fn the_trace(d: &TestDaemon, dir: &Path) -> PathBuf {
+    let t0 = Instant::now();
+    loop {
+        let files: Vec<PathBuf> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "jsonl"))
+            .collect();
+        if !files.is_empty() {
+            assert_eq!(files.len(), 1, "exactly one trace: {files:?}");
+            return files[0].clone();
+        }
+        assert!(
+            t0.elapsed() < T,
+            "no trace written in {}:\n{}",
+            dir.display(),
+            d.log()
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn nums(v: &Value, n: usize, what: &str) -> Vec<f64> {
+    let a = v
+        .as_array()
+        .unwrap_or_else(|| panic!("{what}: not an array"));
+    assert_eq!(a.len(), n, "{what}");
+    a.iter()
+        .map(|x| x.as_f64().unwrap_or_else(|| panic!("{what}: not a number")))
+        .collect()
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Angle between two unit quaternions [rad] (either sign).
+fn angle(a: &[f64], b: &[f64]) -> f64 {
+    let d: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
+    2.0 * d.abs().min(1.0).acos()
+}
+
+/// Checks the trace against SPEC §10; returns (header, ticks).
+fn check_trace(path: &Path, goal_id: u64, target: [f64; 4]) -> (Value, usize) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let h: Value = serde_json::from_str(lines.next().expect("header")).unwrap();
+    assert_eq!(h["format"], "gait-trajectory/1", "{h}");
+    let num = |k: &str| h[k].as_f64().unwrap_or_else(|| panic!("header {k}: {h}"));
+    let (big_r, r, dt) = (num("object_radius"), num("fingertip_radius"), num("dt"));
+    assert!(big_r > 0.0 && r > 0.0 && num("mu") > 0.0 && dt > 0.0, "{h}");
+    assert_eq!(h["goal_id"], goal_id, "{h}");
+    assert_eq!(h["outcome"], "Succeeded", "{h}");
+    assert_eq!(h["reason"], "Reached", "{h}");
+    assert_eq!(h["incomplete"], false, "{h}");
+    let mut last_t = f64::NEG_INFINITY;
+    let mut last_q = Vec::new();
+    let mut n = 0;
+    let (mut touching, mut free) = (0, 0);
+    for (i, l) in lines.enumerate() {
+        let v: Value = serde_json::from_str(l).unwrap_or_else(|e| panic!("line {}: {e}", i + 2));
+        let t = v["t"].as_f64().expect("t");
+        if i > 0 {
+            assert!(t > last_t, "line {}: t not increasing", i + 2);
+            assert!(
+                (t - last_t - dt).abs() < 1e-9,
+                "line {}: step {} != dt {dt}",
+                i + 2,
+                t - last_t
+            );
+        }
+        last_t = t;
+        let q = nums(&v["object_q"], 4, "object_q");
+        assert!((norm(&q) - 1.0).abs() < 1e-9, "line {}: |object_q|", i + 2);
+        assert!(v["phase"].is_string());
+        let fingers = v["fingers"].as_array().expect("fingers");
+        assert_eq!(fingers.len(), 3);
+        for f in fingers {
+            let p = nums(&f["p"], 3, "p");
+            let fq = nums(&f["q"], 4, "q");
+            assert!((norm(&fq) - 1.0).abs() < 1e-9, "line {}: |q|", i + 2);
+            let contact = f["contact"].as_bool().expect("contact");
+            let grip = f["grip_force"].as_f64().expect("grip_force");
+            assert!(f["roll"].as_f64().is_some());
+            if contact {
+                touching += 1;
+                assert!(
+                    (norm(&p) - (big_r + r)).abs() < 1e-6,
+                    "line {}: contact but |p| = {} != R + r = {}",
+                    i + 2,
+                    norm(&p),
+                    big_r + r
+                );
+            } else {
+                free += 1;
+                assert_eq!(grip, 0.0, "line {}: grip force without contact", i + 2);
+            }
+        }
+        last_q = q;
+        n += 1;
+    }
+    assert!(n > 100, "a goal takes more than 0.1 s ({n} ticks)");
+    assert_eq!(h["ticks"], n, "{h}");
+    assert!(
+        touching > 0,
+        "fingers touched ({touching} touching, {free} free)"
+    );
+    let err = angle(&last_q, &target);
+    assert!(err < 1e-6, "trace ends {err} rad from the goal");
+    (h, n)
+}
+
+/// 90° about y: a few gaits, done in a few seconds.
+fn target() -> [f64; 4] {
+    [0.5f64.sqrt(), 0.0, 0.5f64.sqrt(), 0.0]
+}
+
+#[test]
+fn a_goal_is_recorded_in_gait_trajectory_format() {
+    let (d, dir) = traced_daemon("trace", "");
+    let goal = reach(&d, target());
+    let path = the_trace(&d, &dir);
+    let name = path.file_name().unwrap().to_string_lossy().into_owned();
+    assert!(name.ends_with(&format!("-goal-{goal}.jsonl")), "{name}");
+    let (_, n) = check_trace(&path, goal, target());
+    // One INFO line per trace, never one per tick.
+    let log = d.log();
+    assert_eq!(log.matches("trace written").count(), 1, "{log}");
+    assert!(log.contains(&format!("ticks={n}")), "{log}");
+}
+
+/// The daemon's trace replays in MuJoCo (compliant fingertips, no
+/// gravity), as `gaitctl plan`'s do (`mujoco_replay.rs`): the daemon runs
+/// with a weightless object so that its grip forces match the replay.
+#[test]
+fn a_recorded_goal_replays_in_mujoco() {
+    let (d, dir) = traced_daemon("trace-mujoco", "[load]\ngravity = [0.0, 0.0, 0.0]\n");
+    let goal = reach(&d, target());
+    let path = the_trace(&d, &dir);
+    check_trace(&path, goal, target());
+    let oracle = repo_root().join("tests/oracles/mujoco/replay.py");
+    let out = std::process::Command::new(oracle_python())
+        .arg(&oracle)
+        .arg(&path)
+        .args(["--mass", "0.1", "-q"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    println!("daemon trace: {}", text.lines().next().unwrap_or(""));
+    assert!(
+        out.status.success(),
+        "MuJoCo replay of the daemon's trace failed:\n{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
