@@ -24,7 +24,6 @@ use shm_schema::ServiceNames;
 use shm_schema::ipc::HOUSEKEEPING_NODE_NAME;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 use tracing::{info, warn};
 
@@ -47,33 +46,8 @@ pub struct HousekeepingSetup {
     pub cpus: Vec<u32>,
 }
 
-/// Handle of the running thread.
-#[derive(Debug)]
-pub struct Housekeeping {
-    stop: Arc<AtomicBool>,
-    handle: Option<JoinHandle<()>>,
-}
-
-impl Housekeeping {
-    /// Stops the thread and waits for it.
-    pub fn join(mut self) {
-        self.stop_now();
-    }
-
-    fn stop_now(&mut self) {
-        self.stop.store(true, Ordering::Release);
-        if let Some(h) = self.handle.take() {
-            h.thread().unpark();
-            let _ = h.join();
-        }
-    }
-}
-
-impl Drop for Housekeeping {
-    fn drop(&mut self) {
-        self.stop_now();
-    }
-}
+/// Handle of the running thread (stops it on `join` or drop).
+pub type Housekeeping = crate::worker::StoppableThread;
 
 /// Starts the thread `gaitd-housekeeping`.
 pub fn spawn(setup: HousekeepingSetup) -> std::io::Result<Housekeeping> {
@@ -82,10 +56,7 @@ pub fn spawn(setup: HousekeepingSetup) -> std::io::Result<Housekeeping> {
     let handle = std::thread::Builder::new()
         .name("gaitd-housekeeping".into())
         .spawn(move || run(setup, &stop2))?;
-    Ok(Housekeeping {
-        stop,
-        handle: Some(handle),
-    })
+    Ok(Housekeeping::new(stop, handle))
 }
 
 fn run(s: HousekeepingSetup, stop: &AtomicBool) {

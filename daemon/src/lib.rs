@@ -41,6 +41,7 @@ pub mod signals;
 pub mod stats;
 pub mod ticker;
 pub mod tracer;
+pub mod worker;
 
 /// A random id for this daemon run (clients see a restart as a new id).
 pub fn new_instance_id() -> u64 {

@@ -36,7 +36,7 @@ use shm_schema::{
 };
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::thread::{JoinHandle, Thread};
+use std::thread::Thread;
 use std::time::Duration;
 
 /// Messages in the ring.
@@ -94,33 +94,9 @@ impl Outbox {
     }
 }
 
-/// Handle of the writer thread.
-#[derive(Debug)]
-pub struct Writer {
-    stop: Arc<AtomicBool>,
-    handle: Option<JoinHandle<()>>,
-}
-
-impl Writer {
-    /// Publishes everything still queued, then stops the thread.
-    pub fn join(mut self) {
-        self.stop_now();
-    }
-
-    fn stop_now(&mut self) {
-        self.stop.store(true, Ordering::Release);
-        if let Some(h) = self.handle.take() {
-            h.thread().unpark();
-            let _ = h.join();
-        }
-    }
-}
-
-impl Drop for Writer {
-    fn drop(&mut self) {
-        self.stop_now();
-    }
-}
+/// Handle of the writer thread: `join` (or drop) publishes everything
+/// still queued, then stops it.
+pub type Writer = crate::worker::StoppableThread;
 
 /// How the writer thread runs.
 #[derive(Debug, Clone)]
@@ -191,10 +167,7 @@ pub fn spawn(
             why: e.to_string(),
         })?;
     let writer = handle.thread().clone();
-    let guard = Writer {
-        stop,
-        handle: Some(handle),
-    };
+    let guard = Writer::new(stop, handle);
     match ready_rx.recv() {
         Ok(Ok(())) => Ok((
             Outbox {

@@ -37,7 +37,6 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::thread::JoinHandle;
 use std::time::Duration;
 
 /// Samples the ring holds: 4 s at 1 kHz (about 1.3 MB), far more than the
@@ -200,34 +199,9 @@ pub struct TraceSettings {
     pub cpus: Vec<u32>,
 }
 
-/// Handle of the trace thread.
-#[derive(Debug)]
-pub struct TraceWriter {
-    stop: Arc<AtomicBool>,
-    handle: Option<JoinHandle<()>>,
-}
-
-impl TraceWriter {
-    /// Writes everything still queued (an unfinished trace is closed as
-    /// incomplete), then stops the thread.
-    pub fn join(mut self) {
-        self.stop_now();
-    }
-
-    fn stop_now(&mut self) {
-        self.stop.store(true, Ordering::Release);
-        if let Some(h) = self.handle.take() {
-            h.thread().unpark();
-            let _ = h.join();
-        }
-    }
-}
-
-impl Drop for TraceWriter {
-    fn drop(&mut self) {
-        self.stop_now();
-    }
-}
+/// Handle of the trace thread: `join` (or drop) writes everything still
+/// queued (an unfinished trace is closed as incomplete), then stops it.
+pub type TraceWriter = crate::worker::StoppableThread;
 
 /// Starts the `gaitd-trace` thread with a ring of `capacity` samples.
 pub fn spawn(
@@ -259,10 +233,7 @@ pub fn spawn(
         .map_err(TraceError::Spawn)?;
     Ok((
         TraceRecorder::new(tx, counters),
-        TraceWriter {
-            stop,
-            handle: Some(handle),
-        },
+        TraceWriter::new(stop, handle),
     ))
 }
 
