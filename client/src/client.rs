@@ -147,13 +147,6 @@ impl Client {
                 why: format!("{e:?}"),
             }
         };
-        while let Some(s) = self.conn.status.receive().map_err(ipc("status receive"))? {
-            let s = *s.payload();
-            match s.check() {
-                Ok(()) => self.last_status = Some(s),
-                Err(_) => self.bad_samples += 1,
-            }
-        }
         while let Some(e) = self.conn.events.receive().map_err(ipc("event receive"))? {
             let e = *e.payload();
             if e.check().is_err() {
@@ -170,6 +163,15 @@ impl Client {
             // Answers to every client arrive here: keep ours.
             if self.outstanding.contains(&(a.client_id, a.request_id)) {
                 self.answers.push_back(a);
+            }
+        }
+        // Status last: a caller polling for the next status sees it as
+        // soon as it is read, not after two more (empty) receives.
+        while let Some(s) = self.conn.status.receive().map_err(ipc("status receive"))? {
+            let s = *s.payload();
+            match s.check() {
+                Ok(()) => self.last_status = Some(s),
+                Err(_) => self.bad_samples += 1,
             }
         }
         Ok(())

@@ -306,6 +306,10 @@ fn plans_cross_the_loop_without_allocation() {
         client.drain();
         while rt.controller().plans_received < goal_id.get() {
             rt.run_once();
+            // Each tick queues a status; a writer starved by a busy host
+            // would otherwise fall a ring behind and the next answer be
+            // dropped (counted) instead of published.
+            ipc_rig::let_writer_catch_up(&d.shared);
             std::thread::yield_now();
         }
     }
@@ -322,6 +326,7 @@ fn plans_cross_the_loop_without_allocation() {
                     rt.run_once();
                     clock.advance(5_000);
                 });
+                ipc_rig::let_writer_catch_up(&d.shared);
                 std::thread::yield_now();
                 assert!(
                     t0.elapsed() < std::time::Duration::from_secs(10),

@@ -66,6 +66,14 @@ pub struct Args {
     /// Load: goal writers (each its own client and thread).
     #[arg(long, default_value_t = 4)]
     load_writers: usize,
+    /// Pin this process's measuring thread to this CPU (the status reader
+    /// and the bare iceoryx2 reference's receiving end).
+    #[arg(long, value_name = "CPU")]
+    cpu: Option<u32>,
+    /// Pin the bare iceoryx2 reference's sending process to this CPU (put
+    /// it where the daemon's writer thread runs: like-for-like).
+    #[arg(long, value_name = "CPU")]
+    peer_cpu: Option<u32>,
 }
 
 /// Options of the hidden echo process.
@@ -86,6 +94,41 @@ pub struct PongArgs {
     /// With --periodic-us: how many samples.
     #[arg(long, default_value_t = 0)]
     count: u64,
+    /// Pin to this CPU.
+    #[arg(long)]
+    cpu: Option<u32>,
+}
+
+/// Pins the calling thread to `cpu` (placement decides latencies on a
+/// machine with few CPUs: a reader and a sender sharing one measure the
+/// scheduler).
+fn pin(cpu: Option<u32>) -> gaitd_client::Result<()> {
+    let Some(cpu) = cpu else { return Ok(()) };
+    if cpu as usize >= libc::CPU_SETSIZE as usize {
+        return Err(gaitd_client::Error::Settings(format!(
+            "CPU {cpu} is out of range"
+        )));
+    }
+    // SAFETY: cpu_set_t is plain data; CPU_SET writes within it (checked
+    // against CPU_SETSIZE above).
+    let rc = unsafe {
+        let mut set: libc::cpu_set_t = std::mem::zeroed();
+        libc::CPU_SET(cpu as usize, &mut set);
+        libc::sched_setaffinity(0, size_of::<libc::cpu_set_t>(), &set)
+    };
+    if rc != 0 {
+        return Err(gaitd_client::Error::Settings(format!(
+            "cannot pin to CPU {cpu}: {}",
+            std::io::Error::last_os_error()
+        )));
+    }
+    Ok(())
+}
+
+/// Arguments that pin a child `__pong` process.
+fn cpu_args(cpu: Option<u32>) -> Vec<String> {
+    cpu.map(|c| vec!["--cpu".to_string(), c.to_string()])
+        .unwrap_or_default()
 }
 
 /// Ping-pong payload, the size of a [`Status`] so both measure the same copy.
@@ -150,6 +193,7 @@ fn pair(node: &Node<ipc::Service>, name: &str) -> gaitd_client::Result<Svc> {
 
 /// The echo side: receives pings, stamps and returns them.
 pub fn pong(a: &PongArgs) -> gaitd_client::Result<ExitCode> {
+    pin(a.cpu)?;
     let config = ice_config(&a.root, &a.file_prefix)?;
     let node = NodeBuilder::new()
         .config(&config)
@@ -213,6 +257,7 @@ fn ping_pong(
     n: usize,
     root: &str,
     file_prefix: &str,
+    peer_cpu: Option<u32>,
 ) -> gaitd_client::Result<(Vec<f64>, Vec<f64>)> {
     let service = format!("gaitctl-bench-{}", std::process::id());
     let config = ice_config(root, file_prefix)?;
@@ -245,6 +290,7 @@ fn ping_pong(
             "--file-prefix",
             file_prefix,
         ])
+        .args(cpu_args(peer_cpu))
         .stdout(Stdio::piped())
         .spawn()
         .map_err(|e| gaitd_client::Error::Ipc {
@@ -301,6 +347,7 @@ fn periodic(
     period_us: u64,
     root: &str,
     file_prefix: &str,
+    peer_cpu: Option<u32>,
 ) -> gaitd_client::Result<Vec<f64>> {
     let service = format!("gaitctl-bench-{}", std::process::id());
     let config = ice_config(root, file_prefix)?;
@@ -334,6 +381,7 @@ fn periodic(
             "--count",
             &(n + 100).to_string(),
         ])
+        .args(cpu_args(peer_cpu))
         .stdout(Stdio::null())
         .spawn()
         .map_err(|e| gaitd_client::Error::Ipc {
@@ -367,6 +415,7 @@ fn periodic(
 
 /// Runs the benchmarks.
 pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
+    pin(a.cpu)?;
     let mut c = conn.connect()?;
     if let Some(seconds) = a.soak {
         let warmup = a.warmup.unwrap_or((seconds / 10.0).min(120.0));
@@ -492,14 +541,19 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
 
     // bare iceoryx2, same run
     let settings = c.settings().clone();
-    let (mut one_way, mut half_rtt) =
-        ping_pong(a.pings, &settings.root_path, &settings.file_prefix)?;
+    let (mut one_way, mut half_rtt) = ping_pong(
+        a.pings,
+        &settings.root_path,
+        &settings.file_prefix,
+        a.peer_cpu,
+    )?;
     let period_us = (last.timing.period_ns / 1000).max(1);
     let mut periodic_lat = periodic(
         a.statuses,
         period_us,
         &settings.root_path,
         &settings.file_prefix,
+        a.peer_cpu,
     )?;
 
     let t = &last.timing;
@@ -524,6 +578,8 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         "machine": {
             "cpus": std::thread::available_parallelism().map_or(0, |n| n.get()),
             "kernel": std::fs::read_to_string("/proc/sys/kernel/osrelease").unwrap_or_default().trim(),
+            "bench_cpu": a.cpu,
+            "peer_cpu": a.peer_cpu,
         },
         "daemon": {
             "instance": format!("{:016x}", last.instance),
