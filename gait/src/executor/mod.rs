@@ -26,13 +26,14 @@
 pub mod feedback;
 pub mod grip;
 pub mod lifecycle;
+mod memo;
 pub mod runner;
 
 use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::HandConfig;
 use crate::config::{ConfigError, LimitsConfig};
-use crate::hand::InvariantChecker;
+use crate::hand::{InvariantChecker, InvariantReport, StateError};
 use crate::planner::{Motion, Plan, PlanError, Setpoint, Step, StepKind};
 use crate::sim::Measurement;
 use crate::state::HandState;
@@ -242,6 +243,10 @@ pub struct Executor {
     events: EventQueue,
     report: TickReport,
     tick: u64,
+    /// Invariants of the last checked setpoint state.
+    invariants: memo::Memo<HandState, Result<InvariantReport, StateError>>,
+    /// Grip of the last (state, torque).
+    grips: memo::Memo<(HandState, Vector3<f64>), grip::Grip>,
 }
 
 fn rest(state: HandState) -> Setpoint {
@@ -331,6 +336,8 @@ impl Executor {
                 fault: None,
             },
             tick: 0,
+            invariants: memo::Memo::new(),
+            grips: memo::Memo::new(),
         })
     }
 
@@ -793,7 +800,11 @@ impl Executor {
     }
 
     fn check_invariants(&mut self) {
-        match self.checker.check(&self.setpoint.state) {
+        let checker = &mut self.checker;
+        match self
+            .invariants
+            .get(self.setpoint.state, |s| checker.check(s))
+        {
             Ok(r) => {
                 self.report.force_closure =
                     (r.force_closure.check.pass, r.force_closure.check.slack);
@@ -866,9 +877,10 @@ impl Executor {
             _ => 0.0,
         };
         r.fault = self.fault;
-        let g = self.grip.grip(
-            &self.setpoint.state,
-            &(self.object_acceleration * self.inertia),
+        let model = &self.grip;
+        let g = self.grips.get(
+            (self.setpoint.state, self.object_acceleration * self.inertia),
+            |(s, torque)| model.grip(s, torque),
         );
         r.grip = g.normal;
         r.grip_capped = g.capped;

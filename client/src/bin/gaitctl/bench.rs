@@ -14,7 +14,9 @@
 //!   as a periodic publisher at the daemon's rate, which is the like-for-like
 //!   reference (a publisher that sleeps between sends is slower to deliver
 //!   than one in a hot loop: caches and CPU wake-up, measured here);
-//! - tick compute time p50/p99/max and missed periods from the status;
+//! - tick compute time p50/p99/max and missed periods from the status,
+//!   beside a fixed-work reference loop at the same rate (`noise`): the
+//!   platform's own tail;
 //!   the wake-up jitter histogram of the bench window; daemon RSS.
 
 use crate::common::{ConnArgs, us};
@@ -74,6 +76,21 @@ pub struct Args {
     /// it where the daemon's writer thread runs: like-for-like).
     #[arg(long, value_name = "CPU")]
     peer_cpu: Option<u32>,
+    /// Tick compute time while the hand moves: statuses read during a
+    /// half turn about z (planned and executed; 0: skip).
+    #[arg(long, default_value_t = 1)]
+    moving_turns: usize,
+    /// Periods of the fixed-work reference loop beside the tick compute
+    /// time (0: skip; see `noise`).
+    #[arg(long, default_value_t = 5000)]
+    noise_periods: usize,
+    /// CPU of the reference loop (put it where the daemon's loop runs).
+    #[arg(long, value_name = "CPU")]
+    noise_cpu: Option<u32>,
+    /// SCHED_FIFO priority of the reference loop if permitted (the
+    /// daemon's `rt.fifo_priority`; 0: normal scheduling).
+    #[arg(long, default_value_t = 80)]
+    noise_priority: i32,
 }
 
 /// Options of the hidden echo process.
@@ -102,7 +119,7 @@ pub struct PongArgs {
 /// Pins the calling thread to `cpu` (placement decides latencies on a
 /// machine with few CPUs: a reader and a sender sharing one measure the
 /// scheduler).
-fn pin(cpu: Option<u32>) -> gaitd_client::Result<()> {
+pub fn pin(cpu: Option<u32>) -> gaitd_client::Result<()> {
     let Some(cpu) = cpu else { return Ok(()) };
     if cpu as usize >= libc::CPU_SETSIZE as usize {
         return Err(gaitd_client::Error::Settings(format!(
@@ -415,6 +432,9 @@ fn periodic(
 
 /// Runs the benchmarks.
 pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
+    // SAFETY: sysconf has no preconditions. (Counted before pinning,
+    // which narrows what the process may use.)
+    let online_cpus = unsafe { libc::sysconf(libc::_SC_NPROCESSORS_ONLN) };
     pin(a.cpu)?;
     let mut c = conn.connect()?;
     if let Some(seconds) = a.soak {
@@ -497,6 +517,38 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         }
     }
 
+    // tick compute while moving: every status of a half turn about z
+    // (rolling, rotations and gaits; the status window below is at rest).
+    let mut moving_compute = Vec::new();
+    for _ in 0..a.moving_turns {
+        let t = c.reorient(
+            &GoalSpec::turn([0.0, 0.0, 1.0], std::f64::consts::PI)?,
+            conn.timeout(),
+        )?;
+        if t.verdict != Verdict::Accepted {
+            continue;
+        }
+        let (mut last_tick, mut started) = (0, false);
+        let deadline = Instant::now() + Duration::from_secs(60);
+        while Instant::now() < deadline {
+            let Some(s) = c.latest_status()? else {
+                continue;
+            };
+            if s.tick == last_tick || s.goal.goal_id != t.goal_id {
+                std::hint::spin_loop();
+                continue;
+            }
+            last_tick = s.tick;
+            let moving = s.phase != shm_schema::Phase::Hold.code();
+            if moving {
+                started = true;
+                moving_compute.push(us(s.timing.compute_last_ns));
+            } else if started {
+                break;
+            }
+        }
+    }
+
     // status publish → receive, busy-polling
     let (mut status_lat, mut tick_lat, mut compute_seen) = (
         Vec::with_capacity(a.statuses),
@@ -556,6 +608,24 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         a.peer_cpu,
     )?;
 
+    // The platform's own tail at the same rate and median work.
+    let mut window_compute = compute_seen.clone();
+    let noise = if a.noise_periods > 0 {
+        let work = summary(&mut window_compute)["p50"].as_f64().unwrap_or(5.0);
+        match crate::noise::reference_loop(
+            a.noise_periods,
+            Duration::from_micros(period_us),
+            Duration::from_secs_f64(work * 1e-6),
+            a.noise_cpu,
+            a.noise_priority,
+        ) {
+            Ok((s, fifo)) => json!({"compute_us": s, "fifo": fifo, "work_us": work}),
+            Err(e) => json!({"error": e}),
+        }
+    } else {
+        json!(null)
+    };
+
     let t = &last.timing;
     let hist: Vec<_> = (0..JITTER_BUCKETS)
         .map(|i| {
@@ -576,7 +646,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let (ratio_pp, ratio_periodic) = (ratio(&pp_s), ratio(&periodic_s));
     let report = json!({
         "machine": {
-            "cpus": std::thread::available_parallelism().map_or(0, |n| n.get()),
+            "cpus": online_cpus,
             "kernel": std::fs::read_to_string("/proc/sys/kernel/osrelease").unwrap_or_default().trim(),
             "bench_cpu": a.cpu,
             "peer_cpu": a.peer_cpu,
@@ -604,6 +674,8 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
             "since": "daemon start",
         },
         "tick_compute_us_status_window": summary(&mut compute_seen),
+        "tick_compute_us_moving": summary(&mut moving_compute),
+        "reference_loop": noise,
         "load": load,
         "missed_periods_in_window": t.overruns - window_start.timing.overruns,
         "jitter_histogram_window": hist,
@@ -635,7 +707,9 @@ fn print_table(r: &serde_json::Value) {
     };
     println!(
         "gaitctl bench  ({} cpus, kernel {}, loop {} us)",
-        r["machine"]["cpus"], r["machine"]["kernel"], r["daemon"]["period_us"]
+        r["machine"]["cpus"],
+        r["machine"]["kernel"].as_str().unwrap_or("?"),
+        r["daemon"]["period_us"]
     );
     println!(
         "{:<36} {:>10} {:>10} {:>10} {:>10} {:>8}",
@@ -687,6 +761,11 @@ fn print_table(r: &serde_json::Value) {
     row(
         "tick compute, status window [us]",
         &r["tick_compute_us_status_window"],
+    );
+    row("tick compute, moving [us]", &r["tick_compute_us_moving"]);
+    row(
+        "fixed-work reference loop [us]",
+        &r["reference_loop"]["compute_us"],
     );
     println!(
         "missed periods in the bench window: {}",

@@ -7,6 +7,7 @@ mod control;
 mod demo;
 mod events;
 mod load;
+mod noise;
 mod offline;
 mod plan;
 mod plot;
