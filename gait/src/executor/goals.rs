@@ -1,0 +1,268 @@
+//! The goal lifecycle of the executor (SPEC §6.4): commands (goal, cancel,
+//! hold, reset), preemption, stops and plan hand-over. The per-tick motion
+//! is in the parent module.
+
+use super::*;
+
+impl Executor {
+    pub(super) fn goal_event(&mut self, id: u64, state: GoalState, reason: Reason) {
+        self.events.push(Event::Goal { id, state, reason });
+        if state.is_terminal() {
+            self.last_goal = Some((id, state, reason));
+        }
+    }
+
+    pub(super) fn set_goal_state(&mut self, state: GoalState) {
+        if let Some(g) = self.goal.as_mut() {
+            g.state = state;
+            let id = g.id;
+            self.goal_event(id, state, Reason::None);
+        }
+    }
+
+    /// Ends the active goal.
+    pub(super) fn end_goal(&mut self, state: GoalState, reason: Reason) {
+        if let Some(g) = self.goal.take() {
+            self.goal_event(g.id, state, reason);
+        }
+    }
+
+    pub(super) fn remember_id(&mut self, id: u64) -> bool {
+        if self.recent_ids[..self.recent_len].contains(&id) {
+            return false;
+        }
+        if self.recent_len < self.recent_ids.len() {
+            self.recent_len += 1;
+        } else {
+            self.recent_ids.rotate_left(1);
+        }
+        self.recent_ids[self.recent_len - 1] = id;
+        true
+    }
+
+    /// Takes a command (SPEC §6.4). Never blocks, never allocates.
+    pub fn command(&mut self, cmd: Command) -> Answer {
+        match cmd {
+            Command::Goal { id, target, limits } => self.new_goal(id, target, limits),
+            Command::Cancel => {
+                if self.goal.is_none() && self.pending.is_none() {
+                    return Answer::Rejected(Reason::None);
+                }
+                self.request_stop(AfterStop::Hold(Reason::CancelCommand));
+                Answer::Accepted
+            }
+            Command::Hold => {
+                if self.phase != Phase::SafeHold {
+                    self.request_stop(AfterStop::Hold(Reason::HoldCommand));
+                }
+                Answer::Accepted
+            }
+            Command::Reset => self.reset(),
+        }
+    }
+
+    pub(super) fn new_goal(
+        &mut self,
+        id: u64,
+        target: GoalTarget,
+        limits: Option<LimitsConfig>,
+    ) -> Answer {
+        let limits = limits.unwrap_or(self.limits);
+        let positive = [limits.object, limits.fingertip, limits.rolling]
+            .iter()
+            .all(|l| {
+                [l.velocity, l.acceleration, l.jerk]
+                    .iter()
+                    .all(|x| x.is_finite() && *x > 0.0)
+            });
+        if !(target.is_valid() && positive) {
+            return Answer::Rejected(Reason::InvalidTarget);
+        }
+        if self.phase == Phase::SafeHold {
+            return Answer::Rejected(Reason::FaultActive);
+        }
+        if !self.remember_id(id) {
+            return Answer::Rejected(Reason::DuplicateId);
+        }
+        let goal = ActiveGoal {
+            id,
+            target,
+            end: target.resolve(&self.setpoint.state.object),
+            limits,
+            state: GoalState::Accepted,
+        };
+        self.goal_event(id, GoalState::Accepted, Reason::None);
+        if let Some(p) = self.pending.take() {
+            self.goal_event(p.id, GoalState::Preempted, Reason::NewerGoal);
+        }
+        match self.phase {
+            Phase::Holding | Phase::Planning => {
+                if self.phase == Phase::Planning {
+                    // The plan in the making is for the old goal: it is
+                    // dropped as stale when it arrives.
+                    self.end_goal(GoalState::Preempted, Reason::NewerGoal);
+                }
+                self.goal = Some(goal);
+                self.begin_planning();
+            }
+            Phase::Moving | Phase::Stopping => {
+                self.end_goal(GoalState::Preempted, Reason::NewerGoal);
+                self.pending = Some(goal);
+                self.request_stop(AfterStop::Replan);
+            }
+            Phase::SafeHold => {}
+        }
+        Answer::Accepted
+    }
+
+    pub(super) fn begin_planning(&mut self) {
+        self.phase = Phase::Planning;
+        self.set_goal_state(GoalState::Planning);
+        let from = self.setpoint.state.object;
+        if let Some(g) = self.goal.as_mut() {
+            g.end = g.target.resolve(&from);
+        }
+        if let Some(g) = self.goal {
+            self.request = Some(PlanRequest {
+                goal: g.id,
+                start: self.setpoint.state,
+                target: g.target,
+            });
+        }
+    }
+
+    /// Brings the motion to rest, then does `then`.
+    pub(super) fn request_stop(&mut self, then: AfterStop) {
+        match self.phase {
+            Phase::Holding => self.finish_stop(then),
+            Phase::Planning => {
+                // At rest already; a plan in the making becomes stale.
+                self.finish_stop(then)
+            }
+            Phase::Moving | Phase::Stopping => {
+                self.after_stop = then;
+                self.phase = Phase::Stopping;
+                let finishing = self
+                    .current_step()
+                    .is_some_and(|s| matches!(s.kind, StepKind::Place | StepKind::Lift));
+                if finishing {
+                    self.stop_after_step = true;
+                } else if !self.runner.stopping() {
+                    // Braking past the path end is not possible: then the
+                    // step simply runs to its (resting) end.
+                    if self.runner.stop().is_err() {
+                        self.enter_fault(FaultKind::Trajectory, NO_FINGER);
+                    }
+                }
+            }
+            Phase::SafeHold => {}
+        }
+    }
+
+    pub(super) fn finish_stop(&mut self, then: AfterStop) {
+        self.stop_after_step = false;
+        match then {
+            AfterStop::Replan => {
+                if let Some(g) = self.pending.take() {
+                    self.goal = Some(g);
+                    self.begin_planning();
+                } else {
+                    self.phase = Phase::Holding;
+                }
+            }
+            AfterStop::Hold(reason) => {
+                self.end_goal(GoalState::Canceled, reason);
+                if let Some(p) = self.pending.take() {
+                    self.goal_event(p.id, GoalState::Canceled, reason);
+                }
+                self.phase = Phase::Holding;
+            }
+            AfterStop::Fault => self.phase = Phase::SafeHold,
+        }
+        self.step = 0;
+    }
+
+    pub(super) fn reset(&mut self) -> Answer {
+        if self.phase != Phase::SafeHold {
+            return Answer::Accepted;
+        }
+        let Some(m) = self.prev_measurement else {
+            return Answer::Rejected(Reason::FaultActive);
+        };
+        // Resume from the measured state if it is valid.
+        let mut state = self.setpoint.state;
+        state.object = m.object;
+        for (k, f) in state.fingers.iter_mut().enumerate() {
+            f.center = m.fingers[k].center;
+            f.orientation = m.fingers[k].orientation;
+        }
+        match self.checker.check(&state) {
+            Ok(r) if r.ok() => {
+                self.setpoint = rest(state);
+                self.prev_setpoint = self.setpoint;
+                self.fault = None;
+                self.phase = Phase::Holding;
+                self.events.push(Event::FaultCleared);
+                Answer::Accepted
+            }
+            _ => Answer::Rejected(Reason::FaultActive),
+        }
+    }
+
+    /// Accepts the planner's answer for goal `id`. Returns the plan the
+    /// executor no longer needs (the replaced one, or the delivered one if
+    /// it is stale) so the caller can free it off the control thread.
+    pub fn deliver_plan(
+        &mut self,
+        id: u64,
+        result: Result<Box<Plan>, PlanError>,
+    ) -> Option<Box<Plan>> {
+        let current = self.phase == Phase::Planning && self.goal.is_some_and(|g| g.id == id);
+        match result {
+            Err(e) => {
+                if current {
+                    let reason = match e {
+                        PlanError::NoGrasp | PlanError::NonFiniteState => Reason::InvalidStart,
+                        PlanError::InvalidGoal => Reason::InvalidTarget,
+                        _ => Reason::NoPlan,
+                    };
+                    self.end_goal(GoalState::Aborted, reason);
+                    self.phase = Phase::Holding;
+                }
+                None
+            }
+            Ok(plan) if !current => Some(plan),
+            Ok(plan) => {
+                let old = self.plan.replace(plan);
+                self.start_plan();
+                old
+            }
+        }
+    }
+
+    pub(super) fn start_plan(&mut self) {
+        let Some((gaits, empty, duration)) = self
+            .plan
+            .as_deref()
+            .map(|p| (p.summary.gaits, p.steps.is_empty(), p.summary.duration))
+        else {
+            return;
+        };
+        self.gaits_done = 0;
+        self.gaits_planned = gaits;
+        self.step = 0;
+        if empty {
+            self.end_goal(GoalState::Succeeded, Reason::None);
+            self.phase = Phase::Holding;
+            return;
+        }
+        self.phase = Phase::Moving;
+        self.set_goal_state(GoalState::Executing);
+        self.time_after_step = duration;
+        self.rotation_after_step = self
+            .plan
+            .as_deref()
+            .map_or(0.0, |p| p.steps.iter().map(step_rotation).sum());
+        self.begin_step();
+    }
+}
