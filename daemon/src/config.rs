@@ -49,6 +49,9 @@ pub struct DaemonSection {
     /// `gait-trajectory/1` trace (SPEC §8, §10); empty = no traces. Must be
     /// an existing directory the daemon can write to.
     pub trace_dir: String,
+    /// Most goal traces kept in `trace_dir` (oldest removed first after
+    /// each new one; 0 = keep every trace).
+    pub trace_keep: u32,
 }
 
 /// How the writer thread (which publishes what the loop produced) is woken.
@@ -78,6 +81,7 @@ impl Default for DaemonSection {
             housekeeping_period_ms: 1000,
             writer_wake: WriterWake::Timer,
             trace_dir: String::new(),
+            trace_keep: 1000,
         }
     }
 }
@@ -281,6 +285,13 @@ impl DaemonSection {
             100,
             60_000,
             "in [100, 60000] ms",
+        )?;
+        int_range(
+            "daemon.trace_keep",
+            self.trace_keep,
+            0,
+            1_000_000,
+            "in [0, 1000000] traces (0 = keep all)",
         )?;
         trace_dir("daemon.trace_dir", &self.trace_dir)
     }

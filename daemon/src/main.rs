@@ -133,6 +133,7 @@ fn main() -> Result<()> {
                 hand: cfg.hand(),
                 dt: 1.0 / cfg.control.tick_hz,
                 cpus: cfg.rt.background_cpus.clone(),
+                keep: cfg.daemon.trace_keep as usize,
             },
             gaitd::tracer::DEFAULT_CAPACITY,
         )?;

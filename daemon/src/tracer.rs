@@ -85,6 +85,8 @@ pub struct TraceCounters {
     pub dropped: AtomicU64,
     /// Traces written so far.
     pub written: AtomicU64,
+    /// Old traces removed to keep at most `TraceSettings::keep`.
+    pub pruned: AtomicU64,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -197,6 +199,9 @@ pub struct TraceSettings {
     pub dt: f64,
     /// CPUs to pin the thread to (empty: any).
     pub cpus: Vec<u32>,
+    /// Most finished traces kept in `dir` (0: all): after each trace is
+    /// written the oldest `gaitd-*.jsonl` beyond this many are removed.
+    pub keep: usize,
 }
 
 /// Handle of the trace thread: `join` (or drop) writes everything still
@@ -430,6 +435,7 @@ impl TraceSink {
                 } else {
                     tracing::info!(path = %path.display(), ticks = o.ticks, outcome, "trace written");
                 }
+                self.prune();
             }
             Err(e) => {
                 tracing::warn!(path = %path.display(), error = %e, "trace: cannot write; goal not recorded");
@@ -438,6 +444,52 @@ impl TraceSink {
             }
         }
     }
+}
+
+impl TraceSink {
+    /// Removes the oldest traces beyond `keep` (by modification time, then
+    /// name). Only finished traces of the daemon's naming pattern count;
+    /// other files in the directory are never touched.
+    fn prune(&mut self) {
+        if self.settings.keep == 0 {
+            return;
+        }
+        let Ok(dir) = std::fs::read_dir(&self.settings.dir) else {
+            return;
+        };
+        let mut traces: Vec<(std::time::SystemTime, PathBuf)> = dir
+            .flatten()
+            .filter(|e| is_trace_name(&e.file_name().to_string_lossy()))
+            .filter_map(|e| {
+                let m = e.metadata().ok()?;
+                m.is_file()
+                    .then(|| (m.modified().unwrap_or(std::time::UNIX_EPOCH), e.path()))
+            })
+            .collect();
+        if traces.len() <= self.settings.keep {
+            return;
+        }
+        traces.sort();
+        let excess = traces.len() - self.settings.keep;
+        let mut removed = 0usize;
+        for (_, path) in traces.into_iter().take(excess) {
+            match std::fs::remove_file(&path) {
+                Ok(()) => removed += 1,
+                Err(e) => {
+                    tracing::warn!(path = %path.display(), error = %e, "trace: cannot remove an old trace")
+                }
+            }
+        }
+        self.counters
+            .pruned
+            .fetch_add(removed as u64, Ordering::Relaxed);
+    }
+}
+
+/// Whether `name` is a finished trace's file name
+/// (`gaitd-<instance>-client-<client>-goal-<goal>.jsonl`).
+fn is_trace_name(name: &str) -> bool {
+    name.starts_with("gaitd-") && name.ends_with(".jsonl") && name.contains("-goal-")
 }
 
 /// Header, then the lines from `part`, into `path`; removes `part`.
@@ -467,6 +519,7 @@ mod tests {
             hand: HandConfig::default(),
             dt: 1e-3,
             cpus: Vec::new(),
+            keep: 0,
         }
     }
 
@@ -543,6 +596,48 @@ mod tests {
         // Nothing else left behind (the .part file is gone).
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
         assert_eq!(counters.written.load(Ordering::Relaxed), 1);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// With `keep = 3`, five goals leave the newest three traces; files
+    /// that are not finished traces are never removed.
+    #[test]
+    fn old_traces_beyond_keep_are_removed() {
+        let dir = tmp("keep");
+        std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+        std::fs::write(dir.join("gaitd-other.json"), "mine").unwrap();
+        let counters = Arc::new(TraceCounters::default());
+        let (tx, mut rx) = handoff::channel(64);
+        let mut rec = TraceRecorder::new(tx, counters.clone());
+        let mut sink = TraceSink::new(
+            TraceSettings {
+                keep: 3,
+                ..settings(&dir)
+            },
+            counters.clone(),
+        );
+        for goal in 1..=5u64 {
+            rec.begin(goal, 7, goal, None);
+            rec.record(&sample());
+            rec.end(Some((GoalState::Succeeded, ReasonCode::Reached)));
+            sink.drain(&mut rx);
+            // Distinct modification times: the oldest go first.
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let mut names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        let kept: Vec<_> = (3..=5).map(|g| sink.path_for(7, g)).collect();
+        for p in &kept {
+            assert!(p.exists(), "{} kept", p.display());
+        }
+        assert!(!sink.path_for(7, 1).exists() && !sink.path_for(7, 2).exists());
+        assert_eq!(names.len(), 5, "{names:?}");
+        assert!(names.contains(&"notes.txt".into()) && names.contains(&"gaitd-other.json".into()));
+        assert_eq!(counters.written.load(Ordering::Relaxed), 5);
+        assert_eq!(counters.pruned.load(Ordering::Relaxed), 2);
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -400,6 +400,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
             hand,
             dt: 1e-3,
             cpus: Vec::new(),
+            keep: 0,
         },
         gaitd::tracer::DEFAULT_CAPACITY,
     )
