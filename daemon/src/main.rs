@@ -41,6 +41,14 @@ struct Args {
 
 fn main() -> Result<()> {
     let args = Args::parse();
+    if args.config == DEFAULT_CONFIG_PATH && !std::path::Path::new(&args.config).exists() {
+        anyhow::bail!(
+            "no configuration at {} (the service's default): pass --config FILE, \
+             e.g. `gaitd --config deploy/gaitd.toml` from the source tree, or install \
+             the service with deploy/install.sh",
+            args.config
+        );
+    }
     let cfg = DaemonConfig::load(&args.config)?;
     if args.check_config {
         println!("{}", toml::to_string_pretty(&cfg)?);

@@ -82,6 +82,22 @@ fn missing_file_is_a_clear_error() {
     );
 }
 
+/// A new user starting `gaitd` without arguments on a machine where the
+/// service is not installed is told what to pass.
+#[test]
+fn no_config_anywhere_says_what_to_pass() {
+    if std::path::Path::new("/etc/gaitd/gaitd.toml").exists() {
+        return; // the service is installed here: the default path is valid
+    }
+    let out = gaitd().arg("--check-config").output().unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("no configuration at /etc/gaitd/gaitd.toml") && err.contains("--config"),
+        "{err}"
+    );
+}
+
 #[test]
 fn shipped_iceoryx2_config_puts_resources_under_run_gaitd() {
     let out = gaitd()
