@@ -3,9 +3,11 @@
 //! At rest (holding, planning, safe hold) the commanded hand state is the
 //! same every tick, and so are its invariant report and grip forces (SPEC
 //! §6.1 step 3); recomputing them was half of a resting tick's compute.
-//! The key is compared with `==`: a state that only differs in the sign of
-//! a zero counts as the same (every quantity computed from it is
-//! continuous there, up to the sign of a reported zero).
+//! The key is compared with `==`. At rest the state is an exact copy of the
+//! last one, so a hit means identical bits; the only equal-but-different
+//! keys are states differing in the sign of a zero, for which a reused
+//! value could differ from a recomputed one only in such a sign (or an
+//! angle reported as π instead of −π).
 
 /// One remembered `(argument, value)` pair.
 #[derive(Debug, Clone, Copy)]
