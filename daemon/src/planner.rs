@@ -23,7 +23,7 @@ use crate::handoff::{self, Consumer, Producer};
 use shm_schema::ReasonCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
-use std::thread::{JoinHandle, Thread};
+use std::thread::Thread;
 use std::time::Duration;
 
 /// Computes plans off the real-time thread.
@@ -129,33 +129,8 @@ impl<Req: Send, P: Send> PlannerLink<Req, P> {
     }
 }
 
-/// Handle of the planner thread: stop and join.
-#[derive(Debug)]
-pub struct PlannerThread {
-    stop: Arc<AtomicBool>,
-    handle: Option<JoinHandle<()>>,
-}
-
-impl PlannerThread {
-    /// Asks the thread to finish and waits for it.
-    pub fn join(mut self) {
-        self.shutdown();
-    }
-
-    fn shutdown(&mut self) {
-        self.stop.store(true, Ordering::Release);
-        if let Some(h) = self.handle.take() {
-            h.thread().unpark();
-            let _ = h.join();
-        }
-    }
-}
-
-impl Drop for PlannerThread {
-    fn drop(&mut self) {
-        self.shutdown();
-    }
-}
+/// Handle of the planner thread: `join` (or drop) stops it and waits.
+pub type PlannerThread = crate::worker::StoppableThread;
 
 /// What [`spawn`] returns: the loop's link and the thread's handle.
 pub type Spawned<Pl> = (
@@ -215,13 +190,7 @@ pub fn spawn<Pl: Planner>(
         doorbell: None,
         next_seq: 1,
     };
-    Ok((
-        link,
-        PlannerThread {
-            stop,
-            handle: Some(handle),
-        },
-    ))
+    Ok((link, PlannerThread::new(stop, handle)))
 }
 
 #[cfg(test)]

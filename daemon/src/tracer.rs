@@ -559,13 +559,27 @@ mod tests {
         d
     }
 
+    /// A recorder and a sink on one ring of `capacity`, sharing counters.
+    fn rig(
+        settings: TraceSettings,
+        capacity: usize,
+    ) -> (
+        Arc<TraceCounters>,
+        TraceRecorder,
+        Consumer<TraceMsg>,
+        TraceSink,
+    ) {
+        let counters = Arc::new(TraceCounters::default());
+        let (tx, rx) = handoff::channel(capacity);
+        let rec = TraceRecorder::new(tx, counters.clone());
+        let sink = TraceSink::new(settings, counters.clone());
+        (counters, rec, rx, sink)
+    }
+
     #[test]
     fn a_complete_trace_has_its_outcome_in_the_header() {
         let dir = tmp("ok");
-        let counters = Arc::new(TraceCounters::default());
-        let (tx, mut rx) = handoff::channel(64);
-        let mut rec = TraceRecorder::new(tx, counters.clone());
-        let mut sink = TraceSink::new(settings(&dir), counters.clone());
+        let (counters, mut rec, mut rx, mut sink) = rig(settings(&dir), 64);
         rec.begin(1, 7, 9, None);
         for _ in 0..10 {
             rec.record(&sample());
@@ -606,15 +620,12 @@ mod tests {
         let dir = tmp("keep");
         std::fs::write(dir.join("notes.txt"), "mine").unwrap();
         std::fs::write(dir.join("gaitd-other.json"), "mine").unwrap();
-        let counters = Arc::new(TraceCounters::default());
-        let (tx, mut rx) = handoff::channel(64);
-        let mut rec = TraceRecorder::new(tx, counters.clone());
-        let mut sink = TraceSink::new(
+        let (counters, mut rec, mut rx, mut sink) = rig(
             TraceSettings {
                 keep: 3,
                 ..settings(&dir)
             },
-            counters.clone(),
+            64,
         );
         for goal in 1..=5u64 {
             rec.begin(goal, 7, goal, None);
@@ -624,13 +635,11 @@ mod tests {
             // Distinct modification times: the oldest go first.
             std::thread::sleep(Duration::from_millis(20));
         }
-        let mut names: Vec<String> = std::fs::read_dir(&dir)
+        let names: Vec<String> = std::fs::read_dir(&dir)
             .unwrap()
             .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
             .collect();
-        names.sort();
-        let kept: Vec<_> = (3..=5).map(|g| sink.path_for(7, g)).collect();
-        for p in &kept {
+        for p in (3..=5).map(|g| sink.path_for(7, g)) {
             assert!(p.exists(), "{} kept", p.display());
         }
         assert!(!sink.path_for(7, 1).exists() && !sink.path_for(7, 2).exists());
@@ -647,10 +656,7 @@ mod tests {
     #[test]
     fn an_overflowing_ring_marks_the_trace_incomplete() {
         let dir = tmp("overflow");
-        let counters = Arc::new(TraceCounters::default());
-        let (tx, mut rx) = handoff::channel(8);
-        let mut rec = TraceRecorder::new(tx, counters.clone());
-        let mut sink = TraceSink::new(settings(&dir), counters.clone());
+        let (counters, mut rec, mut rx, mut sink) = rig(settings(&dir), 8);
         rec.begin(1, 7, 10, None);
         for _ in 0..20 {
             rec.record(&sample());
@@ -675,10 +681,7 @@ mod tests {
     #[test]
     fn an_unfinished_trace_is_closed_as_incomplete() {
         let dir = tmp("unfinished");
-        let counters = Arc::new(TraceCounters::default());
-        let (tx, mut rx) = handoff::channel(64);
-        let mut rec = TraceRecorder::new(tx, counters.clone());
-        let mut sink = TraceSink::new(settings(&dir), counters);
+        let (_, mut rec, mut rx, mut sink) = rig(settings(&dir), 64);
         rec.begin(1, 7, 12, None);
         rec.record(&sample());
         sink.drain(&mut rx);

@@ -1,5 +1,5 @@
 //! The handle of a helper thread that runs until a stop flag is set
-//! (writer, housekeeping, trace writer): stopping sets the flag, unparks
+//! (writer, housekeeping, trace writer, planner): stopping sets the flag, unparks
 //! the thread so it sees the flag at once, and joins it — on `join` or
 //! when the handle is dropped.
 

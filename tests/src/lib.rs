@@ -259,3 +259,15 @@ pub fn oracle_python() -> PathBuf {
     );
     p
 }
+
+/// Replays the `gait-trajectory/1` trace `trace` of a 0.1 kg object in
+/// MuJoCo (`tests/oracles/mujoco/replay.py -q`); its output and exit status
+/// say whether the object followed the trace.
+pub fn mujoco_replay(trace: &Path) -> std::process::Output {
+    Command::new(oracle_python())
+        .arg(repo_root().join("tests/oracles/mujoco/replay.py"))
+        .arg(trace)
+        .args(["--mass", "0.1", "-q"])
+        .output()
+        .unwrap()
+}

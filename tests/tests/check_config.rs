@@ -1,20 +1,26 @@
 //! `gaitd --check-config` on the shipped example and on broken files.
 
-use std::process::Command;
+use std::path::Path;
+use std::process::{Command, Output};
 
 fn gaitd() -> Command {
     Command::new(gaitd_tests::workspace_bin("gaitd"))
 }
 
+/// `gaitd --config path --check-config`.
+fn check_config(path: &Path) -> Output {
+    gaitd()
+        .arg("--config")
+        .arg(path)
+        .arg("--check-config")
+        .output()
+        .unwrap()
+}
+
 #[test]
 fn shipped_example_config_is_valid() {
     let path = gaitd_tests::repo_root().join("deploy/gaitd.toml");
-    let out = gaitd()
-        .arg("--config")
-        .arg(&path)
-        .arg("--check-config")
-        .output()
-        .unwrap();
+    let out = check_config(&path);
     assert!(
         out.status.success(),
         "{}",
@@ -28,12 +34,7 @@ fn bad_key_is_named_in_the_error() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("bad.toml");
     std::fs::write(&path, "[model]\nroll_limit_deg = -5\n").unwrap();
-    let out = gaitd()
-        .arg("--config")
-        .arg(&path)
-        .arg("--check-config")
-        .output()
-        .unwrap();
+    let out = check_config(&path);
     std::fs::remove_dir_all(&dir).ok();
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
@@ -53,12 +54,7 @@ fn a_missing_trace_dir_is_named_in_the_error() {
         ),
     )
     .unwrap();
-    let out = gaitd()
-        .arg("--config")
-        .arg(&path)
-        .arg("--check-config")
-        .output()
-        .unwrap();
+    let out = check_config(&path);
     std::fs::remove_dir_all(&dir).ok();
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
@@ -70,10 +66,7 @@ fn a_missing_trace_dir_is_named_in_the_error() {
 
 #[test]
 fn missing_file_is_a_clear_error() {
-    let out = gaitd()
-        .args(["--config", "/nonexistent/gaitd.toml", "--check-config"])
-        .output()
-        .unwrap();
+    let out = check_config(Path::new("/nonexistent/gaitd.toml"));
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(

@@ -6,7 +6,7 @@
 //! MuJoCo with the same oracle as `gaitctl plan`'s exports.
 
 use gaitd_client::{GoalSpec, GoalState, ReasonCode, Verdict};
-use gaitd_tests::{TestDaemon, oracle_python, repo_root};
+use gaitd_tests::{TestDaemon, mujoco_replay};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -184,13 +184,7 @@ fn a_recorded_goal_replays_in_mujoco() {
     let goal = reach(&d, target());
     let path = the_trace(&d, &dir);
     check_trace(&path, goal, target());
-    let oracle = repo_root().join("tests/oracles/mujoco/replay.py");
-    let out = std::process::Command::new(oracle_python())
-        .arg(&oracle)
-        .arg(&path)
-        .args(["--mass", "0.1", "-q"])
-        .output()
-        .unwrap();
+    let out = mujoco_replay(&path);
     let text = String::from_utf8_lossy(&out.stdout);
     println!("daemon trace: {}", text.lines().next().unwrap_or(""));
     assert!(

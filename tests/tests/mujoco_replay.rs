@@ -10,7 +10,7 @@
 //! only hold the disturbance margin and accelerate the object, as in the
 //! simulation. The object's mass is passed to the replay (`--mass`).
 
-use gaitd_tests::{oracle_python, repo_root, workspace_bin};
+use gaitd_tests::{mujoco_replay, workspace_bin};
 use std::process::Command;
 
 fn replay(tag: &str, plan_args: &[&str]) {
@@ -34,13 +34,7 @@ fn replay(tag: &str, plan_args: &[&str]) {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
-    let oracle = repo_root().join("tests/oracles/mujoco/replay.py");
-    let out = Command::new(oracle_python())
-        .arg(&oracle)
-        .arg(&trace)
-        .args(["--mass", "0.1", "-q"])
-        .output()
-        .unwrap();
+    let out = mujoco_replay(&trace);
     let text = String::from_utf8_lossy(&out.stdout);
     println!("{tag}: {}", text.lines().next().unwrap_or(""));
     std::fs::remove_dir_all(&dir).ok();

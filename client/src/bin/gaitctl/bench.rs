@@ -609,9 +609,9 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     )?;
 
     // The platform's own tail at the same rate and median work.
-    let mut window_compute = compute_seen.clone();
+    let compute_s = summary(&mut compute_seen);
     let noise = if a.noise_periods > 0 {
-        let work = summary(&mut window_compute)["p50"].as_f64().unwrap_or(5.0);
+        let work = compute_s["p50"].as_f64().unwrap_or(5.0);
         match crate::noise::reference_loop(
             a.noise_periods,
             Duration::from_micros(period_us),
@@ -673,7 +673,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
             "p50": t.compute_p50_ns, "p99": t.compute_p99_ns, "max": t.compute_max_ns,
             "since": "daemon start",
         },
-        "tick_compute_us_status_window": summary(&mut compute_seen),
+        "tick_compute_us_status_window": compute_s,
         "tick_compute_us_moving": summary(&mut moving_compute),
         "reference_loop": noise,
         "load": load,
