@@ -166,8 +166,9 @@ impl Client {
             }
         }
         // Status last: a caller polling for the next status sees it as
-        // soon as it is read, not after two more (empty) receives.
-        while let Some(s) = self.conn.status.receive().map_err(ipc("status receive"))? {
+        // soon as it is read, not after two more (empty) receives. One
+        // receive is enough: the subscriber's buffer holds only the newest.
+        if let Some(s) = self.conn.status.receive().map_err(ipc("status receive"))? {
             let s = *s.payload();
             match s.check() {
                 Ok(()) => self.last_status = Some(s),

@@ -180,6 +180,7 @@ impl Connection {
             .map_err(|e| open_err(&names.answers, e))?;
         let status = st
             .subscriber_builder()
+            // Latest value only: `Client::pump` takes one sample per pass.
             .buffer_size(1)
             .create()
             .map_err(|e| open_err(&names.status, e))?;

@@ -68,6 +68,16 @@ impl EventQueue {
         self.push(e);
     }
 
+    /// A contact drifted (SPEC §6.3): the goal is replanned.
+    pub fn drift(&mut self, finger: u8, replan: u32, goal_id: u64, client_id: u64) {
+        let mut e = Event::new(EventKind::Drift);
+        e.finger = finger.into();
+        e.count = replan.into();
+        e.goal_id = goal_id;
+        e.client_id = client_id;
+        self.push(e);
+    }
+
     /// A fault was detected.
     pub fn fault(&mut self, fault: FaultCode) {
         let mut e = Event::new(EventKind::Fault);

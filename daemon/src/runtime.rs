@@ -215,6 +215,11 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         &self.controller
     }
 
+    /// The controller, mutably (tests inject plant faults through it).
+    pub fn controller_mut(&mut self) -> &mut C {
+        &mut self.controller
+    }
+
     /// Waits for the next deadline and runs one tick.
     pub fn run_once(&mut self) -> Wake {
         let w = self.ticker.wait(&mut self.clock);

@@ -492,7 +492,10 @@ fn is_trace_name(name: &str) -> bool {
     name.starts_with("gaitd-") && name.ends_with(".jsonl") && name.contains("-goal-")
 }
 
-/// Header, then the lines from `part`, into `path`; removes `part`.
+/// Header, then the lines from `part`, into `path`; removes `part`. The
+/// file appears under its final name only when complete (written under a
+/// hidden name, then renamed), so whoever watches the directory never
+/// reads half a trace.
 fn write_final(
     out: BufWriter<File>,
     part: &Path,
@@ -500,10 +503,21 @@ fn write_final(
     header: &str,
 ) -> std::io::Result<()> {
     out.into_inner().map_err(|e| e.into_error())?;
-    let mut dst = BufWriter::with_capacity(64 * 1024, File::create(path)?);
-    dst.write_all(header.as_bytes())?;
-    std::io::copy(&mut File::open(part)?, &mut dst)?;
-    dst.into_inner().map_err(|e| e.into_error())?;
+    let name = path
+        .file_name()
+        .map_or_else(Default::default, |n| n.to_string_lossy());
+    let staged = path.with_file_name(format!(".{name}.tmp"));
+    let write = || -> std::io::Result<()> {
+        let mut dst = BufWriter::with_capacity(64 * 1024, File::create(&staged)?);
+        dst.write_all(header.as_bytes())?;
+        std::io::copy(&mut File::open(part)?, &mut dst)?;
+        dst.into_inner().map_err(|e| e.into_error())?;
+        std::fs::rename(&staged, path)
+    };
+    if let Err(e) = write() {
+        let _ = std::fs::remove_file(&staged);
+        return Err(e);
+    }
     std::fs::remove_file(part)
 }
 

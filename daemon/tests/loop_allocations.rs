@@ -376,8 +376,9 @@ fn plans_cross_the_loop_without_allocation() {
 
 /// The real controller (planner thread, executor, kinematic hand) in the
 /// real loop: goals (absolute, relative, full turns), preemption by newer
-/// goals mid-motion, cancels and holds, over 10⁵ ticks that include
-/// rolling, gaits and status publishing, with every goal traced
+/// goals mid-motion, cancels, holds and one-tick slips of the object (a
+/// drift: stop, re-base, replan), over 10⁵ ticks that include rolling,
+/// gaits and status publishing, with every goal traced
 /// (`trace_dir` set: samples copied into the trace ring) — no allocation
 /// or free on the loop thread.
 #[test]
@@ -438,6 +439,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
     ];
     let mut goal_id = 1;
     let (mut placed, mut lifted, mut rolled, mut succeeded, mut preempted) = (0, 0, 0, 0, 0);
+    let mut drifts = 0;
     // The schedule counts ticks in which the hand is not waiting for a plan
     // (planning takes wall time while the mock clock runs ahead).
     let mut next = 100;
@@ -468,14 +470,28 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
             };
             client.send(cmd);
         }
+        let slip = t % 4000 == 2000 && rt.controller().phase() == gait::executor::Phase::Moving;
+        if slip {
+            rt.controller_mut()
+                .plant_mut()
+                .inject(Some(gait::sim::InjectedFault::Slip {
+                    axis: nalgebra::Vector3::x(),
+                    rate: 5.0,
+                }));
+        }
         counted(|| {
             rt.run_once();
             clock.advance(1_000_000);
         });
+        if slip {
+            rt.controller_mut().plant_mut().inject(None);
+        }
         ipc_rig::let_writer_catch_up(&d.shared);
         let (_, ev) = client.drain();
         for e in &ev {
             match e.kind() {
+                Ok(shm_schema::EventKind::Drift) => drifts += 1,
+                Ok(shm_schema::EventKind::Fault) => panic!("fault: {e:?}"),
                 Ok(shm_schema::EventKind::Place) => placed += 1,
                 Ok(shm_schema::EventKind::Lift) => lifted += 1,
                 Ok(shm_schema::EventKind::Roll) => rolled += 1,
@@ -496,7 +512,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
         }
     }
     println!(
-        "gait controller: {placed} placements, {lifted} lifts, {rolled} rolls, {succeeded} goals reached, {preempted} preempted"
+        "gait controller: {placed} placements, {lifted} lifts, {rolled} rolls, {succeeded} goals reached, {preempted} preempted, {drifts} drifts replanned"
     );
     assert_no_allocations("gait controller");
     println!("gait controller: {ticks} ticks in all");
@@ -508,6 +524,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
         succeeded >= 2 && preempted >= 2,
         "goals finished and were preempted"
     );
+    assert!(drifts >= 2, "slips were replanned ({drifts})");
     drop(rt);
     d.writer.join();
     tracer.join();

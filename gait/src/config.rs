@@ -244,8 +244,12 @@ pub struct FeedbackConfig {
     /// fault [m].
     pub finger_tolerance: f64,
     /// Largest drift of a grasping contact point over the object surface
-    /// (slip) before a fault [m].
+    /// (slip) [m]. Beyond it the motion stops smoothly and the goal is
+    /// replanned from the measured state (SPEC §6.3); a fault once
+    /// `max_replans` is used up, or if the drift goes on during the stop.
     pub contact_tolerance: f64,
+    /// Replans after contact drift allowed per goal (0: drift is a fault).
+    pub max_replans: u32,
     /// A fingertip that moves less than this fraction of its commanded
     /// motion in one tick (while commanded to move) is stuck; 0 disables
     /// the check.
@@ -261,6 +265,7 @@ impl Default for FeedbackConfig {
             object_tolerance_deg: 0.1,
             finger_tolerance: 0.0005,
             contact_tolerance: 0.0005,
+            max_replans: 3,
             stall_ratio: 0.1,
             orientation_gain: 10.0,
         }
@@ -598,6 +603,13 @@ impl HandConfig {
             1.0,
             "in [0, 1]",
         )?;
+        if fb.max_replans > 100 {
+            return Err(ConfigError::OutOfRange {
+                key: "feedback.max_replans",
+                value: fb.max_replans as f64,
+                expected: "at most 100",
+            });
+        }
         in_closed(
             "feedback.orientation_gain",
             fb.orientation_gain,

@@ -67,7 +67,8 @@ pub trait Plant {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum InjectedFault {
     /// The object slips in the grasp: it turns about `axis` (hand frame) at
-    /// `rate` rad/s relative to the fingers.
+    /// `rate` rad/s relative to the fingers. The turn it made stays when the
+    /// fault is cleared (the object does not jump back).
     Slip {
         /// Unit axis.
         axis: Vector3<f64>,
@@ -92,13 +93,22 @@ pub enum InjectedFault {
 }
 
 /// The embedded plant: applies setpoints exactly (SPEC §6.2).
+///
+/// Fingertips go where they are commanded. The object turns by the change
+/// of the commanded object orientation from one setpoint to the next (the
+/// grasping contacts roll it), so a slip leaves a lasting offset between the
+/// true and the commanded object, as it would on a real hand, and a change
+/// of [`Setpoint::estimate_epoch`] (the controller re-basing its estimate)
+/// does not move it.
 #[derive(Debug, Clone)]
 pub struct KinematicHand {
     state: HandState,
     fault: Option<InjectedFault>,
     dt: f64,
     rng: u64,
-    slip_angle: f64,
+    /// Object orientation and estimate epoch of the last setpoint.
+    commanded_object: UnitQuaternion<f64>,
+    epoch: u32,
 }
 
 impl KinematicHand {
@@ -109,7 +119,8 @@ impl KinematicHand {
             fault: None,
             dt,
             rng: 0x9E37_79B9_7F4A_7C15,
-            slip_angle: 0.0,
+            commanded_object: state.object,
+            epoch: 0,
         }
     }
 
@@ -121,7 +132,6 @@ impl KinematicHand {
     /// Starts (or with `None`, clears) a simulated fault.
     pub fn inject(&mut self, fault: Option<InjectedFault>) {
         self.fault = fault;
-        self.slip_angle = 0.0;
     }
 
     /// The active simulated fault.
@@ -154,12 +164,23 @@ impl Plant for KinematicHand {
                 *f = setpoint.state.fingers[k];
             }
         }
-        self.state.object = setpoint.state.object;
+        let target = setpoint.state.object;
+        // Across a change of epoch the estimate was re-based: no motion.
+        if setpoint.estimate_epoch == self.epoch {
+            if self.state.object == self.commanded_object {
+                // No offset: exactly the commanded orientation.
+                self.state.object = target;
+            } else {
+                let turn = target * self.commanded_object.inverse();
+                self.state.object =
+                    UnitQuaternion::new_normalize((turn * self.state.object).into_inner());
+            }
+        }
+        self.commanded_object = target;
+        self.epoch = setpoint.estimate_epoch;
         if let Some(InjectedFault::Slip { axis, rate }) = self.fault {
-            // Accumulated slip on top of the commanded orientation.
-            self.slip_angle += rate * self.dt;
-            self.state.object =
-                UnitQuaternion::from_scaled_axis(axis * self.slip_angle) * self.state.object;
+            let slip = UnitQuaternion::from_scaled_axis(axis * (rate * self.dt));
+            self.state.object = slip * self.state.object;
         }
     }
 

@@ -1,5 +1,6 @@
 //! Zero heap allocations per executor tick over ≥ 10⁵ ticks that include
-//! rolling, gaits, preemption, cancels and faults (SPEC §6.1, §11). A
+//! rolling, gaits, preemption, cancels, faults and replans after contact
+//! drift (SPEC §6.1, §6.3, §11). A
 //! counting global allocator counts only inside `Executor::tick` and
 //! `Executor::command` (planning, which allocates, runs outside them, as it
 //! does on the daemon's planner thread).
@@ -8,7 +9,7 @@ mod planning;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use gait::executor::{Command, Executor, GoalTarget};
+use gait::executor::{Command, Event, Executor, GoalTarget};
 use gait::planner::{Planner, StepKind};
 use gait::sim::{InjectedFault, KinematicHand, Plant};
 use gait::{HandConfig, HandState};
@@ -27,9 +28,10 @@ fn counted<T>(f: impl FnOnce() -> T) -> T {
     r
 }
 
-/// Runs a random mix of goals, cancels, holds, faults and resets for
-/// `ticks` ticks from `start`; returns the step kinds seen and goals sent.
-fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool; 5], u64) {
+/// Runs a random mix of goals, cancels, holds, slips, faults and resets for
+/// `ticks` ticks from `start`; returns the step kinds seen, goals sent and
+/// drifts recovered from.
+fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool; 5], u64, u64) {
     let planner = Planner::new(cfg).unwrap();
     let mut exec = Executor::new(cfg, 1e-3, start).unwrap();
     let mut plant = KinematicHand::new(start, 1e-3);
@@ -39,6 +41,7 @@ fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool;
     let mut id = 0;
     let mut next_event = 300;
     let mut clear_fault_at = None;
+    let mut drifts = 0;
     for t in 0..ticks {
         let m = plant.read();
         let rep = *counted(|| exec.tick(m.as_ref()));
@@ -46,7 +49,13 @@ fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool;
         if let Some(k) = rep.step_kind {
             seen[k as usize] = true;
         }
-        counted(|| while exec.pop_event().is_some() {});
+        drifts += counted(|| {
+            let mut n = 0;
+            while let Some(e) = exec.pop_event() {
+                n += matches!(e, Event::Drift { .. }) as u64;
+            }
+            n
+        });
         if let Some(req) = exec.take_plan_request() {
             let plan = req.target.plan(&planner, &req.start).map(Box::new);
             let old = counted(|| exec.deliver_plan(req.goal, plan));
@@ -54,13 +63,22 @@ fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool;
         }
         if t == next_event {
             next_event += rng.random_range(200..2000);
-            let cmd = match rng.random_range(0..14) {
+            let cmd = match rng.random_range(0..16) {
                 0 => Command::Cancel,
                 1 => Command::Hold,
                 2 => {
                     plant.inject(Some(InjectedFault::Missing));
                     clear_fault_at = Some(t + 20);
                     Command::Hold
+                }
+                3 | 4 => {
+                    // A slip of one tick: stop, re-base, replan.
+                    plant.inject(Some(InjectedFault::Slip {
+                        axis: planning::unit(&mut rng),
+                        rate: 2.0,
+                    }));
+                    clear_fault_at = Some(t + 1);
+                    continue;
                 }
                 _ => {
                     id += 1;
@@ -81,7 +99,7 @@ fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool;
             counted(|| exec.command(Command::Reset));
         }
     }
-    (seen, id)
+    (seen, id, drifts)
 }
 
 #[test]
@@ -90,14 +108,14 @@ fn executor_ticks_do_not_allocate() {
     let mut rng = ChaCha8Rng::seed_from_u64(4);
     // From the paper's start (rolling) and from a random two-finger state
     // whose free finger hovers low (transfers).
-    let (a, goals_a) = run_mix(&cfg, HandState::paper_start(&cfg), 70_000, 99);
+    let (a, goals_a, drifts_a) = run_mix(&cfg, HandState::paper_start(&cfg), 70_000, 99);
     let mut random = planning::random_two_finger_state(&mut rng, &cfg);
     let free = (0..3)
         .find(|&k| random.fingers[k].mode == gait::FingerMode::Free)
         .unwrap();
     let dir = random.fingers[free].center.normalize();
     random.fingers[free].center = dir * 0.61;
-    let (b, goals_b) = run_mix(&cfg, random, 50_000, 98);
+    let (b, goals_b, drifts_b) = run_mix(&cfg, random, 50_000, 98);
     let seen: [bool; 5] = std::array::from_fn(|i| a[i] || b[i]);
     let id = goals_a + goals_b;
     let ticks = 120_000;
@@ -111,8 +129,10 @@ fn executor_ticks_do_not_allocate() {
     for k in kinds {
         assert!(seen[k as usize], "no {k:?} step ran ({seen:?}, {id} goals)");
     }
-    println!("{id} goals, step kinds seen {seen:?}");
+    let drifts = drifts_a + drifts_b;
+    println!("{id} goals, {drifts} drifts, step kinds seen {seen:?}");
     assert!(id > 20, "{id} goals");
+    assert!(drifts > 5, "{drifts} drifts");
     assert_eq!(
         ALLOCATIONS.load(Ordering::Relaxed),
         0,

@@ -1,5 +1,7 @@
-//! Injected plant faults are detected and end in safe hold within two ticks,
-//! with a reason; no NaN anywhere; a reset resumes.
+//! Injected plant faults are detected and end in safe hold within two ticks
+//! (a slip that goes on: three, the first drift being taken for one that
+//! can be replanned around), with a reason; no NaN anywhere; a reset resumes.
+//! Slips that stop are recovered from: `executor_recovery.rs`.
 
 mod planning;
 
@@ -70,7 +72,15 @@ fn every_fault_ends_in_safe_hold_within_two_ticks() {
     for (seed, (fault, kind)) in cases.into_iter().enumerate() {
         for lead in [700, 1800, 3300] {
             let (n, got, mut rig) = inject(fault, lead, seed as u64);
-            assert!(n <= 2, "{fault:?} at {lead}: {n} ticks");
+            let slip = matches!(fault, InjectedFault::Slip { .. });
+            assert!(n <= 2 + slip as u64, "{fault:?} at {lead}: {n} ticks");
+            // Noise on the object orientation also looks like a drift at first.
+            let drifts = rig.stats.drifts;
+            assert!(
+                drifts == slip as u64
+                    || matches!(fault, InjectedFault::Noise { .. }) && drifts <= 1,
+                "{fault:?}: {drifts} drift events"
+            );
             let (k, _) = got.expect("a fault is reported");
             assert!(
                 k == kind || matches!(fault, InjectedFault::Noise { .. }),

@@ -338,6 +338,8 @@ code_enum! {
         DaemonStopping = 12,
         /// The controller switched to hold on a command (`reason`).
         Hold = 13,
+        /// A contact drifted beyond tolerance (`finger`, `goal_id`, `client_id`; `count` = drifts so far): the motion stops and the goal is replanned from the measured state.
+        Drift = 14,
     }
 }
 

@@ -4,7 +4,7 @@
 //! The measurement read at a tick reflects the setpoint written at the
 //! previous tick, so it is compared with that setpoint.
 
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 
 use super::lifecycle::FaultKind;
 use crate::config::FeedbackConfig;
@@ -43,14 +43,17 @@ impl Feedback {
 
     /// Checks `m` against the commanded state `cmd` (and the one before it,
     /// `prev_cmd`, with the previous measurement `prev_m` for the stall
-    /// check). Returns the angular-velocity correction for the object, or
-    /// the fault.
+    /// check). `offset` is a known object-frame offset of the true object
+    /// from the commanded one (true ≈ `cmd.object · offset`; identity
+    /// unless a drift is being recovered from). Returns the angular-velocity
+    /// correction for the object, or the fault.
     pub fn check(
         &self,
         m: Option<&Measurement>,
         cmd: &HandState,
         prev_cmd: &HandState,
         prev_m: Option<&Measurement>,
+        offset: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>, (FaultKind, u8)> {
         let Some(m) = m else {
             return Err((FaultKind::MissingMeasurement, NO_FINGER));
@@ -58,12 +61,13 @@ impl Feedback {
         if !m.is_finite() {
             return Err((FaultKind::BadMeasurement, NO_FINGER));
         }
+        let expected = cmd.object * offset;
         // Slip: a grasping contact moved over the object surface.
         for (k, f) in cmd.fingers.iter().enumerate() {
             if f.mode != FingerMode::Grasping {
                 continue;
             }
-            let planned = cmd.object.inverse() * f.center.normalize();
+            let planned = expected.inverse() * f.center.normalize();
             let measured = m.object.inverse() * m.fingers[k].center.normalize();
             if (planned - measured).norm() * self.object_radius > self.contact_tol {
                 return Err((FaultKind::ContactDrift, k as u8));
@@ -84,7 +88,7 @@ impl Feedback {
                 }
             }
         }
-        let err = (cmd.object * m.object.inverse()).scaled_axis();
+        let err = (expected * m.object.inverse()).scaled_axis();
         if err.norm() > self.object_tol {
             return Err((FaultKind::ObjectTracking, NO_FINGER));
         }

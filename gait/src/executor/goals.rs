@@ -25,6 +25,7 @@ impl Executor {
         if let Some(g) = self.goal.take() {
             self.goal_event(g.id, state, reason);
         }
+        self.replans = 0;
     }
 
     pub(super) fn remember_id(&mut self, id: u64) -> bool {
@@ -92,6 +93,7 @@ impl Executor {
             state: GoalState::Accepted,
         };
         self.goal_event(id, GoalState::Accepted, Reason::None);
+        self.replans = 0;
         if let Some(p) = self.pending.take() {
             self.goal_event(p.id, GoalState::Preempted, Reason::NewerGoal);
         }
@@ -161,6 +163,12 @@ impl Executor {
 
     pub(super) fn finish_stop(&mut self, then: AfterStop) {
         self.stop_after_step = false;
+        // Rotation the interrupted plan still had to make.
+        let left = self.planned_rotation_left();
+        if self.resync.is_some() && !self.rebase() {
+            self.step = 0;
+            return;
+        }
         match then {
             AfterStop::Replan => {
                 if let Some(g) = self.pending.take() {
@@ -178,6 +186,7 @@ impl Executor {
                 self.phase = Phase::Holding;
             }
             AfterStop::Fault => self.phase = Phase::SafeHold,
+            AfterStop::Recover => self.replan_after_drift(left),
         }
         self.step = 0;
     }
@@ -186,20 +195,13 @@ impl Executor {
         if self.phase != Phase::SafeHold {
             return Answer::Accepted;
         }
-        let Some(m) = self.prev_measurement else {
+        let Some(state) = self.measured_state() else {
             return Answer::Rejected(Reason::FaultActive);
         };
         // Resume from the measured state if it is valid.
-        let mut state = self.setpoint.state;
-        state.object = m.object;
-        for (k, f) in state.fingers.iter_mut().enumerate() {
-            f.center = m.fingers[k].center;
-            f.orientation = m.fingers[k].orientation;
-        }
         match self.checker.check(&state) {
             Ok(r) if r.ok() => {
-                self.setpoint = rest(state);
-                self.prev_setpoint = self.setpoint;
+                self.adopt(state);
                 self.fault = None;
                 self.phase = Phase::Holding;
                 self.events.push(Event::FaultCleared);
@@ -218,6 +220,13 @@ impl Executor {
         result: Result<Box<Plan>, PlanError>,
     ) -> Option<Box<Plan>> {
         let current = self.phase == Phase::Planning && self.goal.is_some_and(|g| g.id == id);
+        if current && self.resync.is_some() {
+            // Drifted while planning: the plan starts from the old estimate.
+            if self.rebase() {
+                self.begin_planning();
+            }
+            return result.ok();
+        }
         match result {
             Err(e) => {
                 if current {

@@ -4,6 +4,9 @@
 //!            ┌────────── Rejected(reason)
 //!  command ──┤
 //!            └─ Accepted ─> Planning ─> Executing ─> Succeeded
+//!                              │  ^         │
+//!                              │  └─────────┤ contact drift: stop, re-base,
+//!                              │            │ plan again (SPEC §6.3)
 //!                              │            ├──────> Aborted(reason)
 //!                              │            ├──────> Canceled   (cancel / hold)
 //!                              └────────────┴──────> Preempted  (a newer goal)
@@ -143,6 +146,18 @@ pub enum Event {
     },
     /// The fault was cleared by a reset.
     FaultCleared,
+    /// A grasping contact drifted beyond tolerance (SPEC §6.3): the motion
+    /// stops smoothly, the controller re-bases its estimate on the measured
+    /// state and the goal (if any) is planned again from there.
+    Drift {
+        /// Goal concerned, 0 if none.
+        id: u64,
+        /// The finger whose contact drifted.
+        finger: u8,
+        /// Drifts recovered since the goal started (or, with no goal,
+        /// since the last one ended), this one included.
+        replan: u32,
+    },
 }
 
 /// Capacity of the event queue between two drains.

@@ -12,6 +12,8 @@
 //!                                          │                   or Holding (cancel/hold)
 //!   any ──fault──> SafeHold (a jerk-limited stop, then still) ──reset──> Holding
 //! ```
+//! Contact drift beyond tolerance stops the motion too, then re-bases the
+//! estimate on the measurement and plans the goal again ([`recovery`]).
 //! A finger in flight finishes its placement or lift before a stop takes
 //! effect; a stop elsewhere brakes along the current step's path, which is
 //! valid everywhere (SPEC §6.4).
@@ -28,6 +30,7 @@ mod goals;
 pub mod grip;
 pub mod lifecycle;
 mod memo;
+pub mod recovery;
 pub mod runner;
 
 use nalgebra::{UnitQuaternion, Vector3};
@@ -161,6 +164,8 @@ enum AfterStop {
     Hold(Reason),
     /// Stay in safe hold.
     Fault,
+    /// Plan the active goal again from the measured state (contact drift).
+    Recover,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -248,6 +253,17 @@ pub struct Executor {
     invariants: memo::Memo<HandState, Result<InvariantReport, StateError>>,
     /// Grip of the last (state, torque).
     grips: memo::Memo<(HandState, Vector3<f64>), grip::Grip>,
+    /// Epoch of the object estimate (bumped on every re-base).
+    epoch: u32,
+    /// Known object-frame offset of the measured object from the commanded
+    /// one while a drift is being recovered from (else identity).
+    offset: UnitQuaternion<f64>,
+    /// A drift (of this finger) waits for the motion to rest to re-base.
+    resync: Option<u8>,
+    /// Drifts recovered since the active goal started.
+    replans: u32,
+    /// Allowed per goal (`feedback.max_replans`).
+    max_replans: u32,
 }
 
 fn rest(state: HandState) -> Setpoint {
@@ -256,6 +272,7 @@ fn rest(state: HandState) -> Setpoint {
         object_rate: Vector3::zeros(),
         finger_velocity: [Vector3::zeros(); 3],
         finger_rate: [Vector3::zeros(); 3],
+        estimate_epoch: 0,
     }
 }
 
@@ -339,6 +356,11 @@ impl Executor {
             tick: 0,
             invariants: memo::Memo::new(),
             grips: memo::Memo::new(),
+            epoch: 0,
+            offset: UnitQuaternion::identity(),
+            resync: None,
+            replans: 0,
+            max_replans: config.feedback.max_replans,
         })
     }
 
@@ -438,8 +460,14 @@ impl Executor {
                 &self.setpoint.state,
                 &self.prev_setpoint.state,
                 self.prev_measurement.as_ref(),
+                &self.offset,
             ) {
                 Ok(c) => correction = c,
+                Err((FaultKind::ContactDrift, finger)) => {
+                    if let Some(m) = measurement {
+                        self.on_drift(finger, m);
+                    }
+                }
                 Err((kind, finger)) => self.enter_fault(kind, finger),
             }
         }
@@ -448,6 +476,7 @@ impl Executor {
         }
         self.prev_setpoint = self.setpoint;
         self.advance();
+        self.setpoint.estimate_epoch = self.epoch;
         self.setpoint.object_rate += correction;
         self.check_invariants();
         self.fill_report();
@@ -582,17 +611,21 @@ impl Executor {
         }
     }
 
+    /// Object rotation the plan still has to make from the running step's
+    /// current position [rad].
+    fn planned_rotation_left(&self) -> f64 {
+        let in_step = self.current_step().map_or(0.0, |s| {
+            (step_rotation(s) - self.runner.state().position[0]).max(0.0)
+        });
+        self.rotation_after_step + in_step
+    }
+
     fn fill_report(&mut self) {
         // How much the object still has to turn: along the plan while it
         // runs (a full turn counts in full), else the way to the goal.
         let remaining = match (self.phase, self.goal) {
             (_, None) => 0.0,
-            (Phase::Moving | Phase::Stopping, Some(_)) => {
-                let in_step = self.current_step().map_or(0.0, |s| {
-                    (step_rotation(s) - self.runner.state().position[0]).max(0.0)
-                });
-                self.rotation_after_step + in_step
-            }
+            (Phase::Moving | Phase::Stopping, Some(_)) => self.planned_rotation_left(),
             (_, Some(g)) => match g.target {
                 GoalTarget::Rotation { angle, .. } => angle.abs(),
                 GoalTarget::Orientation(_) => g.end.angle_to(&self.setpoint.state.object),

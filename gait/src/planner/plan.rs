@@ -271,6 +271,12 @@ pub struct Setpoint {
     pub finger_velocity: [Vector3<f64>; 3],
     /// Fingertip angular velocities (hand frame).
     pub finger_rate: [Vector3<f64>; 3],
+    /// Epoch of the controller's object estimate: it changes when the
+    /// controller re-bases `state` on a measurement (SPEC §6.3, a replan
+    /// after contact drift). A change of `state.object` across epochs is a
+    /// correction of belief, not a commanded motion: a plant that moves the
+    /// object by the commanded change (the kinematic hand) ignores it.
+    pub estimate_epoch: u32,
 }
 
 impl Step {
@@ -332,6 +338,7 @@ impl Step {
             object_rate: Vector3::zeros(),
             finger_velocity: [Vector3::zeros(); 3],
             finger_rate: [Vector3::zeros(); 3],
+            estimate_epoch: 0,
         };
         match &self.motion {
             Motion::Rotate { axis, free, .. } => {

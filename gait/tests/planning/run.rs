@@ -26,6 +26,8 @@ pub struct RunStats {
     pub discontinuities: Vec<(u64, &'static str, f64)>,
     pub goals: Vec<(u64, GoalState)>,
     pub faults: u64,
+    /// Contact drifts reported (each stops the motion and replans).
+    pub drifts: u64,
 }
 
 /// The executor, its plant and planner, ticking together.
@@ -84,6 +86,7 @@ impl Rig {
                     self.stats.goals.push((id, state))
                 }
                 Event::Fault { .. } => self.stats.faults += 1,
+                Event::Drift { .. } => self.stats.drifts += 1,
                 _ => {}
             }
         }
@@ -97,7 +100,9 @@ impl Rig {
         let mut v = Vec::new();
         self.checker.check(&rep.setpoint.state, 0, &mut v);
         self.stats.violations.extend(v.into_iter().map(|x| (t, x)));
+        // A re-based estimate (new epoch) is a change of belief, not motion.
         if let Some(prev) = &self.prev
+            && prev.estimate_epoch == rep.setpoint.estimate_epoch
             && let Ok(slip) = self.slip.check_slip(&prev.state, &rep.setpoint.state)
             && !slip.ok()
         {

@@ -87,6 +87,9 @@ pub fn event_line(e: &Event) -> String {
         Ok(EventKind::Overrun) => s += &format!(" {} periods missed", e.count),
         Ok(EventKind::ClientsCleaned) => s += &format!(" {} dead nodes", e.count),
         Ok(EventKind::Hold) => s += &format!(" by client {:x}", e.client_id),
+        Ok(EventKind::Drift) => {
+            s += &format!(" finger {}: replanning (drift {})", e.finger, e.count)
+        }
         _ => {}
     }
     s

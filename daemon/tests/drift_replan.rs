@@ -1,0 +1,108 @@
+//! Contact drift in the daemon's real loop (SPEC §6.3; mock clock, real
+//! iceoryx2 ports, planner and writer threads): the embedded hand's object
+//! slips for one tick mid-goal; clients see a `Drift` event naming the goal
+//! and its client, the goal goes back to Planning, is replanned from the
+//! measured state and succeeds — with the hand's true object, not only the
+//! controller's belief, at the target.
+
+#[path = "support/ipc_rig.rs"]
+mod ipc_rig;
+
+use gait::executor::Phase as ExecPhase;
+use gait::sim::InjectedFault;
+use gaitd::clock::MockClock;
+use gaitd::gait_controller::{GaitController, GaitPlanner};
+use gaitd::planner;
+use gaitd::runtime::Runtime;
+use ipc_rig::{Namespace, daemon};
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use shm_schema::{Command, EventKind, GoalFrame, GoalState};
+
+#[test]
+fn a_slip_mid_goal_is_reported_replanned_and_the_goal_succeeds() {
+    let ns = Namespace::new("d");
+    let d = daemon(&ns);
+    let client = d.client;
+    let hand = ns.cfg.hand();
+    let planner = gait::planner::Planner::new(&hand).unwrap();
+    let (link, planner_thread) = planner::spawn(GaitPlanner(planner), 4, || {}).unwrap();
+    let controller = GaitController::new(&hand, 1e-3, link).unwrap();
+    let clock = MockClock::new(0);
+    let mut rt = Runtime::new(
+        d.commands,
+        d.outbox,
+        controller,
+        clock.clone(),
+        &ns.cfg,
+        45,
+        d.shared.clone(),
+    );
+    let target = UnitQuaternion::from_quaternion(Quaternion::new(0.3, -0.5, 0.7, 0.4));
+    let c = target.coords; // (i, j, k, w)
+    let q = [c.w, c.x, c.y, c.z];
+    client.send(Command::goal(5, 1, GoalFrame::Absolute, q));
+
+    let mut moving = 0;
+    let mut slipped = false;
+    let (mut drifts, mut states, mut end) = (Vec::new(), Vec::new(), None);
+    for _ in 0..200_000 {
+        if rt.controller().phase() == ExecPhase::Moving {
+            moving += 1;
+        }
+        let slip_now = moving == 500 && !slipped;
+        if slip_now {
+            rt.controller_mut()
+                .plant_mut()
+                .inject(Some(InjectedFault::Slip {
+                    axis: Vector3::new(0.2, 1.0, -0.4).normalize(),
+                    rate: 10.0,
+                }));
+            slipped = true;
+        }
+        rt.run_once();
+        if slip_now {
+            rt.controller_mut().plant_mut().inject(None);
+        }
+        clock.advance(1_000_000);
+        ipc_rig::let_writer_catch_up(&d.shared);
+        let (_, ev) = client.drain();
+        for e in ev {
+            match e.kind() {
+                Ok(EventKind::Drift) => drifts.push(e),
+                Ok(EventKind::Fault) => panic!("fault {e:?}"),
+                Ok(EventKind::GoalTransition) if e.goal_id == 1 => {
+                    let s = GoalState::try_from(e.state).unwrap();
+                    states.push(s);
+                    if s.is_terminal() {
+                        end = Some(s);
+                    }
+                }
+                _ => {}
+            }
+        }
+        if end.is_some() {
+            break;
+        }
+        if rt.controller().phase() == ExecPhase::Planning {
+            // Mock time runs on while the planner thread works in wall time.
+            std::thread::sleep(std::time::Duration::from_micros(50));
+        }
+    }
+    assert!(slipped, "the goal never moved for 500 ticks");
+    assert_eq!(end, Some(GoalState::Succeeded), "{states:?}");
+    assert_eq!(drifts.len(), 1, "{drifts:?}");
+    let e = drifts[0];
+    assert_eq!((e.goal_id, e.client_id, e.count), (1, 5, 1));
+    assert!(e.finger < 3);
+    // Executing, then Planning again from the measured state.
+    let replanned = states
+        .windows(2)
+        .any(|w| w == [GoalState::Executing, GoalState::Planning]);
+    assert!(replanned, "{states:?}");
+    let truth = rt.controller_mut().plant_mut().state().object;
+    let err = truth.angle_to(&target);
+    assert!(err <= 1e-6, "true object {err:e} rad from the target");
+    drop(rt);
+    d.writer.join();
+    planner_thread.join();
+}

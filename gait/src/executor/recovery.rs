@@ -1,0 +1,173 @@
+//! Contact drift (SPEC §6.3): "contact drift beyond tolerance stops the
+//! motion smoothly and replans from the measured state".
+//!
+//! When a grasping contact has drifted over the object surface (the object
+//! slipped in the grasp), the executor
+//! 1. remembers the offset of the measured object from the commanded one
+//!    (object frame, so it stays valid while the grasp keeps rolling the
+//!    object) and checks later measurements against that — a drift that
+//!    goes on during the stop is a fault;
+//! 2. brings the motion to rest as for a preemption (a finger in flight
+//!    completes its placement first);
+//! 3. at rest, re-bases its estimate on the measured state, which must
+//!    satisfy every invariant (else: fault, safe hold), and starts a new
+//!    estimate epoch ([`Setpoint::estimate_epoch`](crate::planner::Setpoint));
+//! 4. plans the goal again from there: to the same end orientation, and for
+//!    a turn goal with the full turns it still had to make.
+//!
+//! At rest (no motion), step 3 happens at once. At most
+//! `feedback.max_replans` drifts are recovered per goal; the next one is a
+//! fault.
+
+use core::f64::consts::TAU;
+
+use nalgebra::{UnitQuaternion, Vector3};
+
+use super::*;
+
+impl Executor {
+    /// A contact drifted beyond tolerance (finger `finger`), seen in `m`.
+    pub(super) fn on_drift(&mut self, finger: u8, m: &Measurement) {
+        if self.resync.is_some() || self.replans >= self.max_replans {
+            // Drifting again before the last drift was absorbed, or out of
+            // replans.
+            self.enter_fault(FaultKind::ContactDrift, finger);
+            return;
+        }
+        self.replans += 1;
+        self.offset = self.setpoint.state.object.inverse() * m.object;
+        self.resync = Some(finger);
+        let id = self.goal.or(self.pending).map_or(0, |g| g.id);
+        self.events.push(Event::Drift {
+            id,
+            finger,
+            replan: self.replans,
+        });
+        match self.phase {
+            Phase::Moving => self.request_stop(AfterStop::Recover),
+            // Already braking: `finish_stop` re-bases before going on.
+            Phase::Stopping => {}
+            // Re-bases and plans again when the plan in the making arrives
+            // (`deliver_plan`).
+            Phase::Planning => {}
+            Phase::Holding => {
+                self.prev_measurement = Some(*m);
+                self.rebase();
+            }
+            Phase::SafeHold => {}
+        }
+    }
+
+    /// Re-bases the estimate on the last measurement (at rest). Enters the
+    /// fault and returns false if the measured state breaks an invariant.
+    pub(super) fn rebase(&mut self) -> bool {
+        let finger = self.resync.take().unwrap_or(NO_FINGER);
+        let state = self.measured_state();
+        match state.map(|s| (s, self.checker.check(&s))) {
+            Some((s, Ok(r))) if r.ok() => {
+                self.adopt(s);
+                true
+            }
+            _ => {
+                self.enter_fault(FaultKind::ContactDrift, finger);
+                // At rest already: nothing to brake.
+                self.braking = false;
+                false
+            }
+        }
+    }
+
+    /// The commanded state with the object and fingertips where they were
+    /// last measured.
+    pub(super) fn measured_state(&self) -> Option<HandState> {
+        let m = self.prev_measurement?;
+        let mut state = self.setpoint.state;
+        state.object = m.object;
+        for (k, f) in state.fingers.iter_mut().enumerate() {
+            f.center = m.fingers[k].center;
+            f.orientation = m.fingers[k].orientation;
+        }
+        Some(state)
+    }
+
+    /// Takes `state` as the new estimate, at rest, in a new epoch.
+    pub(super) fn adopt(&mut self, state: HandState) {
+        self.epoch = self.epoch.wrapping_add(1);
+        self.setpoint = rest(state);
+        self.setpoint.estimate_epoch = self.epoch;
+        self.prev_setpoint = self.setpoint;
+        self.offset = UnitQuaternion::identity();
+        self.resync = None;
+    }
+
+    /// After a drift stop: the active goal is planned again from the
+    /// re-based state, `left` being the object rotation its plan still had
+    /// to make [rad].
+    pub(super) fn replan_after_drift(&mut self, left: f64) {
+        let from = self.setpoint.state.object;
+        let Some(g) = self.goal.as_mut() else {
+            self.phase = Phase::Holding;
+            return;
+        };
+        if let GoalTarget::Rotation { axis, .. } = g.target {
+            let (axis, angle) = remaining_turn(&from, &g.end, &axis, left);
+            g.target = GoalTarget::Rotation { axis, angle };
+        }
+        self.begin_planning();
+    }
+}
+
+/// The rotation from `from` to `end` whose angle about (roughly) `hint` is
+/// closest to `left`: the same end orientation, with the full turns a turn
+/// goal still had to make. Returns (unit axis, angle ≥ 0).
+pub(super) fn remaining_turn(
+    from: &UnitQuaternion<f64>,
+    end: &UnitQuaternion<f64>,
+    hint: &Vector3<f64>,
+    left: f64,
+) -> (Vector3<f64>, f64) {
+    let hint = hint.normalize();
+    let (axis, angle) = (end * from.inverse())
+        .axis_angle()
+        .map_or((hint, 0.0), |(a, t)| (a.into_inner(), t));
+    // Signed about the hint, then the equivalent angle nearest `left`.
+    let (axis, signed) = if axis.dot(&hint) >= 0.0 {
+        (axis, angle)
+    } else {
+        (-axis, -angle)
+    };
+    let total = signed + TAU * ((left - signed) / TAU).round();
+    if total >= 0.0 {
+        (axis, total)
+    } else {
+        (-axis, -total)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn about(axis: &Vector3<f64>, angle: f64) -> UnitQuaternion<f64> {
+        UnitQuaternion::from_scaled_axis(axis.normalize() * angle)
+    }
+
+    #[test]
+    fn remaining_turn_keeps_full_turns_and_the_end() {
+        let from = about(&Vector3::new(0.2, 0.5, -0.3), 0.7);
+        let z = Vector3::z();
+        // A small slip off the axis between the plan and the measurement.
+        let slip = about(&Vector3::new(1.0, 0.3, 0.0), 0.01);
+        for left in [0.3, 2.5, 3.5, 5.9, 6.6, 13.0, 4.0 * TAU - 0.2] {
+            let end = about(&z, left) * slip * from;
+            let (axis, angle) = remaining_turn(&from, &end, &z, left);
+            assert!((angle - left).abs() < 0.05, "{left}: {angle}");
+            assert!(axis.dot(&z) > 0.99);
+            let reached = about(&axis, angle) * from;
+            assert!(reached.angle_to(&end) < 1e-12, "{left}");
+        }
+        // Nothing left: no turn.
+        let (_, angle) = remaining_turn(&from, &from, &z, 0.0);
+        assert!(angle < 1e-12, "{angle}");
+    }
+}

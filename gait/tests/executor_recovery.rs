@@ -1,0 +1,222 @@
+//! Contact drift (SPEC §6.3): a slip in the grasp stops the motion
+//! smoothly, the controller re-bases its estimate on the measured state and
+//! replans, and the goal still ends where it was asked to — checked on the
+//! kinematic hand's true object, not on the controller's belief.
+
+mod planning;
+
+use gait::executor::{Command, FaultKind, GoalState, GoalTarget, Phase};
+use gait::sim::InjectedFault;
+use gait::{HandConfig, HandState};
+use nalgebra::{UnitQuaternion, Vector3};
+use planning::run::Rig;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+/// Object slip for exactly one tick at `rate` rad/s about `axis`.
+fn slip_once(rig: &mut Rig, axis: Vector3<f64>, rate: f64) {
+    rig.plant.inject(Some(InjectedFault::Slip {
+        axis: axis.normalize(),
+        rate,
+    }));
+    rig.tick();
+    rig.plant.inject(None);
+}
+
+/// Ticks until the executor is moving (or `max` ticks).
+fn run_until_moving(rig: &mut Rig, max: u64) {
+    for _ in 0..max {
+        if rig.tick().phase == Phase::Moving {
+            return;
+        }
+    }
+    panic!("not moving after {max} ticks");
+}
+
+fn assert_clean(rig: &Rig, what: &str) {
+    let s = &rig.stats;
+    assert!(s.violations.is_empty(), "{what}: {:?}", &s.violations[..1]);
+    assert_eq!(s.slips, 0, "{what}: commanded slips");
+    assert!(
+        s.discontinuities.is_empty(),
+        "{what}: {:?}",
+        &s.discontinuities[..1]
+    );
+    assert_eq!(s.faults, 0, "{what}: faults");
+}
+
+#[test]
+fn a_slip_mid_goal_is_replanned_and_the_true_object_reaches_the_goal() {
+    let cfg = HandConfig::default();
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let mut cases = 0;
+    for seed in 0..6u64 {
+        let goal = planning::haar(&mut rng);
+        let axis = planning::unit(&mut rng);
+        // 2 mrad (1 mm of drift at the contacts) and 20 mrad.
+        let rate = if seed % 2 == 0 { 2.0 } else { 20.0 };
+        for lead in [400, 1500] {
+            let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
+            rig.command(Command::Goal {
+                id: 1,
+                target: GoalTarget::Orientation(goal),
+                limits: None,
+            });
+            for _ in 0..lead {
+                rig.tick();
+            }
+            if rig.exec.phase() != Phase::Moving {
+                continue; // a short plan already done: nothing to interrupt
+            }
+            slip_once(&mut rig, axis, rate);
+            // The drift is seen at the next tick and the motion brakes.
+            assert_eq!(rig.tick().phase, Phase::Stopping, "seed {seed} lead {lead}");
+            rig.run_until_idle(200_000);
+            let what = format!("seed {seed} lead {lead} rate {rate}");
+            assert_eq!(rig.stats.goals, vec![(1, GoalState::Succeeded)], "{what}");
+            assert_eq!(rig.stats.drifts, 1, "{what}");
+            assert_clean(&rig, &what);
+            let err = rig.plant.state().object.angle_to(&goal);
+            assert!(err <= 1e-6, "{what}: true object {err:e} rad from the goal");
+            // Belief and truth agree again.
+            let belief = rig.exec.setpoint().state.object;
+            assert!(belief.angle_to(&rig.plant.state().object) <= 1e-9, "{what}");
+            cases += 1;
+        }
+    }
+    assert!(cases >= 8, "{cases} slips landed mid-motion");
+}
+
+#[test]
+fn a_turn_goal_keeps_its_full_turns_after_a_slip() {
+    let cfg = HandConfig::default();
+    let start = HandState::paper_start(&cfg);
+    let mut rig = Rig::new(cfg, start, 1e-3);
+    let z = Vector3::z();
+    let turns = 2.0;
+    rig.command(Command::Goal {
+        id: 1,
+        target: GoalTarget::Rotation {
+            axis: z,
+            angle: turns * std::f64::consts::TAU,
+        },
+        limits: None,
+    });
+    // Integrate the true object's rotation about z, tick by tick.
+    let mut turned = 0.0;
+    let mut last = rig.plant.state().object;
+    let track = |rig: &Rig, last: &mut UnitQuaternion<f64>, turned: &mut f64| {
+        let now = rig.plant.state().object;
+        *turned += (now * last.inverse()).scaled_axis().dot(&z);
+        *last = now;
+    };
+    for _ in 0..4000 {
+        rig.tick();
+        track(&rig, &mut last, &mut turned);
+    }
+    assert_eq!(rig.exec.phase(), Phase::Moving);
+    slip_once(&mut rig, Vector3::new(0.4, -0.3, 0.2), 20.0);
+    track(&rig, &mut last, &mut turned);
+    while !matches!(rig.tick().phase, Phase::Holding | Phase::SafeHold) {
+        track(&rig, &mut last, &mut turned);
+    }
+    track(&rig, &mut last, &mut turned);
+    assert_eq!(rig.stats.goals, vec![(1, GoalState::Succeeded)]);
+    assert_eq!(rig.stats.drifts, 1);
+    assert_clean(&rig, "turn");
+    let err = rig.plant.state().object.angle_to(&start.object);
+    assert!(err <= 1e-6, "back at the start orientation: {err:e} rad");
+    let want = turns * std::f64::consts::TAU;
+    assert!(
+        (turned - want).abs() < 0.05,
+        "turned {turned} rad about z, asked {want}"
+    );
+}
+
+#[test]
+fn drifts_beyond_the_replan_budget_end_in_safe_hold() {
+    let cfg = HandConfig::default();
+    let budget = cfg.feedback.max_replans;
+    let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
+    rig.command(Command::Goal {
+        id: 1,
+        target: GoalTarget::Rotation {
+            axis: Vector3::new(0.3, 1.0, 0.2),
+            angle: 3.0 * std::f64::consts::TAU,
+        },
+        limits: None,
+    });
+    for n in 0..=budget {
+        run_until_moving(&mut rig, 20_000);
+        for _ in 0..300 {
+            rig.tick();
+        }
+        slip_once(&mut rig, Vector3::x(), 2.0);
+        rig.tick();
+        let phase = rig.exec.phase();
+        if n < budget {
+            assert_eq!(phase, Phase::Stopping, "drift {n} is replanned");
+        } else {
+            assert_eq!(phase, Phase::SafeHold, "drift {n} is one too many");
+        }
+    }
+    assert_eq!(
+        rig.exec.report().fault.map(|f| f.0),
+        Some(FaultKind::ContactDrift)
+    );
+    assert_eq!(rig.stats.goals, vec![(1, GoalState::Aborted)]);
+    assert_eq!(rig.stats.drifts, budget as u64);
+}
+
+#[test]
+fn a_slip_at_rest_re_bases_the_estimate_and_the_next_goal_is_exact() {
+    let cfg = HandConfig::default();
+    let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
+    for _ in 0..10 {
+        rig.tick();
+    }
+    slip_once(&mut rig, Vector3::new(1.0, 1.0, 0.0), 20.0);
+    for _ in 0..5 {
+        rig.tick();
+    }
+    assert_eq!(rig.stats.drifts, 1);
+    assert_eq!(rig.exec.phase(), Phase::Holding, "no fault");
+    let slipped = rig.plant.state().object;
+    let belief = rig.exec.setpoint().state.object;
+    assert!(belief.angle_to(&slipped) < 1e-12, "estimate re-based");
+    rig.command(Command::Goal {
+        id: 2,
+        target: GoalTarget::Rotation {
+            axis: Vector3::y(),
+            angle: 1.0,
+        },
+        limits: None,
+    });
+    rig.run_until_idle(100_000);
+    assert_eq!(rig.stats.goals, vec![(2, GoalState::Succeeded)]);
+    assert_clean(&rig, "after a slip at rest");
+    let want = UnitQuaternion::from_scaled_axis(Vector3::y()) * slipped;
+    let err = rig.plant.state().object.angle_to(&want);
+    assert!(err <= 1e-6, "{err:e} rad");
+}
+
+#[test]
+fn with_no_replans_allowed_drift_is_a_fault() {
+    let mut cfg = HandConfig::default();
+    cfg.feedback.max_replans = 0;
+    let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
+    rig.command(Command::Goal {
+        id: 1,
+        target: GoalTarget::Rotation {
+            axis: Vector3::z(),
+            angle: 2.0,
+        },
+        limits: None,
+    });
+    run_until_moving(&mut rig, 1000);
+    slip_once(&mut rig, Vector3::x(), 2.0);
+    rig.tick();
+    assert_eq!(rig.exec.phase(), Phase::SafeHold);
+    assert_eq!(rig.stats.drifts, 0);
+    assert_eq!(rig.stats.goals, vec![(1, GoalState::Aborted)]);
+}
