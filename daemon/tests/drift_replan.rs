@@ -10,48 +10,29 @@ mod ipc_rig;
 
 use gait::executor::Phase as ExecPhase;
 use gait::sim::InjectedFault;
-use gaitd::clock::MockClock;
-use gaitd::gait_controller::{GaitController, GaitPlanner};
-use gaitd::planner;
-use gaitd::runtime::Runtime;
-use ipc_rig::{Namespace, daemon};
+use ipc_rig::{Namespace, gait_loop};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use shm_schema::{Command, EventKind, GoalFrame, GoalState};
 
 #[test]
 fn a_slip_mid_goal_is_reported_replanned_and_the_goal_succeeds() {
     let ns = Namespace::new("d");
-    let d = daemon(&ns);
-    let client = d.client;
-    let hand = ns.cfg.hand();
-    let planner = gait::planner::Planner::new(&hand).unwrap();
-    let (link, planner_thread) = planner::spawn(GaitPlanner(planner), 4, || {}).unwrap();
-    let controller = GaitController::new(&hand, 1e-3, link).unwrap();
-    let clock = MockClock::new(0);
-    let mut rt = Runtime::new(
-        d.commands,
-        d.outbox,
-        controller,
-        clock.clone(),
-        &ns.cfg,
-        45,
-        d.shared.clone(),
-    );
+    let mut g = gait_loop(&ns, 45, |_| {});
     let target = UnitQuaternion::from_quaternion(Quaternion::new(0.3, -0.5, 0.7, 0.4));
     let c = target.coords; // (i, j, k, w)
     let q = [c.w, c.x, c.y, c.z];
-    client.send(Command::goal(5, 1, GoalFrame::Absolute, q));
+    g.client.send(Command::goal(5, 1, GoalFrame::Absolute, q));
 
     let mut moving = 0;
     let mut slipped = false;
     let (mut drifts, mut states, mut end) = (Vec::new(), Vec::new(), None);
     for _ in 0..200_000 {
-        if rt.controller().phase() == ExecPhase::Moving {
+        if g.rt.controller().phase() == ExecPhase::Moving {
             moving += 1;
         }
         let slip_now = moving == 500 && !slipped;
         if slip_now {
-            rt.controller_mut()
+            g.rt.controller_mut()
                 .plant_mut()
                 .inject(Some(InjectedFault::Slip {
                     axis: Vector3::new(0.2, 1.0, -0.4).normalize(),
@@ -59,13 +40,10 @@ fn a_slip_mid_goal_is_reported_replanned_and_the_goal_succeeds() {
                 }));
             slipped = true;
         }
-        rt.run_once();
+        let (_, ev) = g.tick();
         if slip_now {
-            rt.controller_mut().plant_mut().inject(None);
+            g.rt.controller_mut().plant_mut().inject(None);
         }
-        clock.advance(1_000_000);
-        ipc_rig::let_writer_catch_up(&d.shared);
-        let (_, ev) = client.drain();
         for e in ev {
             match e.kind() {
                 Ok(EventKind::Drift) => drifts.push(e),
@@ -83,10 +61,7 @@ fn a_slip_mid_goal_is_reported_replanned_and_the_goal_succeeds() {
         if end.is_some() {
             break;
         }
-        if rt.controller().phase() == ExecPhase::Planning {
-            // Mock time runs on while the planner thread works in wall time.
-            std::thread::sleep(std::time::Duration::from_micros(50));
-        }
+        g.yield_to_planner();
     }
     assert!(slipped, "the goal never moved for 500 ticks");
     assert_eq!(end, Some(GoalState::Succeeded), "{states:?}");
@@ -99,10 +74,8 @@ fn a_slip_mid_goal_is_reported_replanned_and_the_goal_succeeds() {
         .windows(2)
         .any(|w| w == [GoalState::Executing, GoalState::Planning]);
     assert!(replanned, "{states:?}");
-    let truth = rt.controller_mut().plant_mut().state().object;
+    let truth = g.rt.controller_mut().plant_mut().state().object;
     let err = truth.angle_to(&target);
     assert!(err <= 1e-6, "true object {err:e} rad from the target");
-    drop(rt);
-    d.writer.join();
-    planner_thread.join();
+    g.finish();
 }

@@ -17,12 +17,7 @@
 #[path = "support/ipc_rig.rs"]
 mod ipc_rig;
 
-use gait::executor::Phase as ExecPhase;
-use gaitd::clock::MockClock;
-use gaitd::gait_controller::{GaitController, GaitPlanner};
-use gaitd::planner;
-use gaitd::runtime::Runtime;
-use ipc_rig::{Namespace, daemon};
+use ipc_rig::{Namespace, gait_loop};
 use nalgebra::{Quaternion, UnitQuaternion};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -115,22 +110,8 @@ struct InFlight {
 fn a_million_ticks_of_goals_without_drift_or_nan() {
     let total = ticks();
     let ns = Namespace::new("l");
-    let d = daemon(&ns);
-    let client = d.client;
     let hand = ns.cfg.hand();
-    let planner = gait::planner::Planner::new(&hand).unwrap();
-    let (link, planner_thread) = planner::spawn(GaitPlanner(planner), 4, || {}).unwrap();
-    let controller = GaitController::new(&hand, 1e-3, link).unwrap();
-    let clock = MockClock::new(0);
-    let mut rt = Runtime::new(
-        d.commands,
-        d.outbox,
-        controller,
-        clock.clone(),
-        &ns.cfg,
-        45,
-        d.shared.clone(),
-    );
+    let mut g = gait_loop(&ns, 45, |_| {});
     let mut rng = ChaCha8Rng::seed_from_u64(0x10_6e_2a);
     let mut latest: Option<Status> = None;
     let mut in_flight: Option<InFlight> = None;
@@ -143,7 +124,7 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
     let mut outcomes: BTreeMap<String, u64> = BTreeMap::new();
     let (mut worst_err, mut worst_norm, mut checked) = (0.0f64, 0.0f64, 0u64);
     let (mut statuses, mut turns_checked, mut gaits) = (0u64, 0u64, 0u64);
-    let send_goal = |goal_id: &mut u64, frame, q| {
+    let send_goal = |client: &ipc_rig::TestClient, goal_id: &mut u64, frame, q| {
         *goal_id += 1;
         client.send(Command::goal(5, *goal_id, frame, q));
         *goal_id
@@ -159,7 +140,7 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
             in_flight = Some(match k % 6 {
                 0 | 3 | 4 | 5 => {
                     let q = haar(&mut rng);
-                    let id = send_goal(&mut goal_id, GoalFrame::Absolute, q);
+                    let id = send_goal(&g.client, &mut goal_id, GoalFrame::Absolute, q);
                     let how = (k % 6) as u32; // 3 preempt, 4 cancel, 5 hold
                     InFlight {
                         id,
@@ -172,7 +153,7 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
                     }
                 }
                 1 => InFlight {
-                    id: send_goal(&mut goal_id, GoalFrame::Relative, haar(&mut rng)),
+                    id: send_goal(&g.client, &mut goal_id, GoalFrame::Relative, haar(&mut rng)),
                     target: None,
                     interrupt_at: None,
                 },
@@ -180,7 +161,7 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
                     let a: [f64; 3] = std::array::from_fn(|_| rng.random_range(-1.0..1.0));
                     let turn = [std::f64::consts::TAU, a[0], a[1], a[2] + 1e-3];
                     InFlight {
-                        id: send_goal(&mut goal_id, GoalFrame::AxisAngle, turn),
+                        id: send_goal(&g.client, &mut goal_id, GoalFrame::AxisAngle, turn),
                         target: here,
                         interrupt_at: None,
                     }
@@ -196,17 +177,14 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
             match how {
                 3 => {
                     let q = haar(&mut rng);
-                    f.id = send_goal(&mut goal_id, GoalFrame::Absolute, q);
+                    f.id = send_goal(&g.client, &mut goal_id, GoalFrame::Absolute, q);
                     f.target = Some(quat(q));
                 }
-                4 => client.send(Command::cancel(5, 0)),
-                _ => client.send(Command::hold(5)),
+                4 => g.client.send(Command::cancel(5, 0)),
+                _ => g.client.send(Command::hold(5)),
             }
         }
-        rt.run_once();
-        clock.advance(1_000_000);
-        ipc_rig::let_writer_catch_up(&d.shared);
-        let (st, ev) = client.drain();
+        let (st, ev) = g.tick();
         for s in &st {
             worst_norm = worst_norm.max(healthy(s, &hand).unwrap_or_else(|e| panic!("{e}")));
             statuses += 1;
@@ -259,15 +237,13 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
                 idle = 0;
             }
         }
-        if rt.controller().phase() == ExecPhase::Planning {
-            // Mock time runs on while the planner thread works in wall time.
-            std::thread::sleep(std::time::Duration::from_micros(50));
-        } else {
+        // Mock time runs on while the planner thread works in wall time.
+        if !g.yield_to_planner() {
             active += 1;
             idle += 1;
         }
     }
-    let dropped = d
+    let dropped = g
         .shared
         .outbox_dropped
         .load(std::sync::atomic::Ordering::Relaxed);
@@ -276,7 +252,11 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
          {statuses} statuses checked, worst |q|-1 {worst_norm:.1e}; {checked} final orientations \
          checked ({turns_checked} full turns), worst error {worst_err:.1e} rad"
     );
-    assert_eq!(rt.stats().overruns(), 0, "mock time never misses a period");
+    assert_eq!(
+        g.rt.stats().overruns(),
+        0,
+        "mock time never misses a period"
+    );
     assert_eq!(dropped, 0, "the writer kept up");
     assert!(goal_id >= total / 20_000, "many goals: {goal_id}");
     assert!(
@@ -286,7 +266,5 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
     // Status is latest-value and published by the writer thread while the
     // loop runs on: the client samples it rather than seeing every tick.
     assert!(statuses > total / 10, "statuses seen: {statuses}");
-    drop(rt);
-    d.writer.join();
-    planner_thread.join();
+    g.finish();
 }

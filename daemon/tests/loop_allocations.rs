@@ -383,14 +383,8 @@ fn plans_cross_the_loop_without_allocation() {
 /// or free on the loop thread.
 #[test]
 fn the_loop_does_not_allocate_with_the_gait_controller() {
-    use gaitd::gait_controller::{GaitController, GaitPlanner};
     let ns = Namespace::new("g");
-    let d = daemon(&ns);
-    let client = d.client;
     let hand = ns.cfg.hand();
-    let planner = gait::planner::Planner::new(&hand).unwrap();
-    let (link, planner_thread) = planner::spawn(GaitPlanner(planner), 4, || {}).unwrap();
-    let mut controller = GaitController::new(&hand, 1e-3, link).unwrap();
     let trace_dir = std::env::temp_dir().join(format!("gaitd-alloc-traces-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&trace_dir);
     std::fs::create_dir_all(&trace_dir).unwrap();
@@ -406,28 +400,18 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
         gaitd::tracer::DEFAULT_CAPACITY,
     )
     .unwrap();
-    controller.set_trace(recorder);
-    let clock = MockClock::new(0);
-    let mut rt = Runtime::new(
-        d.commands,
-        d.outbox,
-        controller,
-        clock.clone(),
-        &ns.cfg,
-        44,
-        d.shared.clone(),
-    );
+    let mut g = ipc_rig::gait_loop(&ns, 44, |c| c.set_trace(recorder));
     // Warm-up (not counted): ports connect, histories flow, one goal runs.
-    client.send(Command::goal(
+    g.client.send(Command::goal(
         5,
         1,
         GoalFrame::AxisAngle,
         [1.0, 0.0, 0.0, 1.0],
     ));
     for _ in 0..200 {
-        rt.run_once();
-        clock.advance(1_000_000);
-        client.drain();
+        g.rt.run_once();
+        g.clock.advance(1_000_000);
+        g.client.drain();
     }
     reset_counts();
     let targets = [
@@ -468,11 +452,11 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
                     Command::goal(5, goal_id, frame, q)
                 }
             };
-            client.send(cmd);
+            g.client.send(cmd);
         }
-        let slip = t % 4000 == 2000 && rt.controller().phase() == gait::executor::Phase::Moving;
+        let slip = t % 4000 == 2000 && g.rt.controller().phase() == gait::executor::Phase::Moving;
         if slip {
-            rt.controller_mut()
+            g.rt.controller_mut()
                 .plant_mut()
                 .inject(Some(gait::sim::InjectedFault::Slip {
                     axis: nalgebra::Vector3::x(),
@@ -480,14 +464,14 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
                 }));
         }
         counted(|| {
-            rt.run_once();
-            clock.advance(1_000_000);
+            g.rt.run_once();
+            g.clock.advance(1_000_000);
         });
         if slip {
-            rt.controller_mut().plant_mut().inject(None);
+            g.rt.controller_mut().plant_mut().inject(None);
         }
-        ipc_rig::let_writer_catch_up(&d.shared);
-        let (_, ev) = client.drain();
+        ipc_rig::let_writer_catch_up(&g.shared);
+        let (_, ev) = g.client.drain();
         for e in &ev {
             match e.kind() {
                 Ok(shm_schema::EventKind::Drift) => drifts += 1,
@@ -505,7 +489,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
         }
         // While a plan is being made, let the planner thread run (ticks go
         // on meanwhile, as in the daemon).
-        if rt.controller().phase() == gait::executor::Phase::Planning {
+        if g.rt.controller().phase() == gait::executor::Phase::Planning {
             std::thread::sleep(std::time::Duration::from_micros(50));
         } else {
             active += 1;
@@ -525,10 +509,8 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
         "goals finished and were preempted"
     );
     assert!(drifts >= 2, "slips were replanned ({drifts})");
-    drop(rt);
-    d.writer.join();
+    g.finish();
     tracer.join();
-    planner_thread.join();
     // Traces were really recorded (the mock clock outruns the trace
     // thread, so some may be marked incomplete; that is the overflow path).
     let traces = std::fs::read_dir(&trace_dir)

@@ -1,7 +1,8 @@
 //! The daemon's IPC pieces as `main` builds them, in an isolated iceoryx2
 //! namespace, and a raw client on them: shared by the loop tests
-//! (`loop_allocations.rs`, `long_run.rs`) that drive `Runtime` with the
-//! mock clock.
+//! (`loop_allocations.rs`, `long_run.rs`, `drift_replan.rs`) that drive
+//! `Runtime` with the mock clock; [`gait_loop`] is the real gait controller
+//! in that loop.
 
 #![allow(dead_code)]
 
@@ -227,5 +228,99 @@ pub fn let_writer_catch_up(shared: &Shared) {
             "writer stuck"
         );
         std::thread::yield_now();
+    }
+}
+
+/// The real gait controller (planner thread, executor, kinematic hand) in
+/// the real loop (`Runtime`) on the mock clock, with a client connected.
+pub struct GaitLoop {
+    pub rt:
+        gaitd::runtime::Runtime<gaitd::gait_controller::GaitController, gaitd::clock::MockClock>,
+    pub clock: gaitd::clock::MockClock,
+    pub client: TestClient,
+    pub shared: Arc<Shared>,
+    writer: outbox::Writer,
+    planner: gaitd::planner::PlannerThread,
+    _commands_service:
+        iceoryx2::service::port_factory::publish_subscribe::PortFactory<Ipc, Command, ()>,
+    _node: Node<Ipc>,
+}
+
+/// [`GaitLoop`] in `ns` as daemon `instance`; `setup` adjusts the
+/// controller before the loop takes it (e.g. a trace recorder).
+pub fn gait_loop(
+    ns: &Namespace,
+    instance: u64,
+    setup: impl FnOnce(&mut gaitd::gait_controller::GaitController),
+) -> GaitLoop {
+    use gaitd::gait_controller::{GaitController, GaitPlanner};
+    let Daemon {
+        commands,
+        outbox,
+        writer,
+        client,
+        shared,
+        _commands_service,
+        _node,
+    } = daemon(ns);
+    let hand = ns.cfg.hand();
+    let planner = gait::planner::Planner::new(&hand).unwrap();
+    let (link, planner) = gaitd::planner::spawn(GaitPlanner(planner), 4, || {}).unwrap();
+    let mut controller = GaitController::new(&hand, 1e-3, link).unwrap();
+    setup(&mut controller);
+    let clock = gaitd::clock::MockClock::new(0);
+    let rt = gaitd::runtime::Runtime::new(
+        commands,
+        outbox,
+        controller,
+        clock.clone(),
+        &ns.cfg,
+        instance,
+        shared.clone(),
+    );
+    GaitLoop {
+        rt,
+        clock,
+        client,
+        shared,
+        writer,
+        planner,
+        _commands_service,
+        _node,
+    }
+}
+
+impl GaitLoop {
+    /// One tick: run it, advance mock time by 1 ms, let the writer catch
+    /// up, and return what the client received.
+    pub fn tick(&mut self) -> (Vec<Status>, Vec<Event>) {
+        self.rt.run_once();
+        self.clock.advance(1_000_000);
+        let_writer_catch_up(&self.shared);
+        self.client.drain()
+    }
+
+    /// While a plan is being made, lets the planner thread run (mock time
+    /// runs on meanwhile, as the daemon's ticks do). Returns whether the
+    /// controller is planning.
+    pub fn yield_to_planner(&self) -> bool {
+        let planning = self.rt.controller().phase() == gait::executor::Phase::Planning;
+        if planning {
+            std::thread::sleep(std::time::Duration::from_micros(50));
+        }
+        planning
+    }
+
+    /// Stops the loop, then the writer and planner threads.
+    pub fn finish(self) {
+        let GaitLoop {
+            rt,
+            writer,
+            planner,
+            ..
+        } = self;
+        drop(rt);
+        writer.join();
+        planner.join();
     }
 }
