@@ -15,6 +15,13 @@ pub trait Clock {
     /// Sleeps until `deadline` (absolute); returns at once if it has passed.
     /// May return early on a signal; the caller re-checks the time.
     fn sleep_until(&mut self, deadline: Nanos);
+    /// Busy-waits until `deadline` (the last stretch before a tick: no
+    /// wake-up latency, the CPU never idles).
+    fn spin_until(&mut self, deadline: Nanos) {
+        while self.now() < deadline {
+            core::hint::spin_loop();
+        }
+    }
 }
 
 /// CLOCK_MONOTONIC; sleeps with `clock_nanosleep(TIMER_ABSTIME)` so a late
@@ -95,6 +102,11 @@ impl Clock for MockClock {
         } else {
             self.now.set(self.now.get() + self.delay.get());
         }
+    }
+
+    /// Time does not pass by itself: spinning jumps to the deadline.
+    fn spin_until(&mut self, deadline: Nanos) {
+        self.now.set(self.now.get().max(deadline));
     }
 }
 

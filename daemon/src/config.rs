@@ -141,6 +141,9 @@ pub struct RtSection {
     pub loop_cpus: Vec<u32>,
     /// CPUs of the other threads (empty: no pinning).
     pub background_cpus: Vec<u32>,
+    /// Busy-wait this long before each tick instead of sleeping [µs]
+    /// (0: sleep all the way). Costs that much CPU per period.
+    pub spin_us: u32,
 }
 
 impl Default for RtSection {
@@ -150,6 +153,7 @@ impl Default for RtSection {
             fifo_priority: 80,
             loop_cpus: Vec::new(),
             background_cpus: Vec::new(),
+            spin_us: 0,
         }
     }
 }
@@ -414,7 +418,14 @@ impl RtSection {
             "0 (normal scheduling) or 1-99",
         )?;
         cpu_list("rt.loop_cpus", &self.loop_cpus)?;
-        cpu_list("rt.background_cpus", &self.background_cpus)
+        cpu_list("rt.background_cpus", &self.background_cpus)?;
+        int_range(
+            "rt.spin_us",
+            self.spin_us,
+            0,
+            1000,
+            "0-1000 µs (at most a period: the loop then never sleeps)",
+        )
     }
 }
 

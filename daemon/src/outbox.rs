@@ -114,6 +114,10 @@ pub struct WriterSettings {
     pub wake: WriterWake,
     /// The loop's period [ns] (bounds how long the writer waits for a tick).
     pub period: Nanos,
+    /// The loop's busy-wait before each deadline (`[rt] spin_us`) [ns]: the
+    /// writer's timer fires when the loop's does, not in the middle of its
+    /// spin (where, on a shared CPU, the interrupt would make the loop late).
+    pub spin: Nanos,
     /// CPUs to pin the writer to (empty: any).
     pub cpus: Vec<u32>,
     /// Wake-ups the loop requested of other threads, delivered after every
@@ -133,6 +137,7 @@ pub fn spawn(
         status_notify_every,
         wake,
         period,
+        spin,
         cpus,
         doorbells,
     } = settings;
@@ -163,6 +168,7 @@ pub fn spawn(
             let waiter = Waiter {
                 wake,
                 period,
+                spin,
                 shared: &shared2,
                 stop: &stop2,
                 last: std::cell::Cell::new(0),
@@ -211,6 +217,7 @@ type StatusLoan = SampleMutUninit<ipc::Service, MaybeUninit<Status>, ()>;
 struct Waiter<'a> {
     wake: WriterWake,
     period: Nanos,
+    spin: Nanos,
     shared: &'a Shared,
     stop: &'a AtomicBool,
     /// The deadline waited for last time.
@@ -237,7 +244,7 @@ impl Waiter<'_> {
             return;
         }
         self.last.set(next);
-        MonotonicClock.sleep_until(next);
+        MonotonicClock.sleep_until(next.saturating_sub(self.spin));
         warm();
         // The loop woke for the same deadline: wait for it to finish that
         // tick (its compute time, typically µs), at most half a period.

@@ -89,6 +89,8 @@ pub struct LoopSettings {
     pub object_radius: f64,
     /// This run's instance id.
     pub instance: u64,
+    /// Busy-wait before each tick [ns] (`[rt] spin_us`).
+    pub spin: Nanos,
 }
 
 impl LoopSettings {
@@ -101,6 +103,7 @@ impl LoopSettings {
             shutdown_timeout: u64::from(cfg.daemon.shutdown_timeout_ms) * 1_000_000,
             object_radius: cfg.model.object_radius,
             instance,
+            spin: u64::from(cfg.rt.spin_us) * 1000,
         }
     }
 }
@@ -175,7 +178,7 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         shared: Arc<Shared>,
     ) -> Self {
         let settings = LoopSettings::from_config(cfg, instance);
-        let ticker = Ticker::new(clock.now(), settings.period);
+        let ticker = Ticker::new(clock.now(), settings.period).with_spin(settings.spin);
         Self {
             clock,
             ticker,
@@ -231,7 +234,8 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
     pub fn run(&mut self, stop: &AtomicBool) -> Summary {
         // Deadlines start now, not at construction (set-up in between must
         // not count as missed periods).
-        self.ticker = Ticker::new(self.clock.now(), self.settings.period);
+        self.ticker =
+            Ticker::new(self.clock.now(), self.settings.period).with_spin(self.settings.spin);
         self.events.push(Event::new(EventKind::DaemonStarted));
         while !stop.load(Ordering::Acquire) {
             let stopping = || stop.load(Ordering::Acquire);

@@ -32,6 +32,7 @@ impl Wake {
 pub struct Ticker {
     period: Nanos,
     next: Nanos,
+    spin: Nanos,
 }
 
 impl Ticker {
@@ -41,6 +42,27 @@ impl Ticker {
         Self {
             period,
             next: start + period,
+            spin: 0,
+        }
+    }
+
+    /// Sleeps only until `spin` before each deadline and busy-waits the
+    /// rest (`[rt] spin_us`): trades that much CPU per period for a wake-up
+    /// without timer and scheduler latency.
+    pub fn with_spin(mut self, spin: Nanos) -> Self {
+        self.spin = spin.min(self.period);
+        self
+    }
+
+    /// Sleeps (then spins, see [`Ticker::with_spin`]) until `deadline`.
+    fn sleep_until<C: Clock>(&self, clock: &mut C, deadline: Nanos) {
+        if self.spin == 0 {
+            clock.sleep_until(deadline);
+        } else {
+            if clock.now() < deadline.saturating_sub(self.spin) {
+                clock.sleep_until(deadline - self.spin);
+            }
+            clock.spin_until(deadline);
         }
     }
 
@@ -59,7 +81,7 @@ impl Ticker {
     pub fn wait<C: Clock>(&mut self, clock: &mut C) -> Wake {
         let mut now = clock.now();
         while now < self.next {
-            clock.sleep_until(self.next);
+            self.sleep_until(clock, self.next);
             now = clock.now();
         }
         self.wake_at(now)
@@ -74,7 +96,7 @@ impl Ticker {
     ) -> Option<Wake> {
         let mut now = clock.now();
         while now < self.next {
-            clock.sleep_until(self.next);
+            self.sleep_until(clock, self.next);
             now = clock.now();
             if now < self.next && stop() {
                 return None;
@@ -153,5 +175,55 @@ mod tests {
             probe.advance(rng.random_range(0..period / 2));
         }
         assert_eq!(ticks + missed, (last - 123) / period);
+    }
+
+    /// Records what the ticker asks of it; time advances only when told.
+    struct Recording {
+        now: Nanos,
+        calls: Vec<(&'static str, Nanos)>,
+    }
+
+    impl Clock for Recording {
+        fn now(&self) -> Nanos {
+            self.now
+        }
+        fn sleep_until(&mut self, deadline: Nanos) {
+            self.calls.push(("sleep", deadline));
+            self.now = self.now.max(deadline);
+        }
+        fn spin_until(&mut self, deadline: Nanos) {
+            self.calls.push(("spin", deadline));
+            self.now = self.now.max(deadline);
+        }
+    }
+
+    #[test]
+    fn spinning_sleeps_to_the_spin_window_then_busy_waits_the_rest() {
+        let mut clock = Recording {
+            now: 0,
+            calls: Vec::new(),
+        };
+        let mut t = Ticker::new(0, 1000).with_spin(100);
+        let w = t.wait(&mut clock);
+        assert_eq!(w.deadline, 1000);
+        assert_eq!(clock.calls, [("sleep", 900), ("spin", 1000)]);
+        // A tick that ran into the spin window only spins.
+        clock.calls.clear();
+        clock.now = 1950;
+        let w = t.wait(&mut clock);
+        assert_eq!((w.deadline, w.now), (2000, 2000));
+        assert_eq!(clock.calls, [("spin", 2000)]);
+        // Without spin: one plain sleep.
+        let mut plain = Ticker::new(0, 1000);
+        clock.calls.clear();
+        clock.now = 0;
+        plain.wait(&mut clock);
+        assert_eq!(clock.calls, [("sleep", 1000)]);
+        // A spin window longer than the period never sleeps.
+        let mut always = Ticker::new(0, 1000).with_spin(5000);
+        clock.calls.clear();
+        clock.now = 10;
+        always.wait(&mut clock);
+        assert_eq!(clock.calls, [("spin", 1000)]);
     }
 }

@@ -199,6 +199,7 @@ pub fn daemon(ns: &Namespace) -> Daemon {
         status_notify_every: 1,
         wake: outbox::WriterWake::Unpark,
         period: ns.cfg.period_ns(),
+        spin: 0,
         cpus: Vec::new(),
         doorbells: Vec::new(),
     };
