@@ -87,6 +87,17 @@ fn every_fault_ends_in_safe_hold_within_two_ticks() {
                 "{fault:?}: {k:?}"
             );
             assert_eq!(rig.stats.goals.last(), Some(&(1, GoalState::Aborted)));
+            // No reset while still braking (it would stop the motion dead).
+            let sp = rig.exec.setpoint();
+            if sp.object_rate.norm() + sp.finger_velocity.iter().map(|v| v.norm()).sum::<f64>()
+                > 0.0
+            {
+                assert_eq!(
+                    rig.command(Command::Reset),
+                    gait::executor::Answer::Rejected(gait::executor::Reason::FaultActive),
+                    "{fault:?} at {lead}: reset while braking"
+                );
+            }
             // Safe hold: the motion brakes to rest and stays there.
             for _ in 0..2000 {
                 rig.tick();
@@ -147,6 +158,12 @@ fn reset_after_the_fault_clears_resumes_goals() {
         rig.tick();
     }
     rig.plant.inject(None);
+    // Not from the measurement kept from before they stopped: only once
+    // a new one arrived.
+    assert_eq!(
+        rig.command(Command::Reset),
+        gait::executor::Answer::Rejected(gait::executor::Reason::FaultActive)
+    );
     rig.tick();
     assert_eq!(
         rig.command(Command::Reset),

@@ -5,8 +5,9 @@
 
 mod planning;
 
-use gait::executor::{Command, FaultKind, GoalState, GoalTarget, Phase};
-use gait::sim::InjectedFault;
+use gait::executor::{Command, Executor, FaultKind, GoalState, GoalTarget, Phase};
+use gait::planner::Planner;
+use gait::sim::{InjectedFault, KinematicHand, Plant};
 use gait::{HandConfig, HandState};
 use nalgebra::{UnitQuaternion, Vector3};
 use planning::run::Rig;
@@ -88,49 +89,113 @@ fn a_slip_mid_goal_is_replanned_and_the_true_object_reaches_the_goal() {
 }
 
 #[test]
-fn a_turn_goal_keeps_its_full_turns_after_a_slip() {
+fn a_turn_goal_keeps_its_full_turns_and_direction_after_a_slip() {
     let cfg = HandConfig::default();
     let start = HandState::paper_start(&cfg);
-    let mut rig = Rig::new(cfg, start, 1e-3);
     let z = Vector3::z();
-    let turns = 2.0;
-    rig.command(Command::Goal {
+    for sign in [1.0, -1.0] {
+        let mut rig = Rig::new(cfg, start, 1e-3);
+        let want = sign * 2.0 * std::f64::consts::TAU;
+        rig.command(Command::Goal {
+            id: 1,
+            target: GoalTarget::Rotation {
+                axis: z,
+                angle: want,
+            },
+            limits: None,
+        });
+        // The true object's rotation about z, summed tick by tick.
+        let mut turned = 0.0;
+        let mut last = rig.plant.state().object;
+        let mut tick = |rig: &mut Rig, slip: bool| {
+            let phase = if slip {
+                slip_once(rig, Vector3::new(0.4, -0.3, 0.2), 20.0);
+                rig.exec.phase()
+            } else {
+                rig.tick().phase
+            };
+            let now = rig.plant.state().object;
+            turned += (now * last.inverse()).scaled_axis().dot(&z);
+            last = now;
+            phase
+        };
+        for _ in 0..4000 {
+            tick(&mut rig, false);
+        }
+        assert_eq!(rig.exec.phase(), Phase::Moving);
+        tick(&mut rig, true);
+        while !matches!(tick(&mut rig, false), Phase::Holding | Phase::SafeHold) {}
+        assert_eq!(rig.stats.goals, vec![(1, GoalState::Succeeded)], "{sign}");
+        assert_eq!(rig.stats.drifts, 1);
+        assert_clean(&rig, "turn");
+        let err = rig.plant.state().object.angle_to(&start.object);
+        assert!(err <= 1e-6, "back at the start orientation: {err:e} rad");
+        assert!(
+            (turned - want).abs() < 0.05,
+            "turned {turned} rad about z, asked {want}"
+        );
+    }
+}
+
+#[test]
+fn a_slip_while_planning_re_bases_before_the_plan_is_used() {
+    // Plans are held back here (as the daemon's planner thread takes its
+    // time), so the slip lands while the executor waits for one.
+    let cfg = HandConfig::default();
+    let start = HandState::paper_start(&cfg);
+    let planner = Planner::new(&cfg).unwrap();
+    let mut exec = Executor::new(&cfg, 1e-3, start).unwrap();
+    let mut plant = KinematicHand::new(start, 1e-3);
+    let step = |exec: &mut Executor, plant: &mut KinematicHand| {
+        let m = plant.read();
+        let r = *exec.tick(m.as_ref());
+        plant.write(&r.setpoint);
+        r
+    };
+    let turn = -std::f64::consts::TAU - 1.0;
+    exec.command(Command::Goal {
         id: 1,
         target: GoalTarget::Rotation {
-            axis: z,
-            angle: turns * std::f64::consts::TAU,
+            axis: Vector3::x(),
+            angle: turn,
         },
         limits: None,
     });
-    // Integrate the true object's rotation about z, tick by tick.
-    let mut turned = 0.0;
-    let mut last = rig.plant.state().object;
-    let track = |rig: &Rig, last: &mut UnitQuaternion<f64>, turned: &mut f64| {
-        let now = rig.plant.state().object;
-        *turned += (now * last.inverse()).scaled_axis().dot(&z);
-        *last = now;
+    let first = exec.take_plan_request().expect("a plan request");
+    step(&mut exec, &mut plant);
+    plant.inject(Some(InjectedFault::Slip {
+        axis: Vector3::new(0.0, 1.0, 1.0).normalize(),
+        rate: 20.0,
+    }));
+    step(&mut exec, &mut plant);
+    plant.inject(None);
+    step(&mut exec, &mut plant); // the drift is seen here
+    assert_eq!(exec.phase(), Phase::Planning);
+    let stale = first.target.plan(&planner, &first.start).map(Box::new);
+    let returned = exec.deliver_plan(1, stale);
+    assert!(returned.is_some(), "the stale plan is handed back, unused");
+    let again = exec.take_plan_request().expect("planned again");
+    let off = again.start.object.angle_to(&plant.state().object);
+    assert!(off < 1e-12, "planned from the true object: {off:e} rad off");
+    assert!(first.start.object.angle_to(&again.start.object) > 0.01);
+    // Still a turn of the same size and sense, ending where it was asked.
+    let GoalTarget::Rotation { axis, angle } = again.target else {
+        panic!("{:?}", again.target)
     };
-    for _ in 0..4000 {
-        rig.tick();
-        track(&rig, &mut last, &mut turned);
+    assert!((angle.abs() - turn.abs()).abs() < 0.05, "{angle}");
+    assert!((axis * angle.signum()).dot(&-Vector3::x()) > 0.99);
+    let end = again.target.resolve(&again.start.object);
+    let asked = UnitQuaternion::from_scaled_axis(Vector3::x() * turn) * start.object;
+    assert!(end.angle_to(&asked) < 1e-12);
+    let plan = again.target.plan(&planner, &again.start).map(Box::new);
+    assert!(exec.deliver_plan(1, plan).is_none());
+    for _ in 0..100_000 {
+        if step(&mut exec, &mut plant).phase == Phase::Holding {
+            break;
+        }
     }
-    assert_eq!(rig.exec.phase(), Phase::Moving);
-    slip_once(&mut rig, Vector3::new(0.4, -0.3, 0.2), 20.0);
-    track(&rig, &mut last, &mut turned);
-    while !matches!(rig.tick().phase, Phase::Holding | Phase::SafeHold) {
-        track(&rig, &mut last, &mut turned);
-    }
-    track(&rig, &mut last, &mut turned);
-    assert_eq!(rig.stats.goals, vec![(1, GoalState::Succeeded)]);
-    assert_eq!(rig.stats.drifts, 1);
-    assert_clean(&rig, "turn");
-    let err = rig.plant.state().object.angle_to(&start.object);
-    assert!(err <= 1e-6, "back at the start orientation: {err:e} rad");
-    let want = turns * std::f64::consts::TAU;
-    assert!(
-        (turned - want).abs() < 0.05,
-        "turned {turned} rad about z, asked {want}"
-    );
+    assert_eq!(exec.report().goal.map(|g| g.1), Some(GoalState::Succeeded));
+    assert!(plant.state().object.angle_to(&asked) <= 1e-6);
 }
 
 #[test]

@@ -186,7 +186,7 @@ impl Executor {
                 self.phase = Phase::Holding;
             }
             AfterStop::Fault => self.phase = Phase::SafeHold,
-            AfterStop::Recover => self.replan_after_drift(left),
+            AfterStop::Recover => self.replan_after_drift(Some(left)),
         }
         self.step = 0;
     }
@@ -194,6 +194,11 @@ impl Executor {
     pub(super) fn reset(&mut self) -> Answer {
         if self.phase != Phase::SafeHold {
             return Answer::Accepted;
+        }
+        // Only at rest, and from a measurement of the last tick (not one
+        // from before measurements stopped).
+        if self.braking || self.measured_at != self.tick {
+            return Answer::Rejected(Reason::FaultActive);
         }
         let Some(state) = self.measured_state() else {
             return Answer::Rejected(Reason::FaultActive);
@@ -223,7 +228,7 @@ impl Executor {
         if current && self.resync.is_some() {
             // Drifted while planning: the plan starts from the old estimate.
             if self.rebase() {
-                self.begin_planning();
+                self.replan_after_drift(None);
             }
             return result.ok();
         }

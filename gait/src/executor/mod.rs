@@ -237,6 +237,8 @@ pub struct Executor {
     setpoint: Setpoint,
     prev_setpoint: Setpoint,
     prev_measurement: Option<Measurement>,
+    /// Tick at which `prev_measurement` arrived.
+    measured_at: u64,
     fault: Option<(FaultKind, u8)>,
     /// In safe hold: still braking along the interrupted step.
     braking: bool,
@@ -332,6 +334,7 @@ impl Executor {
             setpoint: sp,
             prev_setpoint: sp,
             prev_measurement: None,
+            measured_at: 0,
             fault: None,
             braking: false,
             rotation_after_step: 0.0,
@@ -473,6 +476,7 @@ impl Executor {
         }
         if let Some(m) = measurement {
             self.prev_measurement = Some(*m);
+            self.measured_at = self.tick;
         }
         self.prev_setpoint = self.setpoint;
         self.advance();

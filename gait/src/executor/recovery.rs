@@ -9,9 +9,10 @@
 //!    goes on during the stop is a fault;
 //! 2. brings the motion to rest as for a preemption (a finger in flight
 //!    completes its placement first);
-//! 3. at rest, re-bases its estimate on the measured state, which must
-//!    satisfy every invariant (else: fault, safe hold), and starts a new
-//!    estimate epoch ([`Setpoint::estimate_epoch`](crate::planner::Setpoint));
+//! 3. at rest, re-bases its estimate of the object on the measured
+//!    orientation (the state must still satisfy every invariant, else:
+//!    fault, safe hold) and starts a new estimate epoch
+//!    ([`Setpoint::estimate_epoch`](crate::planner::Setpoint));
 //! 4. plans the goal again from there: to the same end orientation, and for
 //!    a turn goal with the full turns it still had to make.
 //!
@@ -52,17 +53,25 @@ impl Executor {
             Phase::Planning => {}
             Phase::Holding => {
                 self.prev_measurement = Some(*m);
+                self.measured_at = self.tick;
                 self.rebase();
             }
             Phase::SafeHold => {}
         }
     }
 
-    /// Re-bases the estimate on the last measurement (at rest). Enters the
-    /// fault and returns false if the measured state breaks an invariant.
+    /// Re-bases the estimate on the last measurement (at rest): the object
+    /// where it was measured. The commanded fingertips stay (a slip moves
+    /// the object, not the fingers; copying a real hand's fingertip
+    /// tracking error in would break the contact invariant). Enters the
+    /// fault and returns false if the state breaks an invariant.
     pub(super) fn rebase(&mut self) -> bool {
         let finger = self.resync.take().unwrap_or(NO_FINGER);
-        let state = self.measured_state();
+        let state = self.prev_measurement.map(|m| {
+            let mut s = self.setpoint.state;
+            s.object = m.object;
+            s
+        });
         match state.map(|s| (s, self.checker.check(&s))) {
             Some((s, Ok(r))) if r.ok() => {
                 self.adopt(s);
@@ -78,7 +87,7 @@ impl Executor {
     }
 
     /// The commanded state with the object and fingertips where they were
-    /// last measured.
+    /// last measured (reset after a fault).
     pub(super) fn measured_state(&self) -> Option<HandState> {
         let m = self.prev_measurement?;
         let mut state = self.setpoint.state;
@@ -100,17 +109,20 @@ impl Executor {
         self.resync = None;
     }
 
-    /// After a drift stop: the active goal is planned again from the
-    /// re-based state, `left` being the object rotation its plan still had
-    /// to make [rad].
-    pub(super) fn replan_after_drift(&mut self, left: f64) {
+    /// After a drift: the active goal is planned again from the re-based
+    /// state, `left` being the object rotation its plan still had to make
+    /// [rad] (`None`: no plan had started, all of the turn is left).
+    pub(super) fn replan_after_drift(&mut self, left: Option<f64>) {
         let from = self.setpoint.state.object;
         let Some(g) = self.goal.as_mut() else {
             self.phase = Phase::Holding;
             return;
         };
-        if let GoalTarget::Rotation { axis, .. } = g.target {
-            let (axis, angle) = remaining_turn(&from, &g.end, &axis, left);
+        if let GoalTarget::Rotation { axis, angle } = g.target {
+            // Plans turn about the signed axis (`Planner::plan_rotation`).
+            let hint = if angle < 0.0 { -axis } else { axis };
+            let left = left.unwrap_or(angle.abs());
+            let (axis, angle) = remaining_turn(&from, &g.end, &hint, left);
             g.target = GoalTarget::Rotation { axis, angle };
         }
         self.begin_planning();
