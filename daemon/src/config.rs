@@ -573,6 +573,8 @@ mod tests {
             ("[rt]\nfifo_priority = 100\n", "rt.fifo_priority"),
             ("[rt]\nloop_cpus = [1, 1]\n", "rt.loop_cpus"),
             ("[rt]\nbackground_cpus = [5000]\n", "rt.background_cpus"),
+            ("[rt]\nspin_us = 1001\n", "rt.spin_us"),
+            ("[feedback]\nmax_replans = 101\n", "feedback.max_replans"),
             ("[rt]\npriority = 3\n", "priority"),
         ];
         for (text, key) in bad {
