@@ -19,7 +19,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     if a.json {
         println!("{}", status_json(&s));
     } else {
-        print!("{}", render(&s, None, 0.0));
+        print!("{}", render(&s, None, None));
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -32,19 +32,20 @@ fn bar(fraction: f64, width: usize) -> String {
 }
 
 /// The view of one status. `progress` is the goal's completed fraction if
-/// known; `rate` the loop rate measured by the viewer [Hz].
-pub fn render(s: &Status, progress: Option<f64>, rate: f64) -> String {
+/// known; `rate` the loop rate measured by the viewer [Hz], if it has
+/// seen enough statuses to tell.
+pub fn render(s: &Status, progress: Option<f64>, rate: Option<f64>) -> String {
     let mut o = String::new();
     let t = &s.timing;
+    let rate = rate.map_or_else(String::new, |r| format!("  loop {r:.0} Hz"));
     let _ = writeln!(
         o,
-        "gaitd {:016x}  {}  tick {}  t {:.3} s  clients {}  loop {:.0} Hz",
+        "gaitd {:016x}  {}  tick {}  t {:.3} s  clients {}{rate}",
         s.instance,
         code(s.daemon_state(), s.daemon_state),
         s.tick,
         s.time_ns as f64 / 1e9,
         s.clients,
-        rate
     );
     let _ = writeln!(
         o,
@@ -157,7 +158,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         }
         initial = initial.max(s.goal.remaining_angle);
         let progress = (goal != 0 && initial > 0.0).then(|| 1.0 - s.goal.remaining_angle / initial);
-        let view = render(&s, progress, rate).replace('\n', "\x1b[K\n");
+        let view = render(&s, progress, (rate > 0.0).then_some(rate)).replace('\n', "\x1b[K\n");
         let _ = write!(out, "\x1b[H{view}\x1b[J");
         let _ = out.flush();
         frames += 1;
