@@ -459,6 +459,11 @@ pub enum LoadError {
 }
 
 impl DaemonConfig {
+    /// The loop's busy-wait before each deadline (`[rt] spin_us`) [ns].
+    pub fn spin_ns(&self) -> u64 {
+        u64::from(self.rt.spin_us) * 1000
+    }
+
     /// The loop period [ns] (rounded to the nearest nanosecond).
     pub fn period_ns(&self) -> u64 {
         (1e9 / self.control.tick_hz).round() as u64

@@ -260,7 +260,7 @@ impl GaitController {
                     .events
                     .push(shm_schema::Event::new(EventKind::FaultCleared)),
                 Event::Drift { id, finger, replan } => {
-                    let (client, goal) = if id == 0 { (0, 0) } else { self.wire_goal(id) };
+                    let (client, goal) = self.wire_goal(id);
                     ctx.events.drift(finger, replan, goal, client);
                 }
             }

@@ -84,7 +84,7 @@ fn main() -> Result<()> {
             status_notify_every: cfg.daemon.status_notify_every.into(),
             wake: cfg.daemon.writer_wake,
             period: cfg.period_ns(),
-            spin: u64::from(cfg.rt.spin_us) * 1000,
+            spin: cfg.spin_ns(),
             cpus: cfg.rt.background_cpus.clone(),
             doorbells: vec![planner_bell.clone()],
         },

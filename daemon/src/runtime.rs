@@ -103,7 +103,7 @@ impl LoopSettings {
             shutdown_timeout: u64::from(cfg.daemon.shutdown_timeout_ms) * 1_000_000,
             object_radius: cfg.model.object_radius,
             instance,
-            spin: u64::from(cfg.rt.spin_us) * 1000,
+            spin: cfg.spin_ns(),
         }
     }
 }

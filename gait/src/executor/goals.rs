@@ -165,7 +165,7 @@ impl Executor {
         self.stop_after_step = false;
         // Rotation the interrupted plan still had to make.
         let left = self.planned_rotation_left();
-        if self.resync.is_some() && !self.rebase() {
+        if self.drift.is_some() && !self.rebase() {
             self.step = 0;
             return;
         }
@@ -225,7 +225,7 @@ impl Executor {
         result: Result<Box<Plan>, PlanError>,
     ) -> Option<Box<Plan>> {
         let current = self.phase == Phase::Planning && self.goal.is_some_and(|g| g.id == id);
-        if current && self.resync.is_some() {
+        if current && self.drift.is_some() {
             // Drifted while planning: the plan starts from the old estimate.
             if self.rebase() {
                 self.replan_after_drift(None);

@@ -257,11 +257,9 @@ pub struct Executor {
     grips: memo::Memo<(HandState, Vector3<f64>), grip::Grip>,
     /// Epoch of the object estimate (bumped on every re-base).
     epoch: u32,
-    /// Known object-frame offset of the measured object from the commanded
-    /// one while a drift is being recovered from (else identity).
-    offset: UnitQuaternion<f64>,
-    /// A drift (of this finger) waits for the motion to rest to re-base.
-    resync: Option<u8>,
+    /// A drift waiting for the motion to rest to re-base (module
+    /// [`recovery`]).
+    drift: Option<recovery::Drift>,
     /// Drifts recovered since the active goal started.
     replans: u32,
     /// Allowed per goal (`feedback.max_replans`).
@@ -360,8 +358,7 @@ impl Executor {
             invariants: memo::Memo::new(),
             grips: memo::Memo::new(),
             epoch: 0,
-            offset: UnitQuaternion::identity(),
-            resync: None,
+            drift: None,
             replans: 0,
             max_replans: config.feedback.max_replans,
         })
@@ -463,7 +460,7 @@ impl Executor {
                 &self.setpoint.state,
                 &self.prev_setpoint.state,
                 self.prev_measurement.as_ref(),
-                &self.offset,
+                &self.drift.map_or(UnitQuaternion::identity(), |d| d.offset),
             ) {
                 Ok(c) => correction = c,
                 Err((FaultKind::ContactDrift, finger)) => {

@@ -26,18 +26,31 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use super::*;
 
+/// A drift being recovered from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Drift {
+    /// The finger whose contact drifted.
+    pub finger: u8,
+    /// Object-frame offset of the measured object from the commanded one
+    /// (true ≈ commanded · offset); later measurements are checked against
+    /// it.
+    pub offset: UnitQuaternion<f64>,
+}
+
 impl Executor {
     /// A contact drifted beyond tolerance (finger `finger`), seen in `m`.
     pub(super) fn on_drift(&mut self, finger: u8, m: &Measurement) {
-        if self.resync.is_some() || self.replans >= self.max_replans {
+        if self.drift.is_some() || self.replans >= self.max_replans {
             // Drifting again before the last drift was absorbed, or out of
             // replans.
             self.enter_fault(FaultKind::ContactDrift, finger);
             return;
         }
         self.replans += 1;
-        self.offset = self.setpoint.state.object.inverse() * m.object;
-        self.resync = Some(finger);
+        self.drift = Some(Drift {
+            finger,
+            offset: self.setpoint.state.object.inverse() * m.object,
+        });
         let id = self.goal.or(self.pending).map_or(0, |g| g.id);
         self.events.push(Event::Drift {
             id,
@@ -66,7 +79,7 @@ impl Executor {
     /// tracking error in would break the contact invariant). Enters the
     /// fault and returns false if the state breaks an invariant.
     pub(super) fn rebase(&mut self) -> bool {
-        let finger = self.resync.take().unwrap_or(NO_FINGER);
+        let finger = self.drift.take().map_or(NO_FINGER, |d| d.finger);
         let state = self.prev_measurement.map(|m| {
             let mut s = self.setpoint.state;
             s.object = m.object;
@@ -105,8 +118,7 @@ impl Executor {
         self.setpoint = rest(state);
         self.setpoint.estimate_epoch = self.epoch;
         self.prev_setpoint = self.setpoint;
-        self.offset = UnitQuaternion::identity();
-        self.resync = None;
+        self.drift = None;
     }
 
     /// After a drift: the active goal is planned again from the re-based
