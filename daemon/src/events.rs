@@ -68,6 +68,17 @@ impl EventQueue {
         self.push(e);
     }
 
+    /// A finger rewind completed (paper §2.1): `relocated` as bits (bit k
+    /// for finger k), `helper` free again.
+    pub fn rewind(&mut self, helper: u8, relocated: u8, goal_id: u64, client_id: u64) {
+        let mut e = Event::new(EventKind::Rewind);
+        e.finger = helper.into();
+        e.count = relocated.into();
+        e.goal_id = goal_id;
+        e.client_id = client_id;
+        self.push(e);
+    }
+
     /// A contact drifted (SPEC §6.3): the goal is replanned.
     pub fn drift(&mut self, finger: u8, replan: u32, goal_id: u64, client_id: u64) {
         let mut e = Event::new(EventKind::Drift);

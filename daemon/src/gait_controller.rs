@@ -14,6 +14,7 @@ use crate::controller::{
 use crate::planner::{Planner, PlannerLink};
 use crate::tracer::{Sample, TraceRecorder};
 use gait::executor::{self, Command, Event, Executor, FaultKind, PlanRequest, Reason, TickReport};
+use gait::gaiting::{FingerGait, GaitTracker};
 use gait::planner::{Plan, StepKind};
 use gait::sim::{KinematicHand, Plant};
 use gait::{FINGERS, FingerMode, HandConfig, HandState};
@@ -40,6 +41,8 @@ impl Planner for GaitPlanner {
 const GOAL_SLOTS: usize = 32;
 /// Plan requests in flight (sequence number → executor goal).
 const REQUEST_SLOTS: usize = 8;
+/// Plans kept on the loop while the retire ring is full.
+const RETIRE_SLOTS: usize = 4;
 
 /// The daemon's controller (module docs).
 pub struct GaitController {
@@ -51,9 +54,11 @@ pub struct GaitController {
     next_goal: u64,
     requests: [(u64, u64); REQUEST_SLOTS],
     /// Plans waiting for room in the retire ring.
-    retiring: Option<Box<Plan>>,
-    /// The last Place finished (for substitution events).
-    last_place: Option<u8>,
+    retiring: [Option<Box<Plan>>; RETIRE_SLOTS],
+    /// Plans leaked because the retire ring and `retiring` were full.
+    leaked_plans: u64,
+    /// Recognises substitutions and rewinds in the finished steps.
+    gaits: GaitTracker,
     safe_hold_requested: bool,
     /// The configured workspace margin [rad].
     workspace_margin: f64,
@@ -89,8 +94,9 @@ impl GaitController {
             goals: [(0, 0, 0); GOAL_SLOTS],
             next_goal: 1,
             requests: [(0, 0); REQUEST_SLOTS],
-            retiring: None,
-            last_place: None,
+            retiring: [const { None }; RETIRE_SLOTS],
+            leaked_plans: 0,
+            gaits: GaitTracker::new(),
             safe_hold_requested: false,
             workspace_margin: config.model.workspace_margin_deg.to_radians(),
             targets: [None; GOAL_SLOTS],
@@ -143,6 +149,17 @@ impl GaitController {
         self.exec.phase()
     }
 
+    /// The commanded hand state: where the next goal is planned from.
+    pub fn state(&self) -> HandState {
+        self.exec.setpoint().state
+    }
+
+    /// Plans leaked because they could not be handed back to the planner
+    /// thread (expected 0: see `retire`).
+    pub fn leaked_plans(&self) -> u64 {
+        self.leaked_plans
+    }
+
     /// The embedded plant (tests inject faults through it).
     pub fn plant_mut(&mut self) -> &mut KinematicHand {
         &mut self.plant
@@ -159,17 +176,23 @@ impl GaitController {
         let Some(plan) = plan else { return };
         if let Err(p) = self.link.retire(plan) {
             // Ring full: keep it for the next tick (never drop it here).
-            if let Some(old) = self.retiring.replace(p) {
-                // Two backed up: the older one must still not be freed on
-                // the loop; put it back in the ring next tick.
-                self.retiring = Some(old);
+            match self.retiring.iter_mut().find(|slot| slot.is_none()) {
+                Some(slot) => *slot = Some(p),
+                None => {
+                    // Cannot happen (the ring has room for every plan alive
+                    // on this side, see `planner::spawn`); should it, a
+                    // leaked plan is a bounded loss, a free here is not.
+                    Box::leak(p);
+                    self.leaked_plans += 1;
+                }
             }
         }
     }
 
     fn pump_planner(&mut self) {
-        if let Some(p) = self.retiring.take() {
-            self.retire(Some(p));
+        for k in 0..RETIRE_SLOTS {
+            let p = self.retiring[k].take();
+            self.retire(p);
         }
         if let Some(req) = self.exec.take_plan_request() {
             match self.link.submit(req) {
@@ -207,6 +230,8 @@ impl GaitController {
         while let Some(e) = self.exec.pop_event() {
             match e {
                 Event::Goal { id, state, reason } => {
+                    // A new plan, or none: gaits do not chain across it.
+                    self.gaits.reset();
                     let (client, goal) = self.wire_goal(id);
                     let reason = match (state, reason) {
                         (executor::GoalState::Succeeded, _) => ReasonCode::Reached,
@@ -223,6 +248,7 @@ impl GaitController {
                 Event::Step {
                     id, kind, finger, ..
                 } => {
+                    self.gaits.started(kind);
                     let (client, goal) = self.wire_goal(id);
                     match kind {
                         StepKind::Lift => {
@@ -240,26 +266,28 @@ impl GaitController {
                     id, kind, finger, ..
                 } => {
                     let (client, goal) = self.wire_goal(id);
-                    match kind {
-                        StepKind::Place => {
-                            ctx.events
-                                .gait(EventKind::Place, finger.into(), goal, client);
-                            self.last_place = Some(finger);
-                        }
-                        // A lift right after another finger was placed
-                        // completes a substitution (paper §2.1).
-                        StepKind::Lift if self.last_place.take().is_some_and(|p| p != finger) => {
-                            ctx.events
-                                .gait(EventKind::Substitution, finger.into(), goal, client);
-                        }
-                        _ => {}
+                    if kind == StepKind::Place {
+                        ctx.events
+                            .gait(EventKind::Place, finger.into(), goal, client);
+                    }
+                    let done = self.gaits.done(kind, finger);
+                    if let Some(FingerGait::Substitution { left, .. }) = done.substitution {
+                        ctx.events
+                            .gait(EventKind::Substitution, left.into(), goal, client);
+                    }
+                    if let Some(FingerGait::Rewind { relocated, helper }) = done.rewind {
+                        ctx.events.rewind(helper, relocated, goal, client);
                     }
                 }
-                Event::Fault { kind, .. } => ctx.events.fault(fault_code(kind)),
+                Event::Fault { kind, .. } => {
+                    self.gaits.reset();
+                    ctx.events.fault(fault_code(kind));
+                }
                 Event::FaultCleared => ctx
                     .events
                     .push(shm_schema::Event::new(EventKind::FaultCleared)),
                 Event::Drift { id, finger, replan } => {
+                    self.gaits.reset();
                     let (client, goal) = self.wire_goal(id);
                     ctx.events.drift(finger, replan, goal, client);
                 }

@@ -495,6 +495,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
             active += 1;
         }
     }
+    assert_eq!(g.rt.controller().leaked_plans(), 0);
     println!(
         "gait controller: {placed} placements, {lifted} lifts, {rolled} rolls, {succeeded} goals reached, {preempted} preempted, {drifts} drifts replanned"
     );

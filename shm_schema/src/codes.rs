@@ -322,7 +322,7 @@ code_enum! {
         Roll = 4,
         /// A finger substitution gait completed (`finger` = the finger that left).
         Substitution = 5,
-        /// A finger rewind gait completed.
+        /// A finger rewind gait completed (paper §2.1): one or both fingers of the grasping pair were moved back into their workspace with the third finger's help (`finger` = that helper, free again; `count` = the relocated fingers as bits, bit k for finger k). Its substitutions were reported before it.
         Rewind = 6,
         /// A fault was detected (`fault`).
         Fault = 7,

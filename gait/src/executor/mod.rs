@@ -286,12 +286,7 @@ fn step_rotation(step: &Step) -> f64 {
 
 /// Which finger a step concerns, for events (255: none in particular).
 fn step_finger(step: &Step) -> u8 {
-    match &step.motion {
-        Motion::Free(m) => m.finger as u8,
-        Motion::RollSegment { finger, .. } => *finger as u8,
-        Motion::Roll { rolls, .. } => rolls[0].map_or(NO_FINGER, |r| r.finger as u8),
-        Motion::Rotate { .. } => NO_FINGER,
-    }
+    step.finger().map_or(NO_FINGER, |f| f as u8)
 }
 
 impl Executor {

@@ -79,6 +79,10 @@ pub enum PlanError {
 pub struct PlanSummary {
     /// Place and Lift steps.
     pub gaits: u32,
+    /// Finger substitutions among them (paper §2.1; [`crate::gaiting`]).
+    pub substitutions: u32,
+    /// Finger rewinds (each also counts its three substitutions).
+    pub rewinds: u32,
     /// Rotate steps.
     pub rotations: u32,
     /// Roll steps.
@@ -231,6 +235,7 @@ impl Planner {
             summary.expansions += s.expansions;
             steps.extend(plan.steps);
         }
+        (summary.substitutions, summary.rewinds) = count_finger_gaits(&steps);
         Ok(Plan {
             start: *start,
             goal: rotation(axis, angle) * start.object,
@@ -484,6 +489,7 @@ impl Planner {
             }
             summary.duration += st.duration;
         }
+        (summary.substitutions, summary.rewinds) = count_finger_gaits(&b.steps);
         Ok(Plan {
             start: *start,
             goal: *goal,
@@ -491,6 +497,20 @@ impl Planner {
             summary,
         })
     }
+}
+
+/// (substitutions, rewinds) in `steps`, as the executor will report them.
+fn count_finger_gaits(steps: &[Step]) -> (u32, u32) {
+    let mut tracker = crate::gaiting::GaitTracker::new();
+    let (mut substitutions, mut rewinds) = (0, 0);
+    for st in steps {
+        tracker.started(st.kind);
+        let finger = st.finger().map_or(u8::MAX, |f| f as u8);
+        let done = tracker.done(st.kind, finger);
+        substitutions += u32::from(done.substitution.is_some());
+        rewinds += u32::from(done.rewind.is_some());
+    }
+    (substitutions, rewinds)
 }
 
 /// What a plan does first when gaits are impossible (module [`escape`]).

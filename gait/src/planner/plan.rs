@@ -280,6 +280,17 @@ pub struct Setpoint {
 }
 
 impl Step {
+    /// The finger the step is about: the one that moves in free space or
+    /// rolls (the first, when several roll); `None` for a rotation.
+    pub fn finger(&self) -> Option<usize> {
+        match &self.motion {
+            Motion::Free(m) => Some(m.finger),
+            Motion::RollSegment { finger, .. } => Some(*finger),
+            Motion::Roll { rolls, .. } => rolls[0].map(|r| r.finger),
+            Motion::Rotate { .. } => None,
+        }
+    }
+
     /// Rest-to-rest duration at `limits`, all parameters synchronised (the
     /// slowest parameter sets it).
     pub fn planned_duration(&self, limits: &crate::config::LimitsConfig) -> f64 {

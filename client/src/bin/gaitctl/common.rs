@@ -83,6 +83,23 @@ pub fn event_line(e: &Event) -> String {
         Ok(EventKind::Place | EventKind::Lift | EventKind::Roll | EventKind::Substitution) => {
             s += &format!(" finger {} goal {}", e.finger, e.goal_id);
         }
+        Ok(EventKind::Rewind) => {
+            let moved: Vec<String> = (0..3)
+                .filter(|k| e.count & (1 << k) != 0)
+                .map(|k| k.to_string())
+                .collect();
+            let noun = if moved.len() == 1 {
+                "finger"
+            } else {
+                "fingers"
+            };
+            s += &format!(
+                " {noun} {} rewound by finger {} goal {}",
+                moved.join(" and "),
+                e.finger,
+                e.goal_id
+            );
+        }
         Ok(EventKind::Fault) => s += &format!(" {}", code(e.fault(), e.fault)),
         Ok(EventKind::Overrun) => s += &format!(" {} periods missed", e.count),
         Ok(EventKind::ClientsCleaned) => s += &format!(" {} dead nodes", e.count),

@@ -142,9 +142,11 @@ fn summary(label: &str, r: &GoalRun) {
     println!("goal {label}: {:?}", r.state);
     if let Some(p) = &r.plan {
         println!(
-            "  plan: {} primitives (roll {roll}, rotate {rotate}, transfer {transfer}, place {place}, lift {lift}); {} gaits; planned {:.2} s; planning {:.2} ms{}",
+            "  plan: {} primitives (roll {roll}, rotate {rotate}, transfer {transfer}, place {place}, lift {lift}); {} gaits ({} substitutions, {} rewinds); planned {:.2} s; planning {:.2} ms{}",
             r.steps.iter().sum::<u32>(),
             p.gaits,
+            p.substitutions,
+            p.rewinds,
             p.duration,
             r.planning_ms,
             if p.escaped {

@@ -1,0 +1,102 @@
+//! Gait events on the wire (SPEC §7.3: place, lift, roll, substitution,
+//! rewind) from the daemon's real loop (mock clock, real iceoryx2 ports,
+//! planner and writer threads): a goal whose plan contains a finger rewind
+//! reports every substitution and the rewind, as the plan has them.
+
+#[path = "support/ipc_rig.rs"]
+mod ipc_rig;
+
+use gait::planner::Planner;
+use gait::{HandConfig, HandState};
+use ipc_rig::{Namespace, gait_loop};
+use nalgebra::{UnitQuaternion, Vector3};
+use shm_schema::{Command, EventKind, GoalFrame, GoalState};
+
+/// The first of a fixed list of goals whose plan from `start` has a
+/// rewind, with that plan's (substitutions, rewinds). The daemon's planner
+/// makes the same plan from the same state (SPEC §4.3: deterministic).
+fn goal_with_a_rewind(start: &HandState) -> (UnitQuaternion<f64>, u32, u32) {
+    let planner = Planner::new(&HandConfig::default()).unwrap();
+    for i in 0..500 {
+        let t = f64::from(i);
+        let axis = Vector3::new((0.7 * t).sin(), (1.3 * t).cos(), (0.4 * t + 0.3).sin());
+        let turn = UnitQuaternion::from_scaled_axis(axis.normalize() * (0.3 + (t * 0.61) % 2.8));
+        let goal = turn * start.object;
+        let plan = planner.plan(start, &goal).unwrap();
+        if plan.summary.rewinds > 0 {
+            return (goal, plan.summary.substitutions, plan.summary.rewinds);
+        }
+    }
+    panic!("no plan with a rewind among 500 goals");
+}
+
+/// Runs goal `id` to its end; returns the gait events it produced.
+fn run_goal(
+    g: &mut ipc_rig::GaitLoop,
+    id: u64,
+    target: &UnitQuaternion<f64>,
+) -> Vec<shm_schema::Event> {
+    let c = target.coords; // (i, j, k, w)
+    g.client.send(Command::goal(
+        9,
+        id,
+        GoalFrame::Absolute,
+        [c.w, c.x, c.y, c.z],
+    ));
+    let mut gaits = Vec::new();
+    for _ in 0..100_000 {
+        let (_, ev) = g.tick();
+        for e in ev {
+            match e.kind() {
+                Ok(EventKind::Fault) => panic!("fault {e:?}"),
+                Ok(EventKind::GoalTransition) if e.goal_id == id => {
+                    let s = GoalState::try_from(e.state).unwrap();
+                    if s.is_terminal() {
+                        assert_eq!(s, GoalState::Succeeded);
+                        return gaits;
+                    }
+                }
+                Ok(EventKind::GoalTransition) => {}
+                Ok(_) if e.goal_id == id => gaits.push(e),
+                _ => {}
+            }
+        }
+        g.yield_to_planner();
+    }
+    panic!("goal {id} did not end");
+}
+
+#[test]
+fn substitutions_and_rewinds_are_reported_as_planned() {
+    let ns = Namespace::new("g");
+    let mut g = gait_loop(&ns, 46, |_| {});
+    // From the paper's start plans roll and substitute; rewinds come from
+    // other grasps. Go to one first.
+    let first = UnitQuaternion::from_scaled_axis(Vector3::new(0.4, -0.9, 0.2) * 1.5);
+    run_goal(&mut g, 1, &first);
+    let (target, substitutions, rewinds) = goal_with_a_rewind(&g.rt.controller().state());
+    let ev = run_goal(&mut g, 2, &target);
+    let count = |k: EventKind| ev.iter().filter(|e| e.kind() == Ok(k)).count() as u32;
+    let (places, lifts) = (count(EventKind::Place), count(EventKind::Lift));
+    assert_eq!(
+        count(EventKind::Substitution),
+        substitutions,
+        "{places} places, {lifts} lifts"
+    );
+    assert_eq!(count(EventKind::Rewind), rewinds);
+    for e in &ev {
+        assert_eq!(e.client_id, 9);
+        if e.kind() == Ok(EventKind::Rewind) {
+            assert!(e.finger < 3, "helper {}", e.finger);
+            let relocated = e.count;
+            assert!(relocated != 0 && relocated < 8, "{relocated:b}");
+            assert_eq!(
+                relocated & (1 << e.finger),
+                0,
+                "the helper is not relocated"
+            );
+        }
+    }
+    println!("{substitutions} substitutions, {rewinds} rewinds, {places} places, {lifts} lifts");
+    g.finish();
+}
