@@ -555,6 +555,7 @@ mod tests {
             fc_margin: 0.1,
             remaining_angle: 0.0,
             gaits: 0,
+            estimate_epoch: 0,
         }
     }
 

@@ -6,6 +6,10 @@
 //! {"t":T,"object_q":[w,x,y,z],"phase":"...","fingers":[F0,F1,F2],...}
 //! Fi = {"p":[x,y,z],"q":[w,x,y,z],"contact":true|false,"grip_force":N,"roll":rad}
 //! ```
+//! Tick lines also carry `fc`, `fc_margin`, `remaining_angle`, `gaits` and
+//! `estimate_epoch`, which changes where the controller re-based its object
+//! estimate on a measurement (SPEC §6.3): `object_q` jumps there, without
+//! object motion, so a replay starts over from that line.
 //! Keys may be added, never renamed. This module only formats text (no
 //! I/O); writers live in the binaries. Numbers are written in Rust's
 //! shortest round-trip form, so a reader gets the exact `f64` back.
@@ -139,6 +143,10 @@ pub struct Sample {
     pub remaining_angle: f64,
     /// Gaits done.
     pub gaits: u32,
+    /// [`Setpoint::estimate_epoch`](crate::planner::Setpoint): it changes
+    /// where the controller re-based its object estimate on a measurement
+    /// (after a slip, SPEC §6.3), so `object_q` jumps there without motion.
+    pub estimate_epoch: u32,
 }
 
 impl Sample {
@@ -164,6 +172,7 @@ impl Sample {
             fc_margin: r.force_closure.1,
             remaining_angle: r.remaining_angle,
             gaits: r.gaits.0,
+            estimate_epoch: r.setpoint.estimate_epoch,
         }
     }
 }
@@ -200,6 +209,10 @@ pub fn sample_line(out: &mut String, t: f64, s: &Sample) {
     num(out, s.fc_margin);
     out.push_str(",\"remaining_angle\":");
     num(out, s.remaining_angle);
-    let _ = write!(out, ",\"gaits\":{}", s.gaits);
+    let _ = write!(
+        out,
+        ",\"gaits\":{},\"estimate_epoch\":{}",
+        s.gaits, s.estimate_epoch
+    );
     out.push_str("}\n");
 }

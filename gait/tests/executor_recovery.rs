@@ -82,6 +82,12 @@ fn a_slip_mid_goal_is_replanned_and_the_true_object_reaches_the_goal() {
             // Belief and truth agree again.
             let belief = rig.exec.setpoint().state.object;
             assert!(belief.angle_to(&rig.plant.state().object) <= 1e-9, "{what}");
+            // One re-base, and traces say so.
+            let r = rig.exec.report();
+            assert_eq!(r.setpoint.estimate_epoch, 1, "{what}");
+            let mut line = String::new();
+            gait::trace::line(&mut line, 0.0, r);
+            assert!(line.contains(r#""estimate_epoch":1}"#), "{line}");
             cases += 1;
         }
     }

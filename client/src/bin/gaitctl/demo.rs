@@ -8,6 +8,7 @@
 
 use crate::common::{ConnArgs, code};
 use gaitd_client::{Client, ConnectOptions, GoalSpec, GoalState, Status};
+use shm_schema::EventKind;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Child, ExitCode};
@@ -117,13 +118,57 @@ fn progress_line(s: &Status, total: f64) -> String {
     )
 }
 
-/// Runs one goal with live progress; returns (state, seconds, gaits).
+/// Substitutions and rewinds seen (paper §2.1).
+#[derive(Debug, Default)]
+struct Gaiting {
+    substitutions: u32,
+    rewinds: u32,
+    /// The finger placed last (the one a substitution hands the grasp to).
+    placed: Option<u32>,
+}
+
+impl Gaiting {
+    /// The line to print for event `e` of the goal, if it is a gait.
+    fn see(&mut self, e: &shm_schema::Event) -> Option<String> {
+        // Fingers as the paper names them: f1, f2, f3.
+        let f = |k: u32| format!("f{}", k + 1);
+        match e.kind() {
+            Ok(EventKind::Place) => {
+                self.placed = Some(e.finger);
+                None
+            }
+            Ok(EventKind::Substitution) => {
+                self.substitutions += 1;
+                let by = self.placed.map_or_else(|| "another finger".into(), f);
+                Some(format!(
+                    "substitution: {by} takes over from {}",
+                    f(e.finger)
+                ))
+            }
+            Ok(EventKind::Rewind) => {
+                self.rewinds += 1;
+                let moved: Vec<String> =
+                    (0..3).filter(|k| e.count & (1 << k) != 0).map(f).collect();
+                Some(format!(
+                    "rewind: {} moved back with {}'s help",
+                    moved.join(" and "),
+                    f(e.finger)
+                ))
+            }
+            _ => None,
+        }
+    }
+}
+
+/// Runs one goal with live progress and its gaits as they happen; returns
+/// (state, seconds, gaits).
 fn run_goal(
     c: &mut Client,
     label: &str,
     goal: &GoalSpec,
     total: f64,
     timeout: Duration,
+    gaiting: &mut Gaiting,
 ) -> Result<(GoalState, f64, u32), String> {
     println!("\n== {label}");
     let t = c
@@ -151,6 +196,19 @@ fn run_goal(
                 s.goal.gaits_done
             );
             return Ok((o.state, t0.elapsed().as_secs_f64(), s.goal.gaits_done));
+        }
+        let me = c.client_id();
+        let lines: Vec<String> = c
+            .events()
+            .map_err(|e| e.to_string())?
+            .filter(|e| (e.client_id, e.goal_id) == (me, t.goal_id))
+            .filter_map(|e| gaiting.see(&e))
+            .collect();
+        for l in lines {
+            // Over the progress line, which is drawn again below.
+            let _ = write!(out, "\r{:110}\r", "");
+            let _ = out.flush();
+            println!("   {l}");
         }
         if let Ok(Some(s)) = c.latest_status()
             && s.goal.goal_id == t.goal_id
@@ -218,8 +276,9 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
     let mut ok = true;
     let mut total_time = 0.0;
     let mut total_gaits = 0;
+    let mut gaiting = Gaiting::default();
     for (label, g) in &goals {
-        let (state, secs, gaits) = run_goal(&mut c, label, g, tau, timeout)?;
+        let (state, secs, gaits) = run_goal(&mut c, label, g, tau, timeout, &mut gaiting)?;
         ok &= state == GoalState::Succeeded;
         total_time += secs;
         total_gaits += gaits;
@@ -230,9 +289,11 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
     let d: f64 = s.object_q.iter().zip(s0.object_q).map(|(x, y)| x * y).sum();
     let err = 2.0 * d.abs().min(1.0).acos();
     println!(
-        "\nsummary: {} — 2 full turns in {total_time:.1} s, {total_gaits} gaits; object back at its start \
+        "\nsummary: {} — 2 full turns in {total_time:.1} s, {total_gaits} gaits ({} substitutions, {} rewinds); object back at its start \
          orientation within {err:.1e} rad\n         loop: tick compute p50 {:.1} µs p99 {:.1} µs max {:.1} µs, {} missed periods",
         if ok { "succeeded" } else { "FAILED" },
+        gaiting.substitutions,
+        gaiting.rewinds,
         s.timing.compute_p50_ns as f64 / 1e3,
         s.timing.compute_p99_ns as f64 / 1e3,
         s.timing.compute_max_ns as f64 / 1e3,
