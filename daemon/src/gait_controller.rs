@@ -230,8 +230,9 @@ impl GaitController {
         while let Some(e) = self.exec.pop_event() {
             match e {
                 Event::Goal { id, state, reason } => {
-                    // A new plan, or none: gaits do not chain across it.
-                    self.gaits.reset();
+                    // A new plan, or none: no rewind spans it (a gait step
+                    // in flight still completes its substitution).
+                    self.gaits.interrupt();
                     let (client, goal) = self.wire_goal(id);
                     let reason = match (state, reason) {
                         (executor::GoalState::Succeeded, _) => ReasonCode::Reached,
@@ -287,7 +288,7 @@ impl GaitController {
                     .events
                     .push(shm_schema::Event::new(EventKind::FaultCleared)),
                 Event::Drift { id, finger, replan } => {
-                    self.gaits.reset();
+                    self.gaits.interrupt();
                     let (client, goal) = self.wire_goal(id);
                     ctx.events.drift(finger, replan, goal, client);
                 }

@@ -100,3 +100,69 @@ fn substitutions_and_rewinds_are_reported_as_planned() {
     println!("{substitutions} substitutions, {rewinds} rewinds, {places} places, {lifts} lifts");
     g.finish();
 }
+
+#[test]
+fn a_substitution_in_flight_when_a_goal_is_preempted_still_counts() {
+    // The Lift that completes a substitution is under way when a new goal
+    // arrives: the lift finishes (a gait is never left half done) and the
+    // substitution is reported.
+    let ns = Namespace::new("p");
+    let mut g = gait_loop(&ns, 47, |_| {});
+    let turn = UnitQuaternion::from_scaled_axis(Vector3::z() * 3.0);
+    let c = turn.coords;
+    g.client.send(Command::goal(
+        9,
+        1,
+        GoalFrame::Absolute,
+        [c.w, c.x, c.y, c.z],
+    ));
+    let mut placed = None;
+    let mut preempted_at = None;
+    let mut after = Vec::new();
+    for t in 0..60_000 {
+        let (_, ev) = g.tick();
+        for e in ev {
+            if preempted_at.is_some() {
+                after.push(e);
+                continue;
+            }
+            match e.kind() {
+                Ok(EventKind::Fault) => panic!("fault {e:?}"),
+                Ok(EventKind::Place) => placed = Some(e.finger),
+                Ok(EventKind::Lift) if placed.is_some_and(|p| p != e.finger) => {
+                    // A substitution's lift has begun: preempt it.
+                    let home = UnitQuaternion::identity().coords;
+                    g.client.send(Command::goal(
+                        9,
+                        2,
+                        GoalFrame::Absolute,
+                        [home.w, home.x, home.y, home.z],
+                    ));
+                    preempted_at = Some((t, e.finger));
+                }
+                _ => {}
+            }
+        }
+        if after.iter().any(|e| {
+            e.kind() == Ok(EventKind::GoalTransition)
+                && e.goal_id == 2
+                && GoalState::try_from(e.state).is_ok_and(GoalState::is_terminal)
+        }) {
+            break;
+        }
+        g.yield_to_planner();
+    }
+    let (_, lifting) = preempted_at.expect("no substitution began");
+    let kinds: Vec<_> = after.iter().map(|e| e.kind()).collect();
+    let preempted = after.iter().position(|e| {
+        e.kind() == Ok(EventKind::GoalTransition)
+            && e.goal_id == 1
+            && GoalState::try_from(e.state) == Ok(GoalState::Preempted)
+    });
+    let substituted = after
+        .iter()
+        .position(|e| e.kind() == Ok(EventKind::Substitution) && e.finger == lifting);
+    assert!(preempted.is_some(), "{kinds:?}");
+    assert!(substituted.is_some(), "finger {lifting}: {kinds:?}");
+    g.finish();
+}

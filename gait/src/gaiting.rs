@@ -13,12 +13,14 @@
 //!   by placing.
 //!
 //! So a rewind is reported as its substitutions and then as a rewind; no
-//! substitution belongs to two rewinds. Object motion (a Rotate or Roll
-//! step) breaks a chain of substitutions: a rewind has none. A substitution
-//! may have some between its Place and its Lift (paper §2.1: the new pair
-//! "can be used to further move the object" before the lift). Anything
-//! that ends or interrupts the plan forgets everything
-//! ([`GaitTracker::reset`]).
+//! substitution belongs to two rewinds. Object motion and rolling (a
+//! Rotate or Roll step) break a chain of substitutions, and so does an
+//! interruption (a new goal, a replan: [`GaitTracker::interrupt`]): a
+//! rewind is one uninterrupted relocation. A substitution may have motion
+//! between its Place and its Lift (paper §2.1: the new pair "can be used
+//! to further move the object" before the lift), and a gait step in
+//! flight when a goal is preempted still completes. A fault forgets
+//! everything ([`GaitTracker::reset`]).
 //!
 //! Allocation-free and constant-time: the daemon runs it on the loop.
 
@@ -79,19 +81,25 @@ impl GaitTracker {
         Self::default()
     }
 
-    /// Forgets the history: the plan ended, was interrupted or replaced.
+    /// Forgets everything (a fault: the motion stopped where it was).
     pub fn reset(&mut self) {
         *self = Self::default();
+    }
+
+    /// Breaks the chain of substitutions (no rewind spans this point) but
+    /// keeps a placement, whose lift is still a substitution.
+    pub fn interrupt(&mut self) {
+        *self = Self {
+            placed: self.placed,
+            moved: self.placed.is_some(),
+            ..Self::default()
+        };
     }
 
     /// A step of `kind` started. Object motion and rolling break a chain.
     pub fn started(&mut self, kind: StepKind) {
         if matches!(kind, StepKind::Rotate | StepKind::Roll) {
-            *self = Self {
-                placed: self.placed,
-                moved: self.placed.is_some(),
-                ..Self::default()
-            };
+            self.interrupt();
         }
     }
 
@@ -107,7 +115,8 @@ impl GaitTracker {
                 Some(by) if by != finger && usize::from(by.max(finger)) < FINGERS => {
                     self.substituted(by, finger)
                 }
-                // A lift from a three-finger grasp is no substitution.
+                // No placement of another finger before it (e.g. a lift
+                // from the three-finger start grasp): no substitution.
                 _ => {
                     self.reset();
                     Completed::default()
@@ -225,13 +234,15 @@ mod tests {
     }
 
     #[test]
-    fn substitutions_that_pass_the_grasp_on_are_no_rewind() {
-        // 2 replaces 0, 0 replaces 1, 1 replaces 2, ... : no finger that
-        // was placed is lifted again within the chain until the cycle
-        // closes after three (then the helper 2 is lifted: a rewind).
-        let steps = [(Place, 2), (Lift, 0), (Place, 0), (Lift, 1)];
-        let got = run(&mut GaitTracker::new(), &steps);
+    fn passing_the_grasp_on_is_a_rewind_only_when_the_helper_leaves() {
+        // 2 replaces 0, 0 replaces 1: no finger placed in the chain has
+        // lifted again; then 1 replaces 2, the helper: the cycle closes
+        // into the two-finger rewind.
+        let mut t = GaitTracker::new();
+        let got = run(&mut t, &[(Place, 2), (Lift, 0), (Place, 0), (Lift, 1)]);
         assert_eq!(got, [sub(2, 0), sub(0, 1)]);
+        let got = run(&mut t, &[(Place, 1), (Lift, 2)]);
+        assert_eq!(got, [sub(1, 2), rewind(&[0, 1], 2)]);
     }
 
     #[test]
@@ -267,6 +278,16 @@ mod tests {
         run(&mut t, &first);
         t.reset();
         assert_eq!(run(&mut t, &[(Place, 1), (Lift, 2)]), [sub(1, 2)]);
+        // An interruption (new goal, replan) breaks the chain too...
+        let mut t = GaitTracker::new();
+        run(&mut t, &first);
+        t.interrupt();
+        assert_eq!(run(&mut t, &[(Place, 1), (Lift, 2)]), [sub(1, 2)]);
+        // ... but a gait in flight still completes its substitution.
+        let mut t = GaitTracker::new();
+        run(&mut t, &[(Place, 2)]);
+        t.interrupt();
+        assert_eq!(run(&mut t, &[(Lift, 1)]), [sub(2, 1)]);
         // A placement is forgotten too: a lift after a reset is no
         // substitution.
         let mut t = GaitTracker::new();

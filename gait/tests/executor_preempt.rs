@@ -88,6 +88,7 @@ fn interruptions_keep_the_stream_continuous_and_valid() {
         &s.discontinuities[..s.discontinuities.len().min(5)]
     );
     assert_eq!(s.faults, 0);
+    assert!(s.unmoved_steps.is_empty(), "{:?}", s.unmoved_steps);
     assert!(err < 1e-6, "last goal error {err}");
     assert_eq!(s.goals.last(), Some(&(last_id, GoalState::Succeeded)));
     for kind in ["gait", "rotate", "transfer"] {
@@ -142,4 +143,58 @@ fn a_goal_preempts_the_initial_roll() {
         vec![(1, GoalState::Preempted), (2, GoalState::Succeeded)]
     );
     assert!(rig.exec.setpoint().state.object.angle_to(&goal) < 1e-6);
+}
+
+#[test]
+fn a_stop_near_the_end_of_a_step_does_not_announce_the_next_one() {
+    // Hold at every tick of the last 60 ms of the first Rotate: the motion
+    // comes to rest on the step's path (or, were braking to overshoot the
+    // path, at the step's resting end) and the stop ends there. The next
+    // step is never begun, so no `Step` event may announce it (the daemon
+    // would publish a Lift or Roll that never happens).
+    let cfg = HandConfig::default();
+    let start = HandState::paper_start(&cfg);
+    let goal = Command::Goal {
+        id: 1,
+        target: GoalTarget::Rotation {
+            axis: nalgebra::Vector3::z(),
+            angle: 1.0,
+        },
+        limits: None,
+    };
+    let mut rig = Rig::new(cfg, start, 1e-3);
+    rig.command(goal);
+    let mut end = 0;
+    let mut in_rotate = false;
+    for t in 1..20_000 {
+        let kind = rig.tick().step_kind;
+        if kind == Some(StepKind::Rotate) {
+            in_rotate = true;
+        } else if in_rotate {
+            end = t;
+            break;
+        }
+    }
+    assert!(end > 0, "no Rotate step ended");
+    for lead in 1..=60 {
+        let mut rig = Rig::new(cfg, start, 1e-3);
+        rig.command(goal);
+        for _ in 1..end - lead {
+            rig.tick();
+        }
+        assert_eq!(rig.exec.report().step_kind, Some(StepKind::Rotate));
+        rig.command(Command::Hold);
+        rig.run_until_idle(10_000);
+        assert!(
+            rig.stats.unmoved_steps.is_empty(),
+            "hold {lead} ticks before the end: {:?}",
+            rig.stats.unmoved_steps
+        );
+        assert!(rig.stats.violations.is_empty() && rig.stats.discontinuities.is_empty());
+        assert_eq!(
+            rig.exec.phase(),
+            Phase::Holding,
+            "hold {lead} ticks before the end"
+        );
+    }
 }

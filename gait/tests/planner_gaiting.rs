@@ -1,8 +1,8 @@
 //! The gaits recognised in real plans ([`gait::gaiting`]) are what the paper
 //! calls them (§2.1), checked against the plans' hand states: a
 //! substitution hands the grasp from one finger to another; a rewind
-//! relocates both fingers of the grasping pair, without object motion, and
-//! ends with the same pair grasping.
+//! relocates one or both fingers of the grasping pair, without object
+//! motion, and ends with the same pair grasping.
 
 mod planning;
 
@@ -129,7 +129,8 @@ fn recognised_gaits_match_the_plans_states() {
 }
 
 /// Lifts that come right after another finger's placement, counted
-/// without the tracker.
+/// without the tracker. (The tracker also counts a Place, object motion,
+/// Lift as a substitution; plans never contain that, so here they agree.)
 fn lifts_after_a_placement(plan: &Plan) -> u32 {
     let gaits: Vec<_> = plan
         .steps

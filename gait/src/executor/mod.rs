@@ -542,7 +542,11 @@ impl Executor {
                 finger,
             });
         }
-        if self.phase == Phase::Stopping && (stopped_early || self.stop_after_step) {
+        // Stopping ends here whether the brake made it early, the step was
+        // a gait finishing (`stop_after_step`) or braking would have
+        // overshot the path so the step ran to its end: the next step is
+        // never begun (nor announced).
+        if self.phase == Phase::Stopping {
             self.finish_stop(self.after_stop);
             return;
         }
@@ -552,21 +556,12 @@ impl Executor {
             .as_deref()
             .is_none_or(|p| self.step >= p.steps.len());
         if done {
-            if self.phase == Phase::Stopping {
-                self.finish_stop(self.after_stop);
-            } else {
-                self.end_goal(GoalState::Succeeded, Reason::None);
-                self.phase = Phase::Holding;
-                self.step = 0;
-            }
+            self.end_goal(GoalState::Succeeded, Reason::None);
+            self.phase = Phase::Holding;
+            self.step = 0;
             return;
         }
         self.begin_step();
-        if self.phase == Phase::Stopping && !self.stop_after_step {
-            // A stop was asked during the last placement: the next step
-            // never starts moving.
-            self.finish_stop(self.after_stop);
-        }
     }
 
     fn check_invariants(&mut self) {

@@ -81,7 +81,7 @@ pub struct PlanSummary {
     pub gaits: u32,
     /// Finger substitutions among them (paper §2.1; [`crate::gaiting`]).
     pub substitutions: u32,
-    /// Finger rewinds (each also counts its three substitutions).
+    /// Finger rewinds (their two or three substitutions are also counted).
     pub rewinds: u32,
     /// Rotate steps.
     pub rotations: u32,

@@ -4,7 +4,7 @@
 
 use gait::executor::{Command, Event, Executor, GoalState, Phase, TickReport};
 use gait::hand::InvariantChecker;
-use gait::planner::{Planner, Setpoint};
+use gait::planner::{Planner, Setpoint, StepKind};
 use gait::sim::{KinematicHand, Plant};
 use gait::{HandConfig, HandState};
 use nalgebra::Vector3;
@@ -28,6 +28,9 @@ pub struct RunStats {
     pub faults: u64,
     /// Contact drifts reported (each stops the motion and replans).
     pub drifts: u64,
+    /// Steps reported as started in a tick that ended not moving (a step
+    /// announced that never runs).
+    pub unmoved_steps: Vec<(u64, StepKind)>,
 }
 
 /// The executor, its plant and planner, ticking together.
@@ -87,6 +90,10 @@ impl Rig {
                 }
                 Event::Fault { .. } => self.stats.faults += 1,
                 Event::Drift { .. } => self.stats.drifts += 1,
+                // (After a plan delivered above, the executor moves now.)
+                Event::Step { kind, .. } if self.exec.phase() != Phase::Moving => {
+                    self.stats.unmoved_steps.push((rep.tick, kind))
+                }
                 _ => {}
             }
         }

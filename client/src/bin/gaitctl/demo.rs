@@ -179,43 +179,59 @@ fn run_goal(
     }
     let t0 = Instant::now();
     let mut out = std::io::stderr();
+    let me = c.client_id();
     loop {
         if t0.elapsed() > timeout {
             return Err(format!("{label}: no outcome after {timeout:?}"));
         }
-        if let Ok(o) = c.wait_outcome(t.goal_id, Duration::from_millis(100)) {
+        // Every event of this goal once: its gaits, and its end.
+        let mut end = None;
+        let events: Vec<_> = c
+            .events()
+            .map_err(|e| e.to_string())?
+            .filter(|e| (e.client_id, e.goal_id) == (me, t.goal_id))
+            .collect();
+        for e in &events {
+            if let Some(l) = gaiting.see(e) {
+                // Over the progress line, which is drawn again below.
+                let _ = write!(out, "\r{:110}\r", "");
+                let _ = out.flush();
+                println!("   {l}");
+            }
+            if e.kind() == Ok(EventKind::GoalTransition)
+                && let (Ok(state), Ok(reason)) = (e.state(), e.reason())
+                && state.is_terminal()
+            {
+                end = Some((state, reason));
+            }
+        }
+        let status = c.latest_status().map_err(|e| e.to_string())?;
+        let mine = status.filter(|s| (s.goal.client_id, s.goal.goal_id) == (me, t.goal_id));
+        // Events can be missed (history overflow); the status says too.
+        if end.is_none()
+            && let Some(s) = mine
+            && let (Ok(state), Ok(reason)) = (s.goal_state(), s.goal_reason())
+            && state.is_terminal()
+        {
+            end = Some((state, reason));
+        }
+        if let Some((state, reason)) = end {
             let s = c
                 .wait_status(Duration::from_secs(1))
                 .map_err(|e| e.to_string())?;
             let _ = writeln!(out, "\r{}", progress_line(&s, total));
+            let secs = t0.elapsed().as_secs_f64();
             println!(
-                "   {} ({}) after {:.2} s, {} gaits",
-                o.state,
-                o.reason,
-                t0.elapsed().as_secs_f64(),
+                "   {state} ({reason}) after {secs:.2} s, {} gaits",
                 s.goal.gaits_done
             );
-            return Ok((o.state, t0.elapsed().as_secs_f64(), s.goal.gaits_done));
+            return Ok((state, secs, s.goal.gaits_done));
         }
-        let me = c.client_id();
-        let lines: Vec<String> = c
-            .events()
-            .map_err(|e| e.to_string())?
-            .filter(|e| (e.client_id, e.goal_id) == (me, t.goal_id))
-            .filter_map(|e| gaiting.see(&e))
-            .collect();
-        for l in lines {
-            // Over the progress line, which is drawn again below.
-            let _ = write!(out, "\r{:110}\r", "");
-            let _ = out.flush();
-            println!("   {l}");
-        }
-        if let Ok(Some(s)) = c.latest_status()
-            && s.goal.goal_id == t.goal_id
-        {
+        if let Some(s) = mine {
             let _ = write!(out, "\r{}", progress_line(&s, total));
             let _ = out.flush();
         }
+        std::thread::sleep(Duration::from_millis(20));
     }
 }
 
