@@ -250,6 +250,8 @@ fn gaitctl_status_and_watch_show_the_daemon() {
     assert!(text.contains("\x1b[H"), "refreshes in place");
     assert!(text.contains("phase Hold"), "{text}");
     assert!(text.matches("tick compute").count() == 3, "three frames");
+    assert!(text.contains("latest events"), "{text}");
+    assert!(text.contains("DaemonStarted"), "the history: {text}");
 
     let out = d.gaitctl().arg("hold").output().unwrap();
     assert!(out.status.success());

@@ -62,6 +62,15 @@ pub fn verdict_exit(what: &str, v: Verdict) -> ExitCode {
     }
 }
 
+/// A finger as the status views and the paper name it (f1, f2, f3).
+pub fn finger_name(k: u32) -> String {
+    if k < 3 {
+        format!("f{}", k + 1)
+    } else {
+        format!("finger {k}")
+    }
+}
+
 /// One line describing an event.
 pub fn event_line(e: &Event) -> String {
     let kind = code(e.kind(), e.kind);
@@ -80,23 +89,21 @@ pub fn event_line(e: &Event) -> String {
                 code(e.reason(), e.reason)
             );
         }
-        Ok(EventKind::Place | EventKind::Lift | EventKind::Roll | EventKind::Substitution) => {
-            s += &format!(" finger {} goal {}", e.finger, e.goal_id);
+        Ok(EventKind::Place | EventKind::Lift | EventKind::Roll) => {
+            s += &format!(" {} goal {}", finger_name(e.finger), e.goal_id);
+        }
+        Ok(EventKind::Substitution) => {
+            s += &format!(" {} left, goal {}", finger_name(e.finger), e.goal_id);
         }
         Ok(EventKind::Rewind) => {
             let moved: Vec<String> = (0..3)
                 .filter(|k| e.count & (1 << k) != 0)
-                .map(|k| k.to_string())
+                .map(finger_name)
                 .collect();
-            let noun = if moved.len() == 1 {
-                "finger"
-            } else {
-                "fingers"
-            };
             s += &format!(
-                " {noun} {} rewound by finger {} goal {}",
+                " {} moved back with {}'s help, goal {}",
                 moved.join(" and "),
-                e.finger,
+                finger_name(e.finger),
                 e.goal_id
             );
         }
@@ -105,7 +112,7 @@ pub fn event_line(e: &Event) -> String {
         Ok(EventKind::ClientsCleaned) => s += &format!(" {} dead nodes", e.count),
         Ok(EventKind::Hold) => s += &format!(" by client {:x}", e.client_id),
         Ok(EventKind::Drift) => {
-            s += &format!(" finger {}: replanning (drift {})", e.finger, e.count)
+            s += &format!(" {}: replanning (drift {})", finger_name(e.finger), e.count)
         }
         _ => {}
     }

@@ -6,7 +6,7 @@
 //! to a two-finger force-closure grasp, then turns the object a full turn
 //! about z and a full turn about x by finger substitutions (paper Fig. 4).
 
-use crate::common::{ConnArgs, code};
+use crate::common::{ConnArgs, code, finger_name};
 use gaitd_client::{Client, ConnectOptions, GoalSpec, GoalState, Status};
 use shm_schema::EventKind;
 use std::io::Write;
@@ -130,8 +130,7 @@ struct Gaiting {
 impl Gaiting {
     /// The line to print for event `e` of the goal, if it is a gait.
     fn see(&mut self, e: &shm_schema::Event) -> Option<String> {
-        // Fingers as the paper names them: f1, f2, f3.
-        let f = |k: u32| format!("f{}", k + 1);
+        let f = finger_name;
         match e.kind() {
             Ok(EventKind::Place) => {
                 self.placed = Some(e.finger);

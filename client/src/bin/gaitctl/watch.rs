@@ -1,9 +1,11 @@
 //! `gaitctl watch`: a live view refreshed in place with ANSI escapes (no
 //! TUI library): phase, fingers, force-closure margin, goal progress bar,
-//! tick timing.
+//! tick timing, and the latest events (gaits, goal transitions, faults).
 
-use crate::common::{ConnArgs, code, deg, us};
+use crate::common::{ConnArgs, code, deg, event_line, us};
 use gaitd_client::Status;
+use shm_schema::EventKind;
+use std::collections::VecDeque;
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::process::ExitCode;
@@ -18,6 +20,9 @@ pub struct Args {
     /// Stop after this many frames (default: until Ctrl-C).
     #[arg(long)]
     frames: Option<u64>,
+    /// Latest events shown under the view (0: none).
+    #[arg(long, default_value_t = 6)]
+    events: usize,
 }
 
 fn bar(fraction: f64, width: usize) -> String {
@@ -129,6 +134,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let mut frames = 0u64;
     let mut last_tick = None::<(u64, Instant)>;
     let mut rate = 0.0;
+    let mut recent = VecDeque::with_capacity(a.events + 1);
     loop {
         let start = Instant::now();
         let s = match c.wait_status(conn.timeout()) {
@@ -158,7 +164,25 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         }
         initial = initial.max(s.goal.remaining_angle);
         let progress = (goal != 0 && initial > 0.0).then(|| 1.0 - s.goal.remaining_angle / initial);
-        let view = render(&s, progress, (rate > 0.0).then_some(rate)).replace('\n', "\x1b[K\n");
+        // Missed periods are counted in the timing line; listing each
+        // overrun would push everything else out.
+        for e in c.events()? {
+            if a.events > 0 && e.kind() != Ok(EventKind::Overrun) {
+                if recent.len() == a.events {
+                    recent.pop_front();
+                }
+                recent.push_back(event_line(&e));
+            }
+        }
+        let mut view = render(&s, progress, (rate > 0.0).then_some(rate));
+        if a.events > 0 {
+            view.push_str("latest events\n");
+            for l in &recent {
+                view.push_str(l);
+                view.push('\n');
+            }
+        }
+        let view = view.replace('\n', "\x1b[K\n");
         let _ = write!(out, "\x1b[H{view}\x1b[J");
         let _ = out.flush();
         frames += 1;
