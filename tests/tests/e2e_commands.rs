@@ -279,6 +279,17 @@ fn gaitctl_status_and_watch_show_the_daemon() {
         text.contains("DaemonStarted") && text.contains("Hold"),
         "{text}"
     );
+    let out = d.gaitctl().args(["events", "--json"]).output().unwrap();
+    let lines: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert!(lines.iter().any(|v| v["kind"] == "DaemonStarted"));
+    let goal = lines
+        .iter()
+        .find(|v| v["kind"] == "GoalTransition")
+        .expect("the goal's transitions");
+    assert!(goal["state"].is_string() && goal["goal_id"].as_u64() > Some(0));
 }
 
 #[test]

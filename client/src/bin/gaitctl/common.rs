@@ -129,6 +129,26 @@ pub fn deg(rad: f64) -> f64 {
     rad.to_degrees()
 }
 
+/// An event as JSON (every field, codes decoded to names, unknown codes
+/// as `?N`; no finger or goal state as null).
+pub fn event_json(e: &Event) -> serde_json::Value {
+    serde_json::json!({
+        "seq": e.seq,
+        "tick": e.tick,
+        "time_ns": e.time_ns,
+        "instance": format!("{:016x}", e.instance),
+        "kind": code(e.kind(), e.kind),
+        "finger": (e.finger < 3).then_some(e.finger),
+        "state": (e.state != 0).then(|| code(e.state(), e.state)),
+        "reason": code(e.reason(), e.reason),
+        "goal_id": e.goal_id,
+        "client_id": format!("{:x}", e.client_id),
+        "fault": code(e.fault(), e.fault),
+        "count": e.count,
+        "value": e.value,
+    })
+}
+
 /// The status as JSON (every field, codes decoded to names).
 pub fn status_json(s: &Status) -> serde_json::Value {
     use serde_json::json;

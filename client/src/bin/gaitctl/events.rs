@@ -1,7 +1,7 @@
 //! `gaitctl events`: the daemon's event history, then (with `--follow`)
 //! new events as they come.
 
-use crate::common::{ConnArgs, event_line};
+use crate::common::{ConnArgs, event_json, event_line};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
@@ -14,6 +14,17 @@ pub struct Args {
     /// With --follow: stop after this many seconds.
     #[arg(long)]
     duration: Option<f64>,
+    /// One JSON object per line (every field; codes as names).
+    #[arg(long)]
+    json: bool,
+}
+
+fn print(e: &shm_schema::Event, json: bool) {
+    if json {
+        println!("{}", event_json(e));
+    } else {
+        println!("{}", event_line(e));
+    }
 }
 
 /// Runs the subcommand.
@@ -22,7 +33,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     // History arrives with the connection; give it a moment to land.
     std::thread::sleep(Duration::from_millis(20));
     for e in c.events()? {
-        println!("{}", event_line(&e));
+        print(&e, a.json);
     }
     if a.follow {
         let end = a
@@ -33,7 +44,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
                 break;
             }
             if let Some(e) = c.next_event(Duration::from_millis(200))? {
-                println!("{}", event_line(&e));
+                print(&e, a.json);
             } else if !c.daemon_alive()? {
                 c.ensure_connected(conn.timeout())?;
                 eprintln!(
