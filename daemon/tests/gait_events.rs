@@ -164,5 +164,8 @@ fn a_substitution_in_flight_when_a_goal_is_preempted_still_counts() {
         .position(|e| e.kind() == Ok(EventKind::Substitution) && e.finger == lifting);
     assert!(preempted.is_some(), "{kinds:?}");
     assert!(substituted.is_some(), "finger {lifting}: {kinds:?}");
+    // The gait belongs to the goal it was begun for.
+    let s = after[substituted.unwrap()];
+    assert_eq!((s.goal_id, s.client_id), (1, 9));
     g.finish();
 }

@@ -128,7 +128,8 @@ pub enum Event {
     },
     /// A plan step ended where it was planned to (not cut short by a stop).
     StepDone {
-        /// Goal id.
+        /// Id of the goal the step was begun for (a placement or lift in
+        /// flight finishes after a newer goal preempted that one).
         id: u64,
         /// Index in the plan.
         index: u32,

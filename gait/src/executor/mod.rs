@@ -219,6 +219,9 @@ pub struct Executor {
     runner: StepRunner,
     plan: Option<Box<Plan>>,
     step: usize,
+    /// The goal the current step was begun for (it still finishes for it
+    /// when a newer goal preempts it mid-gait).
+    step_goal: u64,
     /// Planned durations left after the current step.
     time_after_step: f64,
     phase: Phase,
@@ -312,6 +315,7 @@ impl Executor {
             runner,
             plan: None,
             step: 0,
+            step_goal: 0,
             time_after_step: 0.0,
             phase: Phase::Holding,
             after_stop: AfterStop::Hold(Reason::None),
@@ -414,8 +418,9 @@ impl Executor {
         self.runner.start(step, &limits);
         self.time_after_step = (self.time_after_step - step.duration).max(0.0);
         self.rotation_after_step = (self.rotation_after_step - step_rotation(step)).max(0.0);
+        self.step_goal = self.goal.map_or(0, |g| g.id);
         let event = Event::Step {
-            id: self.goal.map_or(0, |g| g.id),
+            id: self.step_goal,
             index: self.step as u32,
             kind: step.kind,
             finger: step_finger(step),
@@ -536,7 +541,7 @@ impl Executor {
             }
             let finger = self.current_step().map_or(NO_FINGER, step_finger);
             self.events.push(Event::StepDone {
-                id: self.goal.map_or(0, |g| g.id),
+                id: self.step_goal,
                 index: self.step as u32,
                 kind,
                 finger,
