@@ -580,6 +580,7 @@ mod tests {
             ("[rt]\nbackground_cpus = [5000]\n", "rt.background_cpus"),
             ("[rt]\nspin_us = 1001\n", "rt.spin_us"),
             ("[feedback]\nmax_replans = 101\n", "feedback.max_replans"),
+            ("[feedback]\nlimit_guard = 1.5\n", "feedback.limit_guard"),
             ("[rt]\npriority = 3\n", "priority"),
         ];
         for (text, key) in bad {

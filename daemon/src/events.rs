@@ -79,6 +79,25 @@ impl EventQueue {
         self.push(e);
     }
 
+    /// The measured state came near an invariant's limit (SPEC §6.3): the
+    /// goal is replanned.
+    pub fn near_limit(
+        &mut self,
+        fault: FaultCode,
+        finger: u8,
+        replan: u32,
+        goal_id: u64,
+        client_id: u64,
+    ) {
+        let mut e = Event::new(EventKind::NearLimit);
+        e.fault = fault.code();
+        e.finger = finger.into();
+        e.count = replan.into();
+        e.goal_id = goal_id;
+        e.client_id = client_id;
+        self.push(e);
+    }
+
     /// A contact drifted (SPEC §6.3): the goal is replanned.
     pub fn drift(&mut self, finger: u8, replan: u32, goal_id: u64, client_id: u64) {
         let mut e = Event::new(EventKind::Drift);

@@ -292,6 +292,17 @@ impl GaitController {
                     let (client, goal) = self.wire_goal(id);
                     ctx.events.drift(finger, replan, goal, client);
                 }
+                Event::NearLimit {
+                    id,
+                    kind,
+                    finger,
+                    replan,
+                } => {
+                    self.gaits.interrupt();
+                    let (client, goal) = self.wire_goal(id);
+                    ctx.events
+                        .near_limit(fault_code(kind), finger, replan, goal, client);
+                }
             }
         }
     }

@@ -248,8 +248,16 @@ pub struct FeedbackConfig {
     /// replanned from the measured state (SPEC §6.3); a fault once
     /// `max_replans` is used up, or if the drift goes on during the stop.
     pub contact_tolerance: f64,
-    /// Replans after contact drift allowed per goal (0: drift is a fault).
+    /// Replans after contact drift or an invariant near its limit allowed
+    /// per goal (0: either is a fault).
     pub max_replans: u32,
+    /// While moving, the *measured* state must keep at least this fraction
+    /// of each margin (workspace cone, force closure, fingertip clearance)
+    /// to the invariant's true limit; closer, the motion stops smoothly and
+    /// the goal is replanned (SPEC §6.3 "an invariant near its limit"). 0
+    /// disables the check. Only a plant whose measurement differs from the
+    /// command pays for it.
+    pub limit_guard: f64,
     /// A fingertip that moves less than this fraction of its commanded
     /// motion in one tick (while commanded to move) is stuck; 0 disables
     /// the check.
@@ -266,6 +274,7 @@ impl Default for FeedbackConfig {
             finger_tolerance: 0.0005,
             contact_tolerance: 0.0005,
             max_replans: 3,
+            limit_guard: 0.5,
             stall_ratio: 0.1,
             orientation_gain: 10.0,
         }
@@ -595,6 +604,13 @@ impl HandConfig {
             0.0,
             1.0,
             "in (0, 1] m",
+        )?;
+        in_closed(
+            "feedback.limit_guard",
+            fb.limit_guard,
+            0.0,
+            1.0,
+            "in [0, 1]",
         )?;
         in_closed(
             "feedback.stall_ratio",

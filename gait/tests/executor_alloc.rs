@@ -80,6 +80,16 @@ fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool;
                     clear_fault_at = Some(t + 1);
                     continue;
                 }
+                5 => {
+                    // Sensor noise for 50 ticks: the measured state differs
+                    // from the command, so the limit guard evaluates it.
+                    plant.inject(Some(InjectedFault::Noise {
+                        position: 1e-5,
+                        angle: 1e-5,
+                    }));
+                    clear_fault_at = Some(t + 50);
+                    continue;
+                }
                 _ => {
                     id += 1;
                     Command::Goal {

@@ -340,6 +340,8 @@ code_enum! {
         Hold = 13,
         /// A contact drifted beyond tolerance (`finger`, `goal_id`, `client_id`; `count` = drifts so far): the motion stops and the goal is replanned from the measured state.
         Drift = 14,
+        /// While moving, the measured state came near the limit of an invariant (SPEC §6.3; `fault` = the invariant as the fault it would become, `finger` = the finger concerned or 255, `goal_id`, `client_id`, `count` = replans so far): the motion stops and the goal is replanned from the measured state.
+        NearLimit = 15,
     }
 }
 

@@ -159,6 +159,21 @@ pub enum Event {
         /// since the last one ended), this one included.
         replan: u32,
     },
+    /// While moving, the measured state came near the limit of an
+    /// invariant (SPEC §6.3, [`super::guard`]): the motion stops smoothly
+    /// and the goal is planned again from the measured state, as after a
+    /// drift (the same replan budget).
+    NearLimit {
+        /// Goal concerned, 0 if none.
+        id: u64,
+        /// Which invariant, as the fault it would become.
+        kind: FaultKind,
+        /// The finger concerned (for a collision, the first of the pair),
+        /// or 255.
+        finger: u8,
+        /// Replans since the goal started, this one included.
+        replan: u32,
+    },
 }
 
 /// Capacity of the event queue between two drains.

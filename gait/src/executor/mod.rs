@@ -13,7 +13,8 @@
 //!   any ──fault──> SafeHold (a jerk-limited stop, then still) ──reset──> Holding
 //! ```
 //! Contact drift beyond tolerance stops the motion too, then re-bases the
-//! estimate on the measurement and plans the goal again ([`recovery`]).
+//! estimate on the measurement and plans the goal again ([`recovery`]); so
+//! does a measured state near an invariant's limit ([`guard`]).
 //! A finger in flight finishes its placement or lift before a stop takes
 //! effect; a stop elsewhere brakes along the current step's path, which is
 //! valid everywhere (SPEC §6.4).
@@ -28,6 +29,7 @@
 pub mod feedback;
 mod goals;
 pub mod grip;
+pub mod guard;
 pub mod lifecycle;
 mod memo;
 pub mod recovery;
@@ -216,6 +218,8 @@ pub struct Executor {
     checker: InvariantChecker,
     grip: grip::GripModel,
     feedback: Feedback,
+    /// Invariants near their limit in the measured state ([`guard`]).
+    guard: guard::LimitGuard,
     runner: StepRunner,
     plan: Option<Box<Plan>>,
     step: usize,
@@ -312,6 +316,7 @@ impl Executor {
             checker,
             grip: grip::GripModel::new(config),
             feedback: Feedback::new(&config.feedback, config.model.object_radius),
+            guard: guard::LimitGuard::new(config),
             runner,
             plan: None,
             step: 0,
@@ -462,7 +467,16 @@ impl Executor {
                 self.prev_measurement.as_ref(),
                 &self.drift.map_or(UnitQuaternion::identity(), |d| d.offset),
             ) {
-                Ok(c) => correction = c,
+                Ok(c) => {
+                    correction = c;
+                    if self.phase == Phase::Moving
+                        && let Some(m) = measurement
+                        && let Some((kind, finger)) =
+                            self.guard.check(&mut self.checker, &self.setpoint.state, m)
+                    {
+                        self.on_near_limit(kind, finger, m);
+                    }
+                }
                 Err((FaultKind::ContactDrift, finger)) => {
                     if let Some(m) = measurement {
                         self.on_drift(finger, m);

@@ -18,7 +18,8 @@
 //!
 //! At rest (no motion), step 3 happens at once. At most
 //! `feedback.max_replans` drifts are recovered per goal; the next one is a
-//! fault.
+//! fault. An invariant near its limit in the measured state ([`super::guard`])
+//! is recovered from the same way, from the same budget.
 
 use core::f64::consts::TAU;
 
@@ -40,10 +41,23 @@ pub(super) struct Drift {
 impl Executor {
     /// A contact drifted beyond tolerance (finger `finger`), seen in `m`.
     pub(super) fn on_drift(&mut self, finger: u8, m: &Measurement) {
+        self.recover(None, finger, m);
+    }
+
+    /// While moving, the measured state `m` came near the limit of the
+    /// invariant `kind` stands for ([`super::guard`]).
+    pub(super) fn on_near_limit(&mut self, kind: FaultKind, finger: u8, m: &Measurement) {
+        self.recover(Some(kind), finger, m);
+    }
+
+    /// Stops and replans after a drift (`near` = None) or an invariant near
+    /// its limit; a fault when a recovery is already under way or the
+    /// budget is spent.
+    fn recover(&mut self, near: Option<FaultKind>, finger: u8, m: &Measurement) {
         if self.drift.is_some() || self.replans >= self.max_replans {
             // Drifting again before the last drift was absorbed, or out of
             // replans.
-            self.enter_fault(FaultKind::ContactDrift, finger);
+            self.enter_fault(near.unwrap_or(FaultKind::ContactDrift), finger);
             return;
         }
         self.replans += 1;
@@ -52,10 +66,15 @@ impl Executor {
             offset: self.setpoint.state.object.inverse() * m.object,
         });
         let id = self.goal.or(self.pending).map_or(0, |g| g.id);
-        self.events.push(Event::Drift {
-            id,
-            finger,
-            replan: self.replans,
+        let replan = self.replans;
+        self.events.push(match near {
+            None => Event::Drift { id, finger, replan },
+            Some(kind) => Event::NearLimit {
+                id,
+                kind,
+                finger,
+                replan,
+            },
         });
         match self.phase {
             Phase::Moving => self.request_stop(AfterStop::Recover),

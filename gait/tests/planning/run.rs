@@ -5,7 +5,7 @@
 use gait::executor::{Command, Event, Executor, GoalState, Phase, TickReport};
 use gait::hand::InvariantChecker;
 use gait::planner::{Planner, Setpoint, StepKind};
-use gait::sim::{KinematicHand, Plant};
+use gait::sim::{KinematicHand, Measurement, Plant};
 use gait::{HandConfig, HandState};
 use nalgebra::Vector3;
 
@@ -28,6 +28,8 @@ pub struct RunStats {
     pub faults: u64,
     /// Contact drifts reported (each stops the motion and replans).
     pub drifts: u64,
+    /// Invariants near their limit reported (likewise).
+    pub near_limits: Vec<(gait::executor::FaultKind, u8)>,
     /// Steps reported as started in a tick that ended not moving (a step
     /// announced that never runs).
     pub unmoved_steps: Vec<(u64, StepKind)>,
@@ -76,7 +78,16 @@ impl Rig {
 
     /// One tick: read, tick, write, answer plan requests, check.
     pub fn tick(&mut self) -> TickReport {
-        let m = self.plant.read();
+        self.tick_measured(|_| {})
+    }
+
+    /// [`Rig::tick`] with the measurement passed through `edit` first (a
+    /// sensor error the plant does not have).
+    pub fn tick_measured(&mut self, edit: impl FnOnce(&mut Measurement)) -> TickReport {
+        let mut m = self.plant.read();
+        if let Some(m) = &mut m {
+            edit(m);
+        }
         let rep = *self.exec.tick(m.as_ref());
         self.plant.write(&rep.setpoint);
         if let Some(req) = self.exec.take_plan_request() {
@@ -90,6 +101,9 @@ impl Rig {
                 }
                 Event::Fault { .. } => self.stats.faults += 1,
                 Event::Drift { .. } => self.stats.drifts += 1,
+                Event::NearLimit { kind, finger, .. } => {
+                    self.stats.near_limits.push((kind, finger))
+                }
                 // (After a plan delivered above, the executor moves now.)
                 Event::Step { kind, .. } if self.exec.phase() != Phase::Moving => {
                     self.stats.unmoved_steps.push((rep.tick, kind))

@@ -111,6 +111,18 @@ pub fn event_line(e: &Event) -> String {
         Ok(EventKind::Overrun) => s += &format!(" {} periods missed", e.count),
         Ok(EventKind::ClientsCleaned) => s += &format!(" {} dead nodes", e.count),
         Ok(EventKind::Hold) => s += &format!(" by client {:x}", e.client_id),
+        Ok(EventKind::NearLimit) => {
+            let who = if e.finger < 3 {
+                format!(" {}", finger_name(e.finger))
+            } else {
+                String::new()
+            };
+            s += &format!(
+                "{who} near {}: replanning (replan {})",
+                code(e.fault(), e.fault),
+                e.count
+            )
+        }
         Ok(EventKind::Drift) => {
             s += &format!(" {}: replanning (drift {})", finger_name(e.finger), e.count)
         }

@@ -1,0 +1,96 @@
+//! An invariant near its limit (SPEC §6.3): the *measured* state, while the
+//! hand moves, must keep part of each planning margin to the invariant's
+//! true limit.
+//!
+//! Plans keep the commanded state inside margins (SPEC §1.3): workspace
+//! cones shrunk by `workspace_margin_deg`, force closure by
+//! `fc_margin_deg`, fingertips `fingertip_clearance` apart. A real hand
+//! does not follow the command exactly, and its tracking error uses up
+//! those margins. When the measured state keeps less than
+//! `feedback.limit_guard` of a margin, the executor stops the motion
+//! smoothly and replans from the measured state (module [`recovery`],
+//! like a contact drift; the same `feedback.max_replans` budget).
+//!
+//! The check (one invariant evaluation) runs only when the measurement
+//! differs from the command; the embedded kinematic hand never pays for it.
+//!
+//! [`recovery`]: super::recovery
+
+use super::lifecycle::FaultKind;
+use crate::HandConfig;
+use crate::hand::{InvariantChecker, Unit};
+use crate::sim::Measurement;
+use crate::state::{FingerMode, HandState};
+
+use super::feedback::NO_FINGER;
+
+/// The margins and the fraction of them the measured state must keep.
+#[derive(Debug, Clone, Copy)]
+pub struct LimitGuard {
+    /// Fraction of each margin that must remain (0: off).
+    keep: f64,
+    /// Workspace margin [rad].
+    workspace: f64,
+    /// Force-closure margin [rad] (two-finger grasps, Fact 3).
+    force_closure: f64,
+    /// Fingertip clearance [m].
+    clearance: f64,
+}
+
+impl LimitGuard {
+    /// From the configuration.
+    pub fn new(config: &HandConfig) -> Self {
+        let m = &config.model;
+        Self {
+            keep: config.feedback.limit_guard,
+            workspace: m.workspace_margin_deg.to_radians(),
+            force_closure: m.fc_margin_deg.to_radians(),
+            clearance: m.fingertip_clearance,
+        }
+    }
+
+    /// The invariant (and finger) the measured state `m` is near the limit
+    /// of, if any. `cmd` is the commanded state the measurement is compared
+    /// with.
+    pub fn check(
+        &self,
+        checker: &mut InvariantChecker,
+        cmd: &HandState,
+        m: &Measurement,
+    ) -> Option<(FaultKind, u8)> {
+        if self.keep <= 0.0 {
+            return None;
+        }
+        let exact = m.object == cmd.object
+            && (0..cmd.fingers.len()).all(|k| m.fingers[k].center == cmd.fingers[k].center);
+        if exact {
+            // The command is checked every tick already.
+            return None;
+        }
+        let mut measured = *cmd;
+        measured.object = m.object;
+        for (k, f) in measured.fingers.iter_mut().enumerate() {
+            f.center = m.fingers[k].center;
+            f.orientation = m.fingers[k].orientation;
+        }
+        let r = checker.check(&measured).ok()?;
+        // Slacks are measured from (limit − margin): the true limit is at
+        // −margin, and "near" is closer to it than `keep` of the margin.
+        let near = |slack: f64, margin: f64| slack < -(1.0 - self.keep) * margin;
+        for (k, f) in r.fingers.iter().enumerate() {
+            if f.mode == FingerMode::Grasping && near(f.workspace.slack, self.workspace) {
+                return Some((FaultKind::Workspace, k as u8));
+            }
+        }
+        let fc = r.force_closure.check;
+        if fc.unit == Unit::Radian && near(fc.slack, self.force_closure) {
+            return Some((FaultKind::ForceClosure, NO_FINGER));
+        }
+        for (p, c) in r.collisions.iter().enumerate() {
+            if near(c.slack, self.clearance) {
+                return Some((FaultKind::Collision, crate::hand::PAIRS[p].0 as u8));
+            }
+        }
+        None
+    }
+}
