@@ -79,3 +79,91 @@ fn a_slip_mid_goal_is_reported_replanned_and_the_goal_succeeds() {
     assert!(err <= 1e-6, "true object {err:e} rad from the target");
     g.finish();
 }
+
+#[test]
+fn a_measured_contact_near_its_workspace_limit_is_reported_and_replanned() {
+    // A real hand's looser tracking tolerances; the sensor reports one
+    // grasping fingertip 0.8° further out than it is while its contact is
+    // within 0.2° of the workspace margin: less than half the margin is
+    // left to the cone's edge (SPEC §6.3, `feedback.limit_guard`).
+    let mut ns = Namespace::new("n");
+    ns.cfg.feedback.finger_tolerance = 0.02;
+    ns.cfg.feedback.contact_tolerance = 0.02;
+    let azimuth = ns.cfg.model.finger_azimuth_deg;
+    let margin = ns.cfg.model.workspace_margin_deg.to_radians();
+    let mut g = gait_loop(&ns, 48, |_| {});
+    let target = UnitQuaternion::from_scaled_axis(Vector3::z());
+    let c = target.coords;
+    g.client.send(Command::goal(
+        5,
+        1,
+        GoalFrame::Absolute,
+        [c.w, c.x, c.y, c.z],
+    ));
+    let (mut near, mut states, mut end, mut biased) = (Vec::new(), Vec::new(), None, 0);
+    for _ in 0..100_000 {
+        if biased > 0 {
+            biased -= 1;
+            if biased == 0 {
+                g.rt.controller_mut().plant_mut().inject(None);
+            }
+        }
+        let (statuses, ev) = g.tick();
+        if near.is_empty()
+            && biased == 0
+            && let Some(s) = statuses.last()
+            && s.phase() == Ok(shm_schema::Phase::Rotate)
+            && let Some(k) = (0..3).find(|&k| {
+                let f = &s.fingers[k];
+                f.phase() == Ok(shm_schema::FingerPhase::Grasping)
+                    && f.workspace_margin < margin + 0.2f64.to_radians()
+            })
+        {
+            let az = azimuth[k].to_radians();
+            let d = Vector3::new(az.cos(), az.sin(), 0.0);
+            let p = Vector3::from(s.fingers[k].tip_position);
+            let out =
+                UnitQuaternion::from_scaled_axis(d.cross(&p).normalize() * 0.8f64.to_radians());
+            g.rt.controller_mut()
+                .plant_mut()
+                .inject(Some(InjectedFault::Bias {
+                    finger: k,
+                    offset: out * p - p,
+                }));
+            biased = 6;
+        }
+        for e in ev {
+            match e.kind() {
+                Ok(EventKind::NearLimit) => near.push(e),
+                Ok(EventKind::Fault) => panic!("fault {e:?}"),
+                Ok(EventKind::GoalTransition) if e.goal_id == 1 => {
+                    let s = GoalState::try_from(e.state).unwrap();
+                    states.push(s);
+                    if s.is_terminal() {
+                        end = Some(s);
+                    }
+                }
+                _ => {}
+            }
+        }
+        if end.is_some() {
+            break;
+        }
+        g.yield_to_planner();
+    }
+    assert_eq!(end, Some(GoalState::Succeeded), "{states:?}");
+    assert_eq!(near.len(), 1, "{near:?}");
+    let e = near[0];
+    assert_eq!((e.goal_id, e.client_id, e.count), (1, 5, 1));
+    assert_eq!(e.fault, shm_schema::FaultCode::WorkspaceViolation.code());
+    assert!(e.finger < 3);
+    assert!(
+        states
+            .windows(2)
+            .any(|w| w == [GoalState::Executing, GoalState::Planning]),
+        "replanned: {states:?}"
+    );
+    let truth = g.rt.controller_mut().plant_mut().state().object;
+    assert!(truth.angle_to(&target) <= 1e-6);
+    g.finish();
+}

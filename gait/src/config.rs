@@ -252,11 +252,12 @@ pub struct FeedbackConfig {
     /// per goal (0: either is a fault).
     pub max_replans: u32,
     /// While moving, the *measured* state must keep at least this fraction
-    /// of each margin (workspace cone, force closure, fingertip clearance)
-    /// to the invariant's true limit; closer, the motion stops smoothly and
-    /// the goal is replanned (SPEC §6.3 "an invariant near its limit"). 0
-    /// disables the check. Only a plant whose measurement differs from the
-    /// command pays for it.
+    /// of each margin (workspace cone, two-finger force closure, fingertip
+    /// clearance) to the invariant's true limit; closer for a few ticks in
+    /// a row, the motion stops smoothly and the goal is replanned (SPEC
+    /// §6.3 "an invariant near its limit"; `executor::guard`). 0 disables
+    /// the check. Only a plant whose measurement differs from the command
+    /// pays for it.
     pub limit_guard: f64,
     /// A fingertip that moves less than this fraction of its commanded
     /// motion in one tick (while commanded to move) is stuck; 0 disables

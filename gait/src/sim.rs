@@ -90,6 +90,14 @@ pub enum InjectedFault {
     },
     /// Measurements stop arriving.
     Missing,
+    /// The sensor reports a finger's centre `offset` [m] (hand frame) from
+    /// where it is (a calibration error); the finger itself is unaffected.
+    Bias {
+        /// Which finger.
+        finger: usize,
+        /// Measurement error.
+        offset: Vector3<f64>,
+    },
 }
 
 /// The embedded plant: applies setpoints exactly (SPEC §6.2).
@@ -195,6 +203,11 @@ impl Plant for KinematicHand {
                 }
                 let w = Vector3::new(self.noise(), self.noise(), self.noise());
                 m.object = UnitQuaternion::from_scaled_axis(w * angle) * m.object;
+            }
+            Some(InjectedFault::Bias { finger, offset }) => {
+                if let Some(f) = m.fingers.get_mut(finger) {
+                    f.center += offset;
+                }
             }
             _ => {}
         }

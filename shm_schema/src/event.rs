@@ -31,11 +31,14 @@ pub struct Event {
     pub goal_id: u64,
     /// That goal's client.
     pub client_id: u64,
-    /// [`FaultCode`] code.
+    /// [`FaultCode`] code (Fault: the fault; NearLimit: the invariant, as
+    /// the fault it would become).
     pub fault: u32,
     /// Padding, 0.
     pub reserved: u32,
-    /// Kind-specific count (Overrun: missed periods; ClientsCleaned: nodes).
+    /// Kind-specific count (Overrun: missed periods; ClientsCleaned: nodes;
+    /// Drift, NearLimit: replans of the goal so far; Rewind: the relocated
+    /// fingers as bits).
     pub count: u64,
     /// Kind-specific value (GoalTransition: remaining angle [rad]).
     pub value: f64,

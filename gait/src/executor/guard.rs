@@ -3,16 +3,25 @@
 //! true limit.
 //!
 //! Plans keep the commanded state inside margins (SPEC §1.3): workspace
-//! cones shrunk by `workspace_margin_deg`, force closure by
-//! `fc_margin_deg`, fingertips `fingertip_clearance` apart. A real hand
-//! does not follow the command exactly, and its tracking error uses up
+//! cones shrunk by `workspace_margin_deg`, two-finger force closure by
+//! `fc_margin_deg` (Fact 3), fingertips `fingertip_clearance` apart. A real
+//! hand does not follow the command exactly, and its tracking error uses up
 //! those margins. When the measured state keeps less than
-//! `feedback.limit_guard` of a margin, the executor stops the motion
-//! smoothly and replans from the measured state (module [`recovery`],
-//! like a contact drift; the same `feedback.max_replans` budget).
+//! `feedback.limit_guard` of a margin for [`GUARD_TICKS`] ticks in a row
+//! (one noisy sample does not stop a hand), the executor stops the motion
+//! smoothly and replans (module [`recovery`], like a contact drift; the
+//! same `feedback.max_replans` budget). The stop lets a lagging finger
+//! catch up; the replan starts from the commanded fingertips. A hand that
+//! keeps running into the guard after that needs larger margins (or
+//! better tracking): once the budget is spent it is a fault.
+//!
+//! Three grasping fingers are not guarded for force closure: their
+//! closed-form slacks are not distances to the three-finger boundary
+//! (SPEC §3.2), so a fraction of a margin means nothing there.
 //!
 //! The check (one invariant evaluation) runs only when the measurement
-//! differs from the command; the embedded kinematic hand never pays for it.
+//! differs from the command; the embedded kinematic hand never pays for it,
+//! and with its tolerances a tracking or drift fault comes first anyway.
 //!
 //! [`recovery`]: super::recovery
 
@@ -24,16 +33,19 @@ use crate::state::{FingerMode, HandState};
 
 use super::feedback::NO_FINGER;
 
+/// Consecutive ticks near a limit that stop the motion.
+pub const GUARD_TICKS: u8 = 3;
+
 /// The margins and the fraction of them the measured state must keep.
 #[derive(Debug, Clone, Copy)]
 pub struct LimitGuard {
     /// Fraction of each margin that must remain (0: off).
     keep: f64,
-    /// Workspace margin [rad].
+    /// Workspace margin \[rad\].
     workspace: f64,
-    /// Force-closure margin [rad] (two-finger grasps, Fact 3).
+    /// Force-closure margin \[rad\] (two-finger grasps, Fact 3).
     force_closure: f64,
-    /// Fingertip clearance [m].
+    /// Fingertip clearance \[m\].
     clearance: f64,
 }
 
@@ -82,8 +94,11 @@ impl LimitGuard {
                 return Some((FaultKind::Workspace, k as u8));
             }
         }
-        let fc = r.force_closure.check;
-        if fc.unit == Unit::Radian && near(fc.slack, self.force_closure) {
+        let fc = &r.force_closure;
+        if fc.grasping == 2
+            && fc.check.unit == Unit::Radian
+            && near(fc.check.slack, self.force_closure)
+        {
             return Some((FaultKind::ForceClosure, NO_FINGER));
         }
         for (p, c) in r.collisions.iter().enumerate() {

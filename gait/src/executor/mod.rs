@@ -220,6 +220,8 @@ pub struct Executor {
     feedback: Feedback,
     /// Invariants near their limit in the measured state ([`guard`]).
     guard: guard::LimitGuard,
+    /// Consecutive ticks the guard found the measured state near a limit.
+    near_ticks: u8,
     runner: StepRunner,
     plan: Option<Box<Plan>>,
     step: usize,
@@ -317,6 +319,7 @@ impl Executor {
             grip: grip::GripModel::new(config),
             feedback: Feedback::new(&config.feedback, config.model.object_radius),
             guard: guard::LimitGuard::new(config),
+            near_ticks: 0,
             runner,
             plan: None,
             step: 0,
@@ -469,11 +472,22 @@ impl Executor {
             ) {
                 Ok(c) => {
                     correction = c;
-                    if self.phase == Phase::Moving
-                        && let Some(m) = measurement
-                        && let Some((kind, finger)) =
-                            self.guard.check(&mut self.checker, &self.setpoint.state, m)
+                    let near = match measurement {
+                        Some(m) if self.phase == Phase::Moving => self
+                            .guard
+                            .check(&mut self.checker, &self.setpoint.state, m)
+                            .map(|near| (near, m)),
+                        _ => None,
+                    };
+                    self.near_ticks = if near.is_some() {
+                        self.near_ticks + 1
+                    } else {
+                        0
+                    };
+                    if let Some(((kind, finger), m)) = near
+                        && self.near_ticks >= guard::GUARD_TICKS
                     {
+                        self.near_ticks = 0;
                         self.on_near_limit(kind, finger, m);
                     }
                 }

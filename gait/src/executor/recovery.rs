@@ -30,7 +30,10 @@ use super::*;
 /// A drift being recovered from.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Drift {
-    /// The finger whose contact drifted.
+    /// What it is as a fault: `ContactDrift`, or the invariant near its
+    /// limit.
+    pub cause: FaultKind,
+    /// The finger whose contact drifted (or that is near the limit).
     pub finger: u8,
     /// Object-frame offset of the measured object from the commanded one
     /// (true ≈ commanded · offset); later measurements are checked against
@@ -62,6 +65,7 @@ impl Executor {
         }
         self.replans += 1;
         self.drift = Some(Drift {
+            cause: near.unwrap_or(FaultKind::ContactDrift),
             finger,
             offset: self.setpoint.state.object.inverse() * m.object,
         });
@@ -98,7 +102,12 @@ impl Executor {
     /// tracking error in would break the contact invariant). Enters the
     /// fault and returns false if the state breaks an invariant.
     pub(super) fn rebase(&mut self) -> bool {
-        let finger = self.drift.take().map_or(NO_FINGER, |d| d.finger);
+        let (cause, finger) = self
+            .drift
+            .take()
+            .map_or((FaultKind::ContactDrift, NO_FINGER), |d| {
+                (d.cause, d.finger)
+            });
         let state = self.prev_measurement.map(|m| {
             let mut s = self.setpoint.state;
             s.object = m.object;
@@ -110,7 +119,7 @@ impl Executor {
                 true
             }
             _ => {
-                self.enter_fault(FaultKind::ContactDrift, finger);
+                self.enter_fault(cause, finger);
                 // At rest already: nothing to brake.
                 self.braking = false;
                 false
