@@ -12,7 +12,34 @@ use gait::executor::Phase as ExecPhase;
 use gait::sim::InjectedFault;
 use ipc_rig::{Namespace, gait_loop};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
-use shm_schema::{Command, EventKind, GoalFrame, GoalState};
+use shm_schema::{Command, Event, EventKind, GoalFrame, GoalState};
+
+/// Sorts one tick's events: those of `kind` into `found`, goal 1's
+/// transitions into `states`; a fault fails the test. Returns goal 1's
+/// terminal state if it came.
+fn sort_events(
+    ev: Vec<Event>,
+    kind: EventKind,
+    found: &mut Vec<Event>,
+    states: &mut Vec<GoalState>,
+) -> Option<GoalState> {
+    let mut end = None;
+    for e in ev {
+        match e.kind() {
+            Ok(k) if k == kind => found.push(e),
+            Ok(EventKind::Fault) => panic!("fault {e:?}"),
+            Ok(EventKind::GoalTransition) if e.goal_id == 1 => {
+                let s = GoalState::try_from(e.state).unwrap();
+                states.push(s);
+                if s.is_terminal() {
+                    end = Some(s);
+                }
+            }
+            _ => {}
+        }
+    }
+    end
+}
 
 #[test]
 fn a_slip_mid_goal_is_reported_replanned_and_the_goal_succeeds() {
@@ -44,20 +71,7 @@ fn a_slip_mid_goal_is_reported_replanned_and_the_goal_succeeds() {
         if slip_now {
             g.rt.controller_mut().plant_mut().inject(None);
         }
-        for e in ev {
-            match e.kind() {
-                Ok(EventKind::Drift) => drifts.push(e),
-                Ok(EventKind::Fault) => panic!("fault {e:?}"),
-                Ok(EventKind::GoalTransition) if e.goal_id == 1 => {
-                    let s = GoalState::try_from(e.state).unwrap();
-                    states.push(s);
-                    if s.is_terminal() {
-                        end = Some(s);
-                    }
-                }
-                _ => {}
-            }
-        }
+        end = sort_events(ev, EventKind::Drift, &mut drifts, &mut states);
         if end.is_some() {
             break;
         }
@@ -132,20 +146,7 @@ fn a_measured_contact_near_its_workspace_limit_is_reported_and_replanned() {
                 }));
             biased = 6;
         }
-        for e in ev {
-            match e.kind() {
-                Ok(EventKind::NearLimit) => near.push(e),
-                Ok(EventKind::Fault) => panic!("fault {e:?}"),
-                Ok(EventKind::GoalTransition) if e.goal_id == 1 => {
-                    let s = GoalState::try_from(e.state).unwrap();
-                    states.push(s);
-                    if s.is_terminal() {
-                        end = Some(s);
-                    }
-                }
-                _ => {}
-            }
-        }
+        end = sort_events(ev, EventKind::NearLimit, &mut near, &mut states);
         if end.is_some() {
             break;
         }
