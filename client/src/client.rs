@@ -69,7 +69,7 @@ fn random_u64() -> u64 {
     v
 }
 
-/// CLOCK_MONOTONIC [ns] (the clock of the status time stamps).
+/// CLOCK_MONOTONIC \[ns\] (the clock of the status time stamps).
 pub fn monotonic_ns() -> u64 {
     let mut ts = libc::timespec {
         tv_sec: 0,

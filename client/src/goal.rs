@@ -3,7 +3,7 @@
 use crate::error::{Error, Result};
 use shm_schema::{Command, GoalFrame, LimitKind, LimitOrder};
 
-/// The unit quaternion [w, x, y, z] of a rotation by `angle` [rad] about
+/// The unit quaternion [w, x, y, z] of a rotation by `angle` \[rad\] about
 /// `axis` (any non-zero length).
 pub fn quat_from_axis_angle(axis: [f64; 3], angle: f64) -> Result<[f64; 4]> {
     let n = axis.iter().map(|a| a * a).sum::<f64>().sqrt();
@@ -48,7 +48,7 @@ impl GoalSpec {
         }
     }
 
-    /// A goal given as axis and angle [rad].
+    /// A goal given as axis and angle \[rad\].
     pub fn axis_angle(axis: [f64; 3], angle: f64, frame: GoalFrame) -> Result<Self> {
         if frame == GoalFrame::AxisAngle {
             return Self::turn(axis, angle);
@@ -60,7 +60,7 @@ impl GoalSpec {
         })
     }
 
-    /// Turn the object by `angle` [rad] about the hand-frame `axis` from its
+    /// Turn the object by `angle` \[rad\] about the hand-frame `axis` from its
     /// current orientation — any angle: 2π is a full turn, not a no-op
     /// (frame [`GoalFrame::AxisAngle`]).
     pub fn turn(axis: [f64; 3], angle: f64) -> Result<Self> {

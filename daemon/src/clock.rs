@@ -29,7 +29,7 @@ pub trait Clock {
 #[derive(Debug, Default, Clone, Copy)]
 pub struct MonotonicClock;
 
-/// CLOCK_MONOTONIC now [ns] (also used off the loop, e.g. for latency stamps).
+/// CLOCK_MONOTONIC now \[ns\] (also used off the loop, e.g. for latency stamps).
 pub fn monotonic_now() -> Nanos {
     let mut ts = libc::timespec {
         tv_sec: 0,

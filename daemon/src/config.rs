@@ -13,7 +13,7 @@ pub const DEFAULT_CONFIG_PATH: &str = "/etc/gaitd/gaitd.toml";
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ControlConfig {
-    /// Control loop rate [Hz] (SPEC §6.1: 100 Hz – 10 kHz, default 1 kHz).
+    /// Control loop rate \[Hz\] (SPEC §6.1: 100 Hz – 10 kHz, default 1 kHz).
     pub tick_hz: f64,
 }
 
@@ -39,9 +39,9 @@ pub struct DaemonSection {
     /// Recent (client, goal id) pairs remembered to refuse duplicate ids.
     pub goal_id_memory: u32,
     /// On SIGTERM/SIGINT, how long the controller may take to come to rest
-    /// before the final status is published anyway [ms].
+    /// before the final status is published anyway \[ms\].
     pub shutdown_timeout_ms: u32,
-    /// Housekeeping period: dead-node cleanup, client count, STATUS= [ms].
+    /// Housekeeping period: dead-node cleanup, client count, STATUS= \[ms\].
     pub housekeeping_period_ms: u32,
     /// How the writer thread learns that a tick's output is queued.
     pub writer_wake: WriterWake,
@@ -141,7 +141,7 @@ pub struct RtSection {
     pub loop_cpus: Vec<u32>,
     /// CPUs of the other threads (empty: no pinning).
     pub background_cpus: Vec<u32>,
-    /// Busy-wait this long before each tick instead of sleeping [µs]
+    /// Busy-wait this long before each tick instead of sleeping \[µs\]
     /// (0: sleep all the way). Costs that much CPU per period.
     pub spin_us: u32,
 }
@@ -459,12 +459,12 @@ pub enum LoadError {
 }
 
 impl DaemonConfig {
-    /// The loop's busy-wait before each deadline (`[rt] spin_us`) [ns].
+    /// The loop's busy-wait before each deadline (`[rt] spin_us`) \[ns\].
     pub fn spin_ns(&self) -> u64 {
         u64::from(self.rt.spin_us) * 1000
     }
 
-    /// The loop period [ns] (rounded to the nearest nanosecond).
+    /// The loop period \[ns\] (rounded to the nearest nanosecond).
     pub fn period_ns(&self) -> u64 {
         (1e9 / self.control.tick_hz).round() as u64
     }

@@ -33,7 +33,7 @@ pub enum GoalTarget {
     Rotation {
         /// Unit axis.
         axis: Vector3<f64>,
-        /// Angle [rad].
+        /// Angle \[rad\].
         angle: f64,
     },
 }
@@ -98,9 +98,9 @@ pub struct GoalReport {
     pub state: GoalState,
     /// Reason (terminal states).
     pub reason: ReasonCode,
-    /// Angle still to rotate [rad].
+    /// Angle still to rotate \[rad\].
     pub remaining_angle: f64,
-    /// Estimated time to completion [s], if known.
+    /// Estimated time to completion \[s\], if known.
     pub eta: Option<f64>,
     /// Gaits completed.
     pub gaits_done: u32,
@@ -131,9 +131,9 @@ impl Default for GoalReport {
 pub struct FingerReport {
     /// Finger state.
     pub phase: FingerPhase,
-    /// Angle to the workspace cone boundary, > 0 inside [rad].
+    /// Angle to the workspace cone boundary, > 0 inside \[rad\].
     pub workspace_margin: f64,
-    /// Intended normal force [N] (0 when not in contact or unknown).
+    /// Intended normal force \[N\] (0 when not in contact or unknown).
     pub normal_force: f64,
 }
 
@@ -155,7 +155,7 @@ pub struct ControlOutput {
     pub fingers: [FingerReport; gait::FINGERS],
     /// Force closure of the grasping fingers.
     pub grasp: GraspState,
-    /// Force-closure margin [rad] (0 when unknown).
+    /// Force-closure margin \[rad\] (0 when unknown).
     pub grasp_margin: f64,
 }
 

@@ -60,7 +60,7 @@ pub struct GaitController {
     /// Recognises substitutions and rewinds in the finished steps.
     gaits: GaitTracker,
     safe_hold_requested: bool,
-    /// The configured workspace margin [rad].
+    /// The configured workspace margin \[rad\].
     workspace_margin: f64,
     /// Targets of the goals in `goals` (same slots), for trace headers.
     targets: [Option<executor::GoalTarget>; GOAL_SLOTS],

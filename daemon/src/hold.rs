@@ -22,7 +22,7 @@ pub struct HoldController {
 }
 
 /// Angle from the contact direction of `finger` to the boundary of its
-/// workspace cone W_k (SPEC §1.1), positive inside [rad].
+/// workspace cone W_k (SPEC §1.1), positive inside \[rad\].
 pub fn workspace_margin(config: &HandConfig, hand: &HandState, finger: usize) -> f64 {
     let m = &config.model;
     let phi = m.finger_azimuth_deg[finger].to_radians();

@@ -112,9 +112,9 @@ pub struct WriterSettings {
     pub status_notify_every: u64,
     /// How the writer learns that a tick is done.
     pub wake: WriterWake,
-    /// The loop's period [ns] (bounds how long the writer waits for a tick).
+    /// The loop's period \[ns\] (bounds how long the writer waits for a tick).
     pub period: Nanos,
-    /// The loop's busy-wait before each deadline (`[rt] spin_us`) [ns]: the
+    /// The loop's busy-wait before each deadline (`[rt] spin_us`) \[ns\]: the
     /// writer's timer fires when the loop's does, not in the middle of its
     /// spin (where, on a shared CPU, the interrupt would make the loop late).
     pub spin: Nanos,

@@ -60,7 +60,7 @@ pub struct Shared {
     pub events_dropped: AtomicU64,
     /// Client nodes alive (housekeeping writes).
     pub clients: AtomicU32,
-    /// The loop's next deadline [ns] (loop writes; the writer thread sleeps
+    /// The loop's next deadline \[ns\] (loop writes; the writer thread sleeps
     /// until it). 0 before the first tick.
     pub next_deadline: AtomicU64,
     /// Deadline of the last tick whose output is queued (loop writes).
@@ -77,19 +77,19 @@ pub struct Shared {
 /// The loop's settings, from the config.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LoopSettings {
-    /// Period [ns].
+    /// Period \[ns\].
     pub period: Nanos,
     /// Status every N ticks.
     pub status_every: u64,
     /// Commands per tick at most.
     pub max_commands_per_tick: u32,
-    /// How long a shutdown may wait for the controller to come to rest [ns].
+    /// How long a shutdown may wait for the controller to come to rest \[ns\].
     pub shutdown_timeout: Nanos,
-    /// Object radius R [m] (for contact points in the status).
+    /// Object radius R \[m\] (for contact points in the status).
     pub object_radius: f64,
     /// This run's instance id.
     pub instance: u64,
-    /// Busy-wait before each tick [ns] (`[rt] spin_us`).
+    /// Busy-wait before each tick \[ns\] (`[rt] spin_us`).
     pub spin: Nanos,
 }
 

@@ -11,9 +11,9 @@ use shm_schema::status::{JITTER_BUCKETS, TIMING_REFRESH_TICKS, jitter_bucket};
 /// Statistics of the running loop.
 #[derive(Debug, Clone)]
 pub struct LoopStats {
-    /// Compute time per tick (wake-up to end of work) [ns].
+    /// Compute time per tick (wake-up to end of work) \[ns\].
     pub compute: Histogram,
-    /// Wake-up jitter per tick [ns].
+    /// Wake-up jitter per tick \[ns\].
     pub jitter: Histogram,
     coarse_jitter: [u64; JITTER_BUCKETS],
     overruns: u64,

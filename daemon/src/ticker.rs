@@ -21,7 +21,7 @@ pub struct Wake {
 }
 
 impl Wake {
-    /// Wake-up jitter: how late the loop woke for this tick's deadline [ns].
+    /// Wake-up jitter: how late the loop woke for this tick's deadline \[ns\].
     pub fn jitter(&self) -> Nanos {
         self.now - self.deadline
     }
@@ -66,7 +66,7 @@ impl Ticker {
         }
     }
 
-    /// The period [ns].
+    /// The period \[ns\].
     pub fn period(&self) -> Nanos {
         self.period
     }

@@ -195,7 +195,7 @@ pub struct TraceSettings {
     pub instance: u64,
     /// The model (header echo).
     pub hand: HandConfig,
-    /// Control period [s].
+    /// Control period \[s\].
     pub dt: f64,
     /// CPUs to pin the thread to (empty: any).
     pub cpus: Vec<u32>,

@@ -19,7 +19,7 @@ use gait::rolling::{RollGoal, RollLimits, RollingPath, fig2_reach, plan_roll};
 use gait::{HandConfig, HandState};
 use nalgebra::{UnitQuaternion, Vector3};
 
-/// Latitude and longitude of a hand-frame direction [deg].
+/// Latitude and longitude of a hand-frame direction \[deg\].
 fn latlon(n: &Vector3<f64>) -> (f64, f64) {
     let lon = n.y.atan2(n.x).to_degrees();
     (

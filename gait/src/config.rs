@@ -46,29 +46,29 @@ pub enum ConfigError {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ModelConfig {
-    /// Object sphere radius R [m] (paper: 0.5).
+    /// Object sphere radius R \[m\] (paper: 0.5).
     pub object_radius: f64,
-    /// Fingertip sphere radius r [m] (paper: 0.1).
+    /// Fingertip sphere radius r \[m\] (paper: 0.1).
     pub fingertip_radius: f64,
-    /// Friction angle θ, μ = tan θ [deg] (paper: 20°).
+    /// Friction angle θ, μ = tan θ \[deg\] (paper: 20°).
     pub friction_angle_deg: f64,
     /// Torsional friction ratio: μ_t = ratio · r · μ (SPEC §1.2, default 0.1).
     pub torsion_ratio: f64,
-    /// Azimuths φ_k of the finger base directions d_k in the xy-plane [deg].
+    /// Azimuths φ_k of the finger base directions d_k in the xy-plane \[deg\].
     pub finger_azimuth_deg: [f64; 3],
-    /// Half angle β of each finger's workspace cone on the object [deg] (paper: 60°).
+    /// Half angle β of each finger's workspace cone on the object \[deg\] (paper: 60°).
     pub workspace_half_angle_deg: f64,
-    /// Height δR of the free-space shell above the object surface [m].
+    /// Height δR of the free-space shell above the object surface \[m\].
     pub free_space_height: f64,
-    /// Fingertip roll limit γ about its pole axis [deg] (paper: 60°).
+    /// Fingertip roll limit γ about its pole axis \[deg\] (paper: 60°).
     pub roll_limit_deg: f64,
-    /// Minimum gap between two fingertip spheres [m].
+    /// Minimum gap between two fingertip spheres \[m\].
     pub fingertip_clearance: f64,
-    /// Angle margin kept inside the force-closure boundary (Fact 3) [deg].
+    /// Angle margin kept inside the force-closure boundary (Fact 3) \[deg\].
     pub fc_margin_deg: f64,
-    /// Angle margin kept inside the workspace cones [deg].
+    /// Angle margin kept inside the workspace cones \[deg\].
     pub workspace_margin_deg: f64,
-    /// Margin kept inside the roll limit [deg].
+    /// Margin kept inside the roll limit \[deg\].
     pub roll_margin_deg: f64,
     /// How far a grasping fingertip centre may be from the contact sphere
     /// |p| = R + r before the contact counts as broken (SPEC §1.3 I5,
@@ -106,19 +106,19 @@ impl Default for ModelConfig {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct LoadConfig {
-    /// Object mass m [kg].
+    /// Object mass m \[kg\].
     pub object_mass: f64,
     /// Gravity vector g in the hand frame [m/s²].
     pub gravity: [f64; 3],
-    /// Extra force [N] the grasp must resist in any direction on top of the
+    /// Extra force \[N\] the grasp must resist in any direction on top of the
     /// weight (the disturbance margin of SPEC §3.3).
     pub disturbance_force: f64,
     /// Extra torque [N·m] the grasp must resist about any axis.
     pub disturbance_torque: f64,
-    /// Least normal force a grasping finger presses with [N] (keeps the
+    /// Least normal force a grasping finger presses with \[N\] (keeps the
     /// contact sensed and loaded, e.g. a finger just placed).
     pub min_grip: f64,
-    /// Largest normal force a finger may be commanded [N].
+    /// Largest normal force a finger may be commanded \[N\].
     pub max_grip: f64,
 }
 
@@ -187,9 +187,9 @@ impl Default for LimitsConfig {
 #[serde(deny_unknown_fields, default)]
 pub struct PlannerConfig {
     /// Height above the contact surface at which free fingertips hover and
-    /// travel [m]; at most `model.free_space_height`.
+    /// travel \[m\]; at most `model.free_space_height`.
     pub transfer_height: f64,
-    /// Spacing of the candidate contact grid in each workspace cone [deg].
+    /// Spacing of the candidate contact grid in each workspace cone \[deg\].
     pub candidate_spacing_deg: f64,
     /// Children kept per relocation pattern in the search.
     pub branching: u32,
@@ -198,13 +198,13 @@ pub struct PlannerConfig {
     /// Directions tried when the object must first rotate about another
     /// axis (paper Theory 1 fails, SPEC §4.3).
     pub escape_axes: u32,
-    /// Plans longer than this [s] also try a first rotation about other
+    /// Plans longer than this \[s\] also try a first rotation about other
     /// axes and keep the quickest (PLANNER-NOTES; costs planning time only
     /// for long plans).
     pub detour_above_s: f64,
     /// Axes tried for such a detour (0: never).
     pub detour_axes: u32,
-    /// Extra separation [deg] beyond the force-closure boundary (with its
+    /// Extra separation \[deg\] beyond the force-closure boundary (with its
     /// margin) of every pair the planner makes, and the extra the roll
     /// from a three-finger start aims for. Pairs near the boundary need
     /// huge grip forces to hold any load (SPEC §3.3; the MuJoCo oracle's
@@ -238,13 +238,13 @@ impl Default for PlannerConfig {
 #[serde(deny_unknown_fields, default)]
 pub struct FeedbackConfig {
     /// Largest measured-vs-commanded object orientation error before a
-    /// fault [deg].
+    /// fault \[deg\].
     pub object_tolerance_deg: f64,
     /// Largest measured-vs-commanded fingertip position error before a
-    /// fault [m].
+    /// fault \[m\].
     pub finger_tolerance: f64,
     /// Largest drift of a grasping contact point over the object surface
-    /// (slip) [m]. Beyond it the motion stops smoothly and the goal is
+    /// (slip) \[m\]. Beyond it the motion stops smoothly and the goal is
     /// replanned from the measured state (SPEC §6.3); a fault once
     /// `max_replans` is used up, or if the drift goes on during the stop.
     pub contact_tolerance: f64,
@@ -667,7 +667,7 @@ impl HandConfig {
         self.model.friction_angle_deg.to_radians().tan()
     }
 
-    /// Torsional friction coefficient μ_t = ratio · r · μ (SPEC §1.2) [m].
+    /// Torsional friction coefficient μ_t = ratio · r · μ (SPEC §1.2) \[m\].
     pub fn mu_torsion(&self) -> f64 {
         self.model.torsion_ratio * self.model.fingertip_radius * self.mu()
     }

@@ -15,7 +15,7 @@ use crate::state::{FingerMode, HandState};
 /// One measured fingertip.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeasuredFinger {
-    /// Fingertip centre, hand frame [m].
+    /// Fingertip centre, hand frame \[m\].
     pub center: Vector3<f64>,
     /// Fingertip orientation (fingertip → hand).
     pub orientation: UnitQuaternion<f64>,
@@ -75,12 +75,12 @@ pub enum InjectedFault {
         /// Slip rate [rad/s].
         rate: f64,
     },
-    /// Gaussian-like noise of standard deviation `position` [m] on the
-    /// fingertip centres and `angle` [rad] on the object orientation.
+    /// Gaussian-like noise of standard deviation `position` \[m\] on the
+    /// fingertip centres and `angle` \[rad\] on the object orientation.
     Noise {
-        /// Position noise [m].
+        /// Position noise \[m\].
         position: f64,
-        /// Orientation noise [rad].
+        /// Orientation noise \[rad\].
         angle: f64,
     },
     /// A finger stops following its setpoints.
@@ -90,7 +90,7 @@ pub enum InjectedFault {
     },
     /// Measurements stop arriving.
     Missing,
-    /// The sensor reports a finger's centre `offset` [m] (hand frame) from
+    /// The sensor reports a finger's centre `offset` \[m\] (hand frame) from
     /// where it is (a calibration error); the finger itself is unaffected.
     Bias {
         /// Which finger.

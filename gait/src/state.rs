@@ -25,13 +25,13 @@ pub enum FingerMode {
 pub struct FingerState {
     /// Grasping or free.
     pub mode: FingerMode,
-    /// Fingertip sphere centre p, hand frame [m].
+    /// Fingertip sphere centre p, hand frame \[m\].
     pub center: Vector3<f64>,
     /// Fingertip orientation Q_f (fingertip frame → hand frame). The
     /// fingertip's pole axis (centre of its contactable hemisphere) is
     /// Q_f e_z.
     pub orientation: UnitQuaternion<f64>,
-    /// Roll τ about the pole axis, τ̇ = ω_f · (Q_f e_z) (SPEC §1.1) [rad].
+    /// Roll τ about the pole axis, τ̇ = ω_f · (Q_f e_z) (SPEC §1.1) \[rad\].
     pub roll: f64,
 }
 

@@ -109,15 +109,15 @@ pub fn phase_name(phase: Phase, step: Option<StepKind>) -> &'static str {
 /// One fingertip in a [`Sample`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FingerSample {
-    /// Fingertip centre `p` [m].
+    /// Fingertip centre `p` \[m\].
     pub p: Vector3<f64>,
     /// Fingertip orientation `q` (world-from-fingertip).
     pub q: UnitQuaternion<f64>,
     /// Touching the object (|p| = R + r).
     pub contact: bool,
-    /// Intended normal force [N] (0 when not in contact).
+    /// Intended normal force \[N\] (0 when not in contact).
     pub grip_force: f64,
-    /// Roll angle [rad].
+    /// Roll angle \[rad\].
     pub roll: f64,
 }
 
@@ -125,7 +125,7 @@ pub struct FingerSample {
 ///
 /// Why it exists: a real-time loop copies this (no allocation, no
 /// formatting) and another thread formats it later with [`sample_line`];
-/// [`line`] goes through the same path, so offline planning and the daemon
+/// [`line()`] goes through the same path, so offline planning and the daemon
 /// write byte-identical lines for the same tick.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
@@ -137,9 +137,9 @@ pub struct Sample {
     pub fingers: [FingerSample; crate::FINGERS],
     /// Force closure of the commanded grasp.
     pub fc: bool,
-    /// Force-closure margin [rad].
+    /// Force-closure margin \[rad\].
     pub fc_margin: f64,
-    /// Angle still to rotate [rad].
+    /// Angle still to rotate \[rad\].
     pub remaining_angle: f64,
     /// Gaits done.
     pub gaits: u32,

@@ -9,9 +9,9 @@ use crate::profile::Profile;
 /// A blocked interval `(left, right)` of durations; `profile` achieves `right`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Interval {
-    /// Left end [s] (feasible).
+    /// Left end \[s\] (feasible).
     pub left: f64,
-    /// Right end [s] (feasible).
+    /// Right end \[s\] (feasible).
     pub right: f64,
     /// The extremal profile of duration `right`.
     pub profile: Profile,
@@ -41,7 +41,7 @@ impl Interval {
 pub struct Block {
     /// The time-optimal profile.
     pub p_min: Profile,
-    /// Its duration [s] (including the brake).
+    /// Its duration \[s\] (including the brake).
     pub t_min: f64,
     /// First blocked interval.
     pub a: Option<Interval>,

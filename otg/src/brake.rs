@@ -12,7 +12,7 @@ const BRAKE_EPS: f64 = 2.2e-14;
 /// Up to two constant-jerk phases run before the main profile.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Brake {
-    /// Total brake duration [s].
+    /// Total brake duration \[s\].
     pub duration: f64,
     /// Phase durations.
     pub t: [f64; 2],

@@ -13,7 +13,7 @@ use crate::robust;
 use crate::trajectory::Trajectory;
 use crate::velocity::{AccLim, VelStep1, VelStep2};
 
-/// Longest trajectory accepted [s] (as Ruckig).
+/// Longest trajectory accepted \[s\] (as Ruckig).
 pub const MAX_DURATION: f64 = 7.6e3;
 
 /// Kinematic limits of one DoF.

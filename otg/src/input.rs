@@ -73,7 +73,7 @@ pub struct Input<const N: usize> {
     pub min_acceleration: Option<[f64; N]>,
     /// Disabled DoFs keep their current state (constant acceleration).
     pub enabled: [bool; N],
-    /// Lower bound of the trajectory duration [s].
+    /// Lower bound of the trajectory duration \[s\].
     pub minimum_duration: Option<f64>,
 }
 

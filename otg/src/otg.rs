@@ -26,7 +26,7 @@ pub struct Output<const N: usize> {
     pub new_acceleration: [f64; N],
     /// Jerk during this cycle's end.
     pub new_jerk: [f64; N],
-    /// Time since the start of the current trajectory [s].
+    /// Time since the start of the current trajectory \[s\].
     pub time: f64,
     /// Whether this update recalculated the trajectory.
     pub new_calculation: bool,
@@ -67,7 +67,7 @@ pub struct Otg<const N: usize> {
 }
 
 impl<const N: usize> Otg<N> {
-    /// A generator with control cycle `delta_time` [s] (finite, > 0).
+    /// A generator with control cycle `delta_time` \[s\] (finite, > 0).
     pub fn new(delta_time: f64) -> Result<Self, OtgError> {
         if !(delta_time.is_finite() && delta_time > 0.0) {
             return Err(OtgError::InvalidInput {
@@ -83,7 +83,7 @@ impl<const N: usize> Otg<N> {
         })
     }
 
-    /// The control cycle [s].
+    /// The control cycle \[s\].
     pub fn delta_time(&self) -> f64 {
         self.delta_time
     }

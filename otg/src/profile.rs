@@ -71,9 +71,9 @@ pub fn integrate(t: f64, p: f64, v: f64, a: f64, j: f64) -> (f64, f64, f64) {
 /// A single-DoF jerk-limited profile.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Profile {
-    /// Phase durations [s].
+    /// Phase durations \[s\].
     pub t: [f64; 7],
-    /// Cumulative phase end times [s] (without the brake).
+    /// Cumulative phase end times \[s\] (without the brake).
     pub t_sum: [f64; 7],
     /// Jerk of each phase.
     pub j: [f64; 7],

@@ -20,9 +20,9 @@ pub struct State<const N: usize> {
 pub struct Trajectory<const N: usize> {
     /// Per-DoF profiles (each including its brake pre-trajectory).
     pub profiles: [Profile; N],
-    /// Synchronised duration [s].
+    /// Synchronised duration \[s\].
     pub duration: f64,
-    /// Time-optimal duration of each DoF on its own [s] (Step 1).
+    /// Time-optimal duration of each DoF on its own \[s\] (Step 1).
     pub independent_min_durations: [f64; N],
     /// The DoF whose time-optimal (or extremal) profile sets the duration;
     /// `None` when the minimum duration does, or for an empty trajectory.

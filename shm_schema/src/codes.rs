@@ -124,7 +124,7 @@ code_enum! {
         Absolute = 1,
         /// Target is a rotation applied to the current orientation, hand frame: q_goal = q_rel · q_o.
         Relative = 2,
-        /// Target is `[angle, x, y, z]`: turn the object by `angle` [rad] about the hand-frame axis (x, y, z) from its orientation at acceptance; any angle (2π is a full turn, not a no-op).
+        /// Target is `[angle, x, y, z]`: turn the object by `angle` \[rad\] about the hand-frame axis (x, y, z) from its orientation at acceptance; any angle (2π is a full turn, not a no-op).
         AxisAngle = 3,
     }
 }

@@ -295,7 +295,7 @@ impl Command {
     }
 }
 
-/// Largest angle an axis-angle goal may ask for [rad] (32 turns).
+/// Largest angle an axis-angle goal may ask for \[rad\] (32 turns).
 pub const MAX_AXIS_ANGLE: f64 = 64.0 * core::f64::consts::PI;
 
 /// Checks an axis-angle target `[angle, x, y, z]`: finite angle of at most

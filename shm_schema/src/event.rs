@@ -15,7 +15,7 @@ pub struct Event {
     pub seq: u64,
     /// Tick at which it happened.
     pub tick: u64,
-    /// CLOCK_MONOTONIC time of that tick [ns].
+    /// CLOCK_MONOTONIC time of that tick \[ns\].
     pub time_ns: u64,
     /// Daemon instance id.
     pub instance: u64,
@@ -40,7 +40,7 @@ pub struct Event {
     /// Drift, NearLimit: replans of the goal so far; Rewind: the relocated
     /// fingers as bits).
     pub count: u64,
-    /// Kind-specific value (GoalTransition: remaining angle [rad]).
+    /// Kind-specific value (GoalTransition: remaining angle \[rad\]).
     pub value: f64,
 }
 

@@ -17,7 +17,7 @@ pub const fn jitter_bucket_upper_ns(i: usize) -> u64 {
     1000 << i
 }
 
-/// The bucket of a wake-up jitter value [ns].
+/// The bucket of a wake-up jitter value \[ns\].
 pub const fn jitter_bucket(jitter_ns: u64) -> usize {
     let us = jitter_ns / 1000;
     if us == 0 {
@@ -47,9 +47,9 @@ pub struct GoalStatus {
     pub state: u32,
     /// [`ReasonCode`] code (set in terminal states).
     pub reason: u32,
-    /// Angle still to rotate to the target [rad].
+    /// Angle still to rotate to the target \[rad\].
     pub remaining_angle: f64,
-    /// Estimated time to completion [s]; −1 when unknown.
+    /// Estimated time to completion \[s\]; −1 when unknown.
     pub eta: f64,
     /// Gaits completed for this goal.
     pub gaits_done: u32,
@@ -71,22 +71,22 @@ pub struct FingerStatus {
     pub state: u32,
     /// Padding, 0.
     pub reserved: u32,
-    /// Contact point on the object surface, hand frame [m].
+    /// Contact point on the object surface, hand frame \[m\].
     pub contact_hand: [f64; 3],
-    /// Contact point on the object surface, object frame [m].
+    /// Contact point on the object surface, object frame \[m\].
     pub contact_object: [f64; 3],
-    /// Fingertip sphere centre p, hand frame [m].
+    /// Fingertip sphere centre p, hand frame \[m\].
     pub tip_position: [f64; 3],
     /// Fingertip orientation Q_f [w, x, y, z] (fingertip → hand frame).
     pub tip_orientation: [f64; 4],
     /// Contact point on the fingertip, fingertip frame, unit vector m.
     pub tip_contact: [f64; 3],
-    /// Roll τ about the fingertip pole axis [rad].
+    /// Roll τ about the fingertip pole axis \[rad\].
     pub roll: f64,
     /// Angle from the contact (or lifted tip direction) to its workspace
-    /// cone boundary, positive inside [rad].
+    /// cone boundary, positive inside \[rad\].
     pub workspace_margin: f64,
-    /// Normal force the controller intends at the contact [N]; 0 when not
+    /// Normal force the controller intends at the contact \[N\]; 0 when not
     /// in contact or not computed.
     pub normal_force: f64,
 }
@@ -97,21 +97,21 @@ pub struct FingerStatus {
 #[repr(C)]
 #[type_name("gaitd::Timing.v1")]
 pub struct Timing {
-    /// Loop period [ns].
+    /// Loop period \[ns\].
     pub period_ns: u64,
-    /// Compute time of the previous tick (wake-up to end of work) [ns].
+    /// Compute time of the previous tick (wake-up to end of work) \[ns\].
     pub compute_last_ns: u64,
-    /// Compute time median since start [ns].
+    /// Compute time median since start \[ns\].
     pub compute_p50_ns: u64,
-    /// Compute time 99th percentile since start [ns].
+    /// Compute time 99th percentile since start \[ns\].
     pub compute_p99_ns: u64,
-    /// Compute time maximum since start [ns].
+    /// Compute time maximum since start \[ns\].
     pub compute_max_ns: u64,
-    /// Wake-up jitter (wake time − deadline) of this tick [ns].
+    /// Wake-up jitter (wake time − deadline) of this tick \[ns\].
     pub jitter_last_ns: u64,
-    /// Wake-up jitter 99th percentile since start [ns].
+    /// Wake-up jitter 99th percentile since start \[ns\].
     pub jitter_p99_ns: u64,
-    /// Wake-up jitter maximum since start [ns].
+    /// Wake-up jitter maximum since start \[ns\].
     pub jitter_max_ns: u64,
     /// Missed periods since start (skipped, never made up in a burst).
     pub overruns: u64,
@@ -119,7 +119,7 @@ pub struct Timing {
     pub jitter_hist: [u64; JITTER_BUCKETS],
 }
 
-/// How often the timing percentiles are recomputed [ticks].
+/// How often the timing percentiles are recomputed \[ticks\].
 pub const TIMING_REFRESH_TICKS: u64 = 100;
 
 /// The daemon's state, published every tick with latest-value semantics
@@ -132,9 +132,9 @@ pub const TIMING_REFRESH_TICKS: u64 = 100;
 pub struct Status {
     /// Tick counter since daemon start.
     pub tick: u64,
-    /// CLOCK_MONOTONIC time of this tick's wake-up [ns].
+    /// CLOCK_MONOTONIC time of this tick's wake-up \[ns\].
     pub time_ns: u64,
-    /// CLOCK_MONOTONIC time just before publishing [ns] (for latency measurements).
+    /// CLOCK_MONOTONIC time just before publishing \[ns\] (for latency measurements).
     pub publish_time_ns: u64,
     /// Random id of this daemon run; changes when the daemon restarts.
     pub instance: u64,
@@ -146,7 +146,7 @@ pub struct Status {
     pub fault: u32,
     /// [`GraspState`] code (force closure of the grasping fingers).
     pub grasp: u32,
-    /// Force-closure margin [rad] (angle margin of SPEC §3); 0 when unknown.
+    /// Force-closure margin \[rad\] (angle margin of SPEC §3); 0 when unknown.
     pub grasp_margin: f64,
     /// Object orientation q_o [w, x, y, z] (object → hand frame).
     pub object_q: [f64; 4],

@@ -38,9 +38,9 @@ use crate::state::{FingerMode, HandState};
 /// Grip forces for one state.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Grip {
-    /// Normal force per finger (0 for free fingers) [N].
+    /// Normal force per finger (0 for free fingers) \[N\].
     pub normal: [f64; 3],
-    /// Full contact force on the object per finger, weight-only load [N].
+    /// Full contact force on the object per finger, weight-only load \[N\].
     pub force: [Vector3<f64>; 3],
     /// Torsional moment about the inward normal per finger [N·m].
     pub torsion: [f64; 3],

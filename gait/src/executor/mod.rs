@@ -58,7 +58,7 @@ pub enum GoalTarget {
     Rotation {
         /// Axis (hand frame, any length > 0).
         axis: Vector3<f64>,
-        /// Angle [rad].
+        /// Angle \[rad\].
         angle: f64,
     },
 }
@@ -193,19 +193,19 @@ pub struct TickReport {
     pub step_kind: Option<StepKind>,
     /// Active or last goal: id, state, reason.
     pub goal: Option<(u64, GoalState, Reason)>,
-    /// Angle between the object and the goal [rad].
+    /// Angle between the object and the goal \[rad\].
     pub remaining_angle: f64,
     /// Gaits (Place/Lift steps) done and planned for the goal.
     pub gaits: (u32, u32),
-    /// Estimated time to the goal [s].
+    /// Estimated time to the goal \[s\].
     pub eta: f64,
-    /// Normal force per finger [N].
+    /// Normal force per finger \[N\].
     pub grip: [f64; 3],
     /// Whether the grip had to be capped at `load.max_grip`.
     pub grip_capped: bool,
     /// Force-closure flag and margin of the commanded grasp.
     pub force_closure: (bool, f64),
-    /// Workspace slack per finger [rad] (negative: outside).
+    /// Workspace slack per finger \[rad\] (negative: outside).
     pub workspace_slack: [f64; 3],
     /// Active fault, if any.
     pub fault: Option<(FaultKind, u8)>,
@@ -251,7 +251,7 @@ pub struct Executor {
     fault: Option<(FaultKind, u8)>,
     /// In safe hold: still braking along the interrupted step.
     braking: bool,
-    /// Object rotation the plan still has to do after the current step [rad].
+    /// Object rotation the plan still has to do after the current step \[rad\].
     rotation_after_step: f64,
     /// Commanded object angular acceleration [rad/s²].
     object_acceleration: Vector3<f64>,
@@ -285,7 +285,7 @@ fn rest(state: HandState) -> Setpoint {
     }
 }
 
-/// The object rotation a step makes [rad].
+/// The object rotation a step makes \[rad\].
 fn step_rotation(step: &Step) -> f64 {
     match step.motion {
         Motion::Rotate { angle, .. } => angle,
@@ -636,7 +636,7 @@ impl Executor {
     }
 
     /// Object rotation the plan still has to make from the running step's
-    /// current position [rad].
+    /// current position \[rad\].
     fn planned_rotation_left(&self) -> f64 {
         let in_step = self.current_step().map_or(0.0, |s| {
             (step_rotation(s) - self.runner.state().position[0]).max(0.0)

@@ -151,7 +151,7 @@ impl Executor {
 
     /// After a drift: the active goal is planned again from the re-based
     /// state, `left` being the object rotation its plan still had to make
-    /// [rad] (`None`: no plan had started, all of the turn is left).
+    /// \[rad\] (`None`: no plan had started, all of the turn is left).
     pub(super) fn replan_after_drift(&mut self, left: Option<f64>) {
         let from = self.setpoint.state.object;
         let Some(g) = self.goal.as_mut() else {

@@ -118,7 +118,7 @@ impl StepRunner {
         Ok(true)
     }
 
-    /// Time left in the current trajectory [s].
+    /// Time left in the current trajectory \[s\].
     pub fn time_left(&self) -> f64 {
         (self.output.trajectory.duration - self.output.time).max(0.0)
     }

@@ -11,7 +11,7 @@ use super::start::Start;
 use super::{Escape, Plan, PlanSummary, Planner, fibonacci_sphere, rotation_to};
 use crate::state::HandState;
 
-/// Detour rotations shorter than this are not worth a segment [rad].
+/// Detour rotations shorter than this are not worth a segment \[rad\].
 const MIN_DETOUR: f64 = 0.17;
 
 /// A first rotation to try: start index, hand after it, axis, angle, and a

@@ -42,7 +42,7 @@ use timing::Timing;
 const GREEDY_WEIGHT: f64 = 3.0;
 
 /// Longest piece of a turn planned on its own when the whole turn is too
-/// long for one search [rad] (short enough that an escape inside a piece
+/// long for one search \[rad\] (short enough that an escape inside a piece
 /// cannot reverse its direction).
 const TURN_CHUNK: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
 
@@ -87,9 +87,9 @@ pub struct PlanSummary {
     pub rotations: u32,
     /// Roll steps.
     pub rolls: u32,
-    /// Execution time at the configured limits, rest to rest per step [s].
+    /// Execution time at the configured limits, rest to rest per step \[s\].
     pub duration: f64,
-    /// Angle of the rotation from start to goal [rad].
+    /// Angle of the rotation from start to goal \[rad\].
     pub goal_angle: f64,
     /// Whether an escape rotation about another axis was needed.
     pub escaped: bool,

@@ -21,11 +21,11 @@ pub const MAX_DOFS: usize = 3;
 /// Which kind of motion a path parameter is limited as (SPEC §5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LimitKind {
-    /// Object rotation angle [rad].
+    /// Object rotation angle \[rad\].
     Object,
-    /// Fingertip path length in free space [m].
+    /// Fingertip path length in free space \[m\].
     Fingertip,
-    /// Fingertip rotation relative to the object while rolling [rad].
+    /// Fingertip rotation relative to the object while rolling \[rad\].
     Rolling,
 }
 
@@ -124,7 +124,7 @@ impl FreePath {
         }
     }
 
-    /// Path length [m].
+    /// Path length \[m\].
     pub fn length(&self) -> f64 {
         match *self {
             Self::Radial { from, to, .. } => (to - from).abs(),
@@ -177,7 +177,7 @@ pub struct GreatCircleRoll {
     pub finger: usize,
     /// Unit axis w of the contact's great circle.
     pub axis: Vector3<f64>,
-    /// Angle the contact moves on the object [rad] (signed about `axis`).
+    /// Angle the contact moves on the object \[rad\] (signed about `axis`).
     pub angle: f64,
 }
 
@@ -190,7 +190,7 @@ pub enum Motion {
     Rotate {
         /// Unit rotation axis (hand frame).
         axis: Vector3<f64>,
-        /// Rotation angle [rad].
+        /// Rotation angle \[rad\].
         angle: f64,
         /// Concurrent free-finger move.
         free: Option<FreeMove>,
@@ -245,7 +245,7 @@ pub struct Step {
     pub start: HandState,
     /// The motion.
     pub motion: Motion,
-    /// Planned duration at the configured limits, rest to rest [s].
+    /// Planned duration at the configured limits, rest to rest \[s\].
     pub duration: f64,
 }
 

@@ -88,7 +88,7 @@ pub enum Gait {
 pub struct Segment {
     /// The gaits, in order.
     pub gaits: Vec<Gait>,
-    /// Rotation about the search axis after the gaits [rad] (0 for none).
+    /// Rotation about the search axis after the gaits \[rad\] (0 for none).
     pub rotate: f64,
 }
 
@@ -117,7 +117,7 @@ pub struct Problem<'a> {
 pub struct Root {
     /// Hand state (object orientation irrelevant here).
     pub hand: HandState,
-    /// Cost already spent reaching it [s].
+    /// Cost already spent reaching it \[s\].
     pub cost: f64,
     /// Caller's tag, returned with the result.
     pub tag: usize,
@@ -130,7 +130,7 @@ pub struct Found {
     pub tag: usize,
     /// Segments in order (the last may have no rotation only if Φ = 0).
     pub segments: Vec<Segment>,
-    /// Estimated execution time including the root's cost [s].
+    /// Estimated execution time including the root's cost \[s\].
     pub cost: f64,
     /// Nodes expanded.
     pub expansions: usize,

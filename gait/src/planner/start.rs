@@ -43,7 +43,7 @@ pub struct Start {
     pub hand: HandState,
     /// The prefix, in order.
     pub actions: Vec<PrefixAction>,
-    /// Its execution time [s].
+    /// Its execution time \[s\].
     pub cost: f64,
 }
 

@@ -19,7 +19,7 @@ pub struct ConnArgs {
     /// iceoryx2 file prefix [env: GAITD_IPC_FILE_PREFIX].
     #[arg(long, global = true)]
     pub ipc_file_prefix: Option<String>,
-    /// How long to wait for the daemon [s].
+    /// How long to wait for the daemon \[s\].
     #[arg(long, global = true, default_value_t = 2.0)]
     pub timeout: f64,
 }
