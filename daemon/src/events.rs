@@ -59,23 +59,21 @@ impl EventQueue {
         self.push(e);
     }
 
-    /// A gait event (place, lift, roll, substitution, rewind) of `finger`.
+    /// A gait event (place, lift, roll, substitution) of `finger`.
     pub fn gait(&mut self, kind: EventKind, finger: usize, goal_id: u64, client_id: u64) {
-        let mut e = Event::new(kind);
-        e.finger = finger as u32;
-        e.goal_id = goal_id;
-        e.client_id = client_id;
-        self.push(e);
+        self.push(goal_event(kind, finger as u32, 0, goal_id, client_id));
     }
 
     /// A finger rewind completed (paper §2.1): `relocated` as bits (bit k
     /// for finger k), `helper` free again.
     pub fn rewind(&mut self, helper: u8, relocated: u8, goal_id: u64, client_id: u64) {
-        let mut e = Event::new(EventKind::Rewind);
-        e.finger = helper.into();
-        e.count = relocated.into();
-        e.goal_id = goal_id;
-        e.client_id = client_id;
+        let e = goal_event(
+            EventKind::Rewind,
+            helper.into(),
+            relocated.into(),
+            goal_id,
+            client_id,
+        );
         self.push(e);
     }
 
@@ -89,22 +87,26 @@ impl EventQueue {
         goal_id: u64,
         client_id: u64,
     ) {
-        let mut e = Event::new(EventKind::NearLimit);
+        let mut e = goal_event(
+            EventKind::NearLimit,
+            finger.into(),
+            replan.into(),
+            goal_id,
+            client_id,
+        );
         e.fault = fault.code();
-        e.finger = finger.into();
-        e.count = replan.into();
-        e.goal_id = goal_id;
-        e.client_id = client_id;
         self.push(e);
     }
 
     /// A contact drifted (SPEC §6.3): the goal is replanned.
     pub fn drift(&mut self, finger: u8, replan: u32, goal_id: u64, client_id: u64) {
-        let mut e = Event::new(EventKind::Drift);
-        e.finger = finger.into();
-        e.count = replan.into();
-        e.goal_id = goal_id;
-        e.client_id = client_id;
+        let e = goal_event(
+            EventKind::Drift,
+            finger.into(),
+            replan.into(),
+            goal_id,
+            client_id,
+        );
         self.push(e);
     }
 
@@ -129,6 +131,17 @@ impl EventQueue {
     pub fn dropped(&self) -> u64 {
         self.dropped
     }
+}
+
+/// An event of `kind` about `finger` of goal (`client_id`, `goal_id`), with
+/// its kind-specific `count`.
+fn goal_event(kind: EventKind, finger: u32, count: u64, goal_id: u64, client_id: u64) -> Event {
+    let mut e = Event::new(kind);
+    e.finger = finger;
+    e.count = count;
+    e.goal_id = goal_id;
+    e.client_id = client_id;
+    e
 }
 
 #[cfg(test)]

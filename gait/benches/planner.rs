@@ -21,7 +21,7 @@ fn pct(sorted: &[f64], p: f64) -> f64 {
     sorted[((sorted.len() as f64 * p).ceil() as usize).clamp(1, sorted.len()) - 1]
 }
 
-/// CPU time this thread has run \[ms\] (CLOCK_THREAD_CPUTIME_ID).
+/// CPU time this thread has run [ms] (CLOCK_THREAD_CPUTIME_ID).
 fn thread_cpu_ms() -> f64 {
     let mut ts = libc::timespec {
         tv_sec: 0,

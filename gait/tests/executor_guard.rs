@@ -24,7 +24,7 @@ fn loose(limit_guard: f64) -> HandConfig {
 }
 
 /// Ticks a one-radian turn about z until a grasping contact is within
-/// `slack` \[rad\] of its cone's margin boundary while the object turns;
+/// `slack` [rad] of its cone's margin boundary while the object turns;
 /// returns that finger.
 fn run_to_the_edge(rig: &mut Rig, slack: f64) -> usize {
     rig.command(Command::Goal {
@@ -50,7 +50,7 @@ fn run_to_the_edge(rig: &mut Rig, slack: f64) -> usize {
     panic!("no contact came near its cone's edge");
 }
 
-/// A sensor error of `angle` \[rad\] moving finger `k`'s measured centre
+/// A sensor error of `angle` [rad] moving finger `k`'s measured centre
 /// away from its cone axis (negative: towards it) for `ticks` ticks.
 fn mismeasure(rig: &mut Rig, k: usize, angle: f64, ticks: u8) -> TickReport {
     let az = rig.cfg.model.finger_azimuth_deg[k].to_radians();

@@ -10,7 +10,7 @@ use nalgebra::Vector3;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// Rotation of the object about `axis` summed over the plan's steps \[rad\].
+/// Rotation of the object about `axis` summed over the plan's steps [rad].
 fn turned_about(plan: &gait::planner::Plan, axis: &Vector3<f64>) -> f64 {
     plan.steps
         .iter()

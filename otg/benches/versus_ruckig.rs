@@ -57,7 +57,7 @@ fn oracle(args: &[String]) -> String {
     String::from_utf8(out.stdout).expect("utf-8")
 }
 
-/// Per-case update times \[µs\] of one pass (cases Ruckig solves), and with
+/// Per-case update times [µs] of one pass (cases Ruckig solves), and with
 /// `retime`, the noise-robust worst case.
 fn time_n<const N: usize>(cases: &[case::Case], retime: bool) -> (Vec<f64>, f64) {
     let inputs: Vec<_> = cases

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 const T: Duration = Duration::from_secs(5);
 const LONG: Duration = Duration::from_secs(90);
 
-/// Angle between two unit quaternions \[rad\].
+/// Angle between two unit quaternions [rad].
 fn angle(a: [f64; 4], b: [f64; 4]) -> f64 {
     let d: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
     2.0 * d.abs().min(1.0).acos()

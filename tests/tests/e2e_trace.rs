@@ -80,7 +80,7 @@ fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// Angle between two unit quaternions \[rad\] (either sign).
+/// Angle between two unit quaternions [rad] (either sign).
 fn angle(a: &[f64], b: &[f64]) -> f64 {
     let d: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
     2.0 * d.abs().min(1.0).acos()

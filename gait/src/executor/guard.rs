@@ -47,6 +47,8 @@ pub struct LimitGuard {
     force_closure: f64,
     /// Fingertip clearance \[m\].
     clearance: f64,
+    /// Consecutive ticks found near a limit so far.
+    near_ticks: u8,
 }
 
 impl LimitGuard {
@@ -58,13 +60,41 @@ impl LimitGuard {
             workspace: m.workspace_margin_deg.to_radians(),
             force_closure: m.fc_margin_deg.to_radians(),
             clearance: m.fingertip_clearance,
+            near_ticks: 0,
         }
     }
 
+    /// One tick's verdict: the invariant (and finger) the measured state
+    /// `m` has been near the limit of for [`GUARD_TICKS`] ticks in a row,
+    /// if any. Only a `moving` hand is checked (anything else restarts the
+    /// count). `cmd` is the commanded state `m` is compared with.
+    pub fn observe(
+        &mut self,
+        moving: bool,
+        checker: &mut InvariantChecker,
+        cmd: &HandState,
+        m: &Measurement,
+    ) -> Option<(FaultKind, u8)> {
+        let near = if moving {
+            self.check(checker, cmd, m)
+        } else {
+            None
+        };
+        self.near_ticks = if near.is_some() {
+            self.near_ticks + 1
+        } else {
+            0
+        };
+        if self.near_ticks < GUARD_TICKS {
+            return None;
+        }
+        self.near_ticks = 0;
+        near
+    }
+
     /// The invariant (and finger) the measured state `m` is near the limit
-    /// of, if any. `cmd` is the commanded state the measurement is compared
-    /// with.
-    pub fn check(
+    /// of this tick, if any.
+    fn check(
         &self,
         checker: &mut InvariantChecker,
         cmd: &HandState,

@@ -220,8 +220,6 @@ pub struct Executor {
     feedback: Feedback,
     /// Invariants near their limit in the measured state ([`guard`]).
     guard: guard::LimitGuard,
-    /// Consecutive ticks the guard found the measured state near a limit.
-    near_ticks: u8,
     runner: StepRunner,
     plan: Option<Box<Plan>>,
     step: usize,
@@ -319,7 +317,6 @@ impl Executor {
             grip: grip::GripModel::new(config),
             feedback: Feedback::new(&config.feedback, config.model.object_radius),
             guard: guard::LimitGuard::new(config),
-            near_ticks: 0,
             runner,
             plan: None,
             step: 0,
@@ -472,22 +469,13 @@ impl Executor {
             ) {
                 Ok(c) => {
                     correction = c;
-                    let near = match measurement {
-                        Some(m) if self.phase == Phase::Moving => self
-                            .guard
-                            .check(&mut self.checker, &self.setpoint.state, m)
-                            .map(|near| (near, m)),
-                        _ => None,
-                    };
-                    self.near_ticks = if near.is_some() {
-                        self.near_ticks + 1
-                    } else {
-                        0
-                    };
-                    if let Some(((kind, finger), m)) = near
-                        && self.near_ticks >= guard::GUARD_TICKS
+                    // (Ok means a measurement arrived.)
+                    let moving = self.phase == Phase::Moving;
+                    if let Some(m) = measurement
+                        && let Some((kind, finger)) =
+                            self.guard
+                                .observe(moving, &mut self.checker, &self.setpoint.state, m)
                     {
-                        self.near_ticks = 0;
                         self.on_near_limit(kind, finger, m);
                     }
                 }

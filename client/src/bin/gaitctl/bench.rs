@@ -269,7 +269,7 @@ pub fn pong(a: &PongArgs) -> gaitd_client::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// One-way and half round-trip latencies \[µs\] of `n` ping-pongs.
+/// One-way and half round-trip latencies [µs] of `n` ping-pongs.
 fn ping_pong(
     n: usize,
     root: &str,
@@ -358,7 +358,7 @@ fn ping_pong(
     Ok((one_way, half_rtt))
 }
 
-/// Latencies \[µs\] of `n` samples from a child publishing every `period_us`.
+/// Latencies [µs] of `n` samples from a child publishing every `period_us`.
 fn periodic(
     n: usize,
     period_us: u64,

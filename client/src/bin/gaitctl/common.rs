@@ -19,7 +19,7 @@ pub struct ConnArgs {
     /// iceoryx2 file prefix [env: GAITD_IPC_FILE_PREFIX].
     #[arg(long, global = true)]
     pub ipc_file_prefix: Option<String>,
-    /// How long to wait for the daemon \[s\].
+    /// How long to wait for the daemon [s].
     #[arg(long, global = true, default_value_t = 2.0)]
     pub timeout: f64,
 }
@@ -71,6 +71,15 @@ pub fn finger_name(k: u32) -> String {
     }
 }
 
+/// The fingers a Rewind event relocated (its `count` bits), named.
+pub fn rewound(e: &Event) -> String {
+    let moved: Vec<String> = (0..3)
+        .filter(|k| e.count & (1 << k) != 0)
+        .map(finger_name)
+        .collect();
+    moved.join(" and ")
+}
+
 /// One line describing an event.
 pub fn event_line(e: &Event) -> String {
     let kind = code(e.kind(), e.kind);
@@ -96,13 +105,9 @@ pub fn event_line(e: &Event) -> String {
             s += &format!(" {} left, goal {}", finger_name(e.finger), e.goal_id);
         }
         Ok(EventKind::Rewind) => {
-            let moved: Vec<String> = (0..3)
-                .filter(|k| e.count & (1 << k) != 0)
-                .map(finger_name)
-                .collect();
             s += &format!(
                 " {} moved back with {}'s help, goal {}",
-                moved.join(" and "),
+                rewound(e),
                 finger_name(e.finger),
                 e.goal_id
             );

@@ -6,7 +6,7 @@
 //! to a two-finger force-closure grasp, then turns the object a full turn
 //! about z and a full turn about x by finger substitutions (paper Fig. 4).
 
-use crate::common::{ConnArgs, code, finger_name};
+use crate::common::{ConnArgs, code, finger_name, rewound};
 use gaitd_client::{Client, ConnectOptions, GoalSpec, GoalState, Status};
 use shm_schema::EventKind;
 use std::io::Write;
@@ -146,11 +146,9 @@ impl Gaiting {
             }
             Ok(EventKind::Rewind) => {
                 self.rewinds += 1;
-                let moved: Vec<String> =
-                    (0..3).filter(|k| e.count & (1 << k) != 0).map(f).collect();
                 Some(format!(
                     "rewind: {} moved back with {}'s help",
-                    moved.join(" and "),
+                    rewound(e),
                     f(e.finger)
                 ))
             }

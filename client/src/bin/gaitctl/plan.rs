@@ -36,7 +36,7 @@ pub struct Args {
         conflicts_with = "scenario"
     )]
     axis: Option<String>,
-    /// Rotation angle \[deg\] for --axis (any size with --relative: 360 is a full turn).
+    /// Rotation angle [deg] for --axis (any size with --relative: 360 is a full turn).
     #[arg(
         long,
         value_name = "DEG",
@@ -60,7 +60,7 @@ pub struct Args {
     /// gaitd configuration file for the model (default: built-in defaults).
     #[arg(long, value_name = "FILE")]
     config: Option<PathBuf>,
-    /// Control rate of the execution and the trace \[Hz\].
+    /// Control rate of the execution and the trace [Hz].
     #[arg(long, default_value_t = 1000.0)]
     rate: f64,
     /// Print progress while executing.
