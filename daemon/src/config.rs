@@ -137,6 +137,12 @@ pub struct RtSection {
     pub lock_memory: bool,
     /// SCHED_FIFO priority of the loop thread, 1–99; 0 = normal scheduling.
     pub fifo_priority: u32,
+    /// SCHED_FIFO priority of the writer thread (it publishes status,
+    /// answers and events, and wakes the planner), below `fifo_priority`;
+    /// 0 = normal scheduling; unset: `fifo_priority` − 10. Used only when
+    /// the loop runs SCHED_FIFO. See [`RtSection::writer_fifo_priority`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub writer_priority: Option<u32>,
     /// CPUs the loop thread may run on (empty: no pinning).
     pub loop_cpus: Vec<u32>,
     /// CPUs of the other threads (empty: no pinning).
@@ -151,6 +157,7 @@ impl Default for RtSection {
         Self {
             lock_memory: true,
             fifo_priority: 80,
+            writer_priority: None,
             loop_cpus: Vec::new(),
             background_cpus: Vec::new(),
             spin_us: 0,
@@ -409,6 +416,18 @@ impl IpcSection {
 }
 
 impl RtSection {
+    /// The writer thread's SCHED_FIFO priority, 0 for normal scheduling:
+    /// below the loop's, so on a shared CPU the loop preempts it, and above
+    /// every normal thread, so busy clients cannot hold back what the loop
+    /// produced (status, answers, events, the planner's wake-up).
+    pub fn writer_fifo_priority(&self) -> u32 {
+        match (self.fifo_priority, self.writer_priority) {
+            (0, _) => 0,
+            (_, Some(p)) => p,
+            (loop_priority, None) => loop_priority.saturating_sub(10),
+        }
+    }
+
     fn validate(&self) -> Result<(), KeyError> {
         int_range(
             "rt.fifo_priority",
@@ -417,6 +436,21 @@ impl RtSection {
             99,
             "0 (normal scheduling) or 1-99",
         )?;
+        let writer = self.writer_priority.unwrap_or(0);
+        int_range(
+            "rt.writer_priority",
+            writer,
+            0,
+            99,
+            "0 (normal scheduling) or 1-99",
+        )?;
+        if self.fifo_priority > 0 && writer >= self.fifo_priority {
+            // On a shared CPU the loop must preempt the writer, never wait.
+            return Err(KeyError::Invalid {
+                key: "rt.writer_priority",
+                why: "must be below rt.fifo_priority (or 0)",
+            });
+        }
         cpu_list("rt.loop_cpus", &self.loop_cpus)?;
         cpu_list("rt.background_cpus", &self.background_cpus)?;
         int_range(
@@ -576,6 +610,11 @@ mod tests {
             ("[ipc]\nmax_clients = 0\n", "ipc.max_clients"),
             ("[ipc]\nevent_history = 300\n", "ipc.event_buffer"),
             ("[rt]\nfifo_priority = 100\n", "rt.fifo_priority"),
+            ("[rt]\nwriter_priority = 100\n", "rt.writer_priority"),
+            (
+                "[rt]\nfifo_priority = 50\nwriter_priority = 50\n",
+                "rt.writer_priority",
+            ),
             ("[rt]\nloop_cpus = [1, 1]\n", "rt.loop_cpus"),
             ("[rt]\nbackground_cpus = [5000]\n", "rt.background_cpus"),
             ("[rt]\nspin_us = 1001\n", "rt.spin_us"),
@@ -592,6 +631,19 @@ mod tests {
         assert_eq!(c.daemon.status_every, 2);
         assert_eq!(c.rt.loop_cpus, vec![1]);
         assert_eq!(c.period_ns(), 1_000_000);
+        // Without a SCHED_FIFO loop the writer runs normal scheduling.
+        assert_eq!(c.rt.writer_fifo_priority(), 0);
+        let writer = |text| {
+            DaemonConfig::from_toml(text, "x")
+                .unwrap()
+                .rt
+                .writer_fifo_priority()
+        };
+        assert_eq!(writer(""), 70);
+        assert_eq!(writer("[rt]\nfifo_priority = 50\n"), 40);
+        assert_eq!(writer("[rt]\nfifo_priority = 5\n"), 0);
+        assert_eq!(writer("[rt]\nfifo_priority = 50\nwriter_priority = 0\n"), 0);
+        assert_eq!(writer("[rt]\nfifo_priority = 0\nwriter_priority = 60\n"), 0);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! and cleared by the loop's postprocess phase. Never allocates after
 //! construction; overflow is counted, not hidden.
 
-use shm_schema::{Event, EventKind, FaultCode, GoalState, ReasonCode};
+use shm_schema::{Event, EventKind, FaultCode, GoalState, NO_FINGER, ReasonCode};
 
 /// Events per tick kept at most.
 pub const EVENTS_PER_TICK: usize = 32;
@@ -60,8 +60,25 @@ impl EventQueue {
     }
 
     /// A gait event (place, lift, roll, substitution) of `finger`.
-    pub fn gait(&mut self, kind: EventKind, finger: usize, goal_id: u64, client_id: u64) {
-        self.push(goal_event(kind, finger as u32, 0, goal_id, client_id));
+    pub fn gait(&mut self, kind: EventKind, finger: u8, goal_id: u64, client_id: u64) {
+        self.push(goal_event(kind, finger, 0, goal_id, client_id));
+    }
+
+    /// A substitution completed (paper §2.1): `left` broke contact after
+    /// `by` took over its place in the grasp (`count` = `by` as a bit).
+    pub fn substitution(&mut self, left: u8, by: u8, goal_id: u64, client_id: u64) {
+        let by_bit = if usize::from(by) < shm_schema::FINGERS {
+            1 << by
+        } else {
+            0
+        };
+        self.push(goal_event(
+            EventKind::Substitution,
+            left,
+            by_bit,
+            goal_id,
+            client_id,
+        ));
     }
 
     /// A finger rewind completed (paper §2.1): `relocated` as bits (bit k
@@ -69,7 +86,7 @@ impl EventQueue {
     pub fn rewind(&mut self, helper: u8, relocated: u8, goal_id: u64, client_id: u64) {
         let e = goal_event(
             EventKind::Rewind,
-            helper.into(),
+            helper,
             relocated.into(),
             goal_id,
             client_id,
@@ -89,7 +106,7 @@ impl EventQueue {
     ) {
         let mut e = goal_event(
             EventKind::NearLimit,
-            finger.into(),
+            finger,
             replan.into(),
             goal_id,
             client_id,
@@ -100,13 +117,7 @@ impl EventQueue {
 
     /// A contact drifted (SPEC §6.3): the goal is replanned.
     pub fn drift(&mut self, finger: u8, replan: u32, goal_id: u64, client_id: u64) {
-        let e = goal_event(
-            EventKind::Drift,
-            finger.into(),
-            replan.into(),
-            goal_id,
-            client_id,
-        );
+        let e = goal_event(EventKind::Drift, finger, replan.into(), goal_id, client_id);
         self.push(e);
     }
 
@@ -135,13 +146,24 @@ impl EventQueue {
 
 /// An event of `kind` about `finger` of goal (`client_id`, `goal_id`), with
 /// its kind-specific `count`.
-fn goal_event(kind: EventKind, finger: u32, count: u64, goal_id: u64, client_id: u64) -> Event {
+fn goal_event(kind: EventKind, finger: u8, count: u64, goal_id: u64, client_id: u64) -> Event {
     let mut e = Event::new(kind);
-    e.finger = finger;
+    e.finger = wire_finger(finger);
     e.count = count;
     e.goal_id = goal_id;
     e.client_id = client_id;
     e
+}
+
+/// A finger index on the wire: 0–2, or [`NO_FINGER`] for "no finger"
+/// (the executor's `u8` 255, e.g. a force-closure limit, which concerns
+/// the grasp, not one finger). Clients reject any other value.
+fn wire_finger(finger: u8) -> u32 {
+    if usize::from(finger) < shm_schema::FINGERS {
+        finger.into()
+    } else {
+        NO_FINGER
+    }
 }
 
 #[cfg(test)]
@@ -152,11 +174,31 @@ mod tests {
     fn overflow_is_counted() {
         let mut q = EventQueue::new();
         for i in 0..EVENTS_PER_TICK + 3 {
-            q.gait(EventKind::Place, i % 3, 1, 2);
+            q.gait(EventKind::Place, (i % 3) as u8, 1, 2);
         }
         assert_eq!(q.as_slice().len(), EVENTS_PER_TICK);
         assert_eq!(q.dropped(), 3);
         assert_eq!(q.as_slice()[1].finger, 1);
+        q.clear();
+        assert!(q.as_slice().is_empty());
+    }
+
+    /// Every event the queue builds passes the clients' check, including
+    /// those about no finger in particular (the executor's 255).
+    #[test]
+    fn events_without_a_finger_pass_the_clients_check() {
+        let mut q = EventQueue::new();
+        q.near_limit(FaultCode::ForceClosureLost, 255, 1, 7, 9);
+        q.drift(255, 1, 7, 9);
+        q.near_limit(FaultCode::WorkspaceViolation, 2, 1, 7, 9);
+        q.substitution(0, 2, 7, 9);
+        for e in q.as_slice() {
+            assert_eq!(e.check(), Ok(()), "{e:?}");
+        }
+        assert_eq!(q.as_slice()[0].finger, NO_FINGER);
+        assert_eq!(q.as_slice()[1].finger, NO_FINGER);
+        assert_eq!(q.as_slice()[2].finger, 2);
+        assert_eq!((q.as_slice()[3].finger, q.as_slice()[3].count), (0, 0b100));
         q.clear();
         assert!(q.as_slice().is_empty());
     }

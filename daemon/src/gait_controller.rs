@@ -252,14 +252,8 @@ impl GaitController {
                     self.gaits.started(kind);
                     let (client, goal) = self.wire_goal(id);
                     match kind {
-                        StepKind::Lift => {
-                            ctx.events
-                                .gait(EventKind::Lift, finger.into(), goal, client)
-                        }
-                        StepKind::Roll => {
-                            ctx.events
-                                .gait(EventKind::Roll, finger.into(), goal, client)
-                        }
+                        StepKind::Lift => ctx.events.gait(EventKind::Lift, finger, goal, client),
+                        StepKind::Roll => ctx.events.gait(EventKind::Roll, finger, goal, client),
                         _ => {}
                     }
                 }
@@ -268,13 +262,11 @@ impl GaitController {
                 } => {
                     let (client, goal) = self.wire_goal(id);
                     if kind == StepKind::Place {
-                        ctx.events
-                            .gait(EventKind::Place, finger.into(), goal, client);
+                        ctx.events.gait(EventKind::Place, finger, goal, client);
                     }
                     let done = self.gaits.done(kind, finger);
-                    if let Some(FingerGait::Substitution { left, .. }) = done.substitution {
-                        ctx.events
-                            .gait(EventKind::Substitution, left.into(), goal, client);
+                    if let Some(FingerGait::Substitution { left, by }) = done.substitution {
+                        ctx.events.substitution(left, by, goal, client);
                     }
                     if let Some(FingerGait::Rewind { relocated, helper }) = done.rewind {
                         ctx.events.rewind(helper, relocated, goal, client);

@@ -51,7 +51,10 @@ fn main() -> Result<()> {
     }
     let cfg = DaemonConfig::load(&args.config)?;
     if args.check_config {
-        println!("{}", toml::to_string_pretty(&cfg)?);
+        // Print the effective values, derived defaults included.
+        let mut shown = cfg.clone();
+        shown.rt.writer_priority = Some(cfg.rt.writer_fifo_priority());
+        println!("{}", toml::to_string_pretty(&shown)?);
         // Also resolve where the iceoryx2 resources will live (loads the
         // iceoryx2 config file if one is named, so a bad one fails here).
         let (_, ipc) = ipc::resolve(&cfg.ipc)?;
@@ -86,6 +89,7 @@ fn main() -> Result<()> {
             period: cfg.period_ns(),
             spin: cfg.spin_ns(),
             cpus: cfg.rt.background_cpus.clone(),
+            fifo_priority: cfg.rt.writer_fifo_priority(),
             doorbells: vec![planner_bell.clone()],
         },
         shared.clone(),

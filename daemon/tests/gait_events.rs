@@ -84,8 +84,19 @@ fn substitutions_and_rewinds_are_reported_as_planned() {
         "{places} places, {lifts} lifts"
     );
     assert_eq!(count(EventKind::Rewind), rewinds);
+    let mut placed = None;
     for e in &ev {
         assert_eq!(e.client_id, 9);
+        assert_eq!(e.check(), Ok(()), "{e:?}");
+        if e.kind() == Ok(EventKind::Place) {
+            placed = Some(e.finger);
+        }
+        if e.kind() == Ok(EventKind::Substitution) {
+            // The finger that took over is the one placed last.
+            let by = placed.expect("a Place before every Substitution");
+            assert_eq!(e.count, 1 << by, "{e:?}");
+            assert_ne!(e.finger, by);
+        }
         if e.kind() == Ok(EventKind::Rewind) {
             assert!(e.finger < 3, "helper {}", e.finger);
             let relocated = e.count;

@@ -320,7 +320,7 @@ code_enum! {
         Lift = 3,
         /// A finger started rolling (`finger`).
         Roll = 4,
-        /// A finger substitution gait completed (`finger` = the finger that left).
+        /// A finger substitution gait completed (paper §2.1): a finger took over a grasping finger's place, then that one lifted (`finger` = the finger that left; `count` = the finger that took over as a bit, bit k for finger k).
         Substitution = 5,
         /// A finger rewind gait completed (paper §2.1): one or both fingers of the grasping pair were moved back into their workspace with the third finger's help (`finger` = that helper, free again; `count` = the relocated fingers as bits, bit k for finger k). Its substitutions were reported before it.
         Rewind = 6,
@@ -340,7 +340,7 @@ code_enum! {
         Hold = 13,
         /// A contact drifted beyond tolerance (`finger`, `goal_id`, `client_id`; `count` = drifts so far): the motion stops and the goal is replanned from the measured state.
         Drift = 14,
-        /// While moving, the measured state came near the limit of an invariant (SPEC §6.3; `fault` = the invariant as the fault it would become, `finger` = the finger concerned or 255, `goal_id`, `client_id`, `count` = replans so far): the motion stops and the goal is replanned from the measured state.
+        /// While moving, the measured state came near the limit of an invariant (SPEC §6.3; `fault` = the invariant as the fault it would become, `finger` = the finger concerned, or none (0xFFFFFFFF) for force closure, `goal_id`, `client_id`, `count` = replans so far): the motion stops and the goal is replanned from the measured state.
         NearLimit = 15,
     }
 }

@@ -37,8 +37,9 @@ pub struct Event {
     /// Padding, 0.
     pub reserved: u32,
     /// Kind-specific count (Overrun: missed periods; ClientsCleaned: nodes;
-    /// Drift, NearLimit: replans of the goal so far; Rewind: the relocated
-    /// fingers as bits).
+    /// Drift, NearLimit: replans of the goal so far; Substitution: the
+    /// finger that took over, as a bit (bit k for finger k); Rewind: the
+    /// relocated fingers as bits).
     pub count: u64,
     /// Kind-specific value (GoalTransition: remaining angle \[rad\]).
     pub value: f64,

@@ -385,13 +385,19 @@ pub fn layouts() -> Vec<TypeLayout> {
                 f!(Event, reason, "ReasonCode", "reason"),
                 f!(Event, goal_id, "", "goal concerned, 0 = none"),
                 f!(Event, client_id, "", "that goal's client"),
-                f!(Event, fault, "FaultCode", "fault (Fault events)"),
+                f!(
+                    Event,
+                    fault,
+                    "FaultCode",
+                    "Fault: the fault; NearLimit: the invariant"
+                ),
                 f!(Event, reserved, "", "padding, 0"),
                 f!(
                     Event,
                     count,
                     "",
-                    "Overrun: missed periods; ClientsCleaned: nodes"
+                    "Overrun: missed periods; ClientsCleaned: nodes; Drift, NearLimit: replans so far; \
+                     Substitution: finger that took over, as a bit; Rewind: relocated fingers as bits"
                 ),
                 f!(Event, value, "", "GoalTransition: remaining angle [rad]"),
             ],

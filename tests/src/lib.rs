@@ -70,8 +70,13 @@ static NEXT: std::sync::atomic::AtomicU32 = std::sync::atomic::AtomicU32::new(0)
 
 impl TestDaemon {
     /// A namespace and config, not started yet. `extra_config` is appended
-    /// to the config file.
+    /// to the config file. No real-time setup (see [`TestDaemon::with_rt`]).
     pub fn new(tag: &str, extra_config: &str) -> Self {
+        Self::with_rt(tag, "lock_memory = false\nfifo_priority = 0", extra_config)
+    }
+
+    /// As [`TestDaemon::new`], with `rt` as the body of the `[rt]` section.
+    pub fn with_rt(tag: &str, rt: &str, extra_config: &str) -> Self {
         let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let pid = std::process::id();
         let dir = std::env::temp_dir().join(format!("gaitd-e2e-{pid}-{n}-{tag}"));
@@ -88,7 +93,7 @@ impl TestDaemon {
         };
         let cfg = format!(
             "[ipc]\nservice_prefix = \"{}\"\nroot_path = \"{}/\"\nfile_prefix = \"{}\"\n\
-             [rt]\nlock_memory = false\nfifo_priority = 0\n{extra_config}\n",
+             [rt]\n{rt}\n{extra_config}\n",
             d.prefix,
             d.root.display(),
             d.file_prefix

@@ -26,6 +26,10 @@ fn shipped_example_config_is_valid() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // The effective values are printed, derived defaults included.
+    let shown = String::from_utf8_lossy(&out.stdout);
+    assert!(shown.contains("fifo_priority = 80\n"), "{shown}");
+    assert!(shown.contains("writer_priority = 70\n"), "{shown}");
 }
 
 #[test]

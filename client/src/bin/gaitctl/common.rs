@@ -71,13 +71,15 @@ pub fn finger_name(k: u32) -> String {
     }
 }
 
-/// The fingers a Rewind event relocated (its `count` bits), named.
-pub fn rewound(e: &Event) -> String {
-    let moved: Vec<String> = (0..3)
+/// The fingers of an event's `count` bits (Substitution: the finger that
+/// took over; Rewind: the relocated ones), named; `None` if there are none
+/// (a daemon that predates the Substitution bit).
+pub fn counted_fingers(e: &Event) -> Option<String> {
+    let named: Vec<String> = (0..3)
         .filter(|k| e.count & (1 << k) != 0)
         .map(finger_name)
         .collect();
-    moved.join(" and ")
+    (!named.is_empty()).then(|| named.join(" and "))
 }
 
 /// One line describing an event.
@@ -102,12 +104,17 @@ pub fn event_line(e: &Event) -> String {
             s += &format!(" {} goal {}", finger_name(e.finger), e.goal_id);
         }
         Ok(EventKind::Substitution) => {
-            s += &format!(" {} left, goal {}", finger_name(e.finger), e.goal_id);
+            let by = counted_fingers(e).unwrap_or_else(|| "another finger".into());
+            s += &format!(
+                " {by} took over from {}, goal {}",
+                finger_name(e.finger),
+                e.goal_id
+            );
         }
         Ok(EventKind::Rewind) => {
             s += &format!(
                 " {} moved back with {}'s help, goal {}",
-                rewound(e),
+                counted_fingers(e).unwrap_or_default(),
                 finger_name(e.finger),
                 e.goal_id
             );

@@ -6,7 +6,7 @@
 //! to a two-finger force-closure grasp, then turns the object a full turn
 //! about z and a full turn about x by finger substitutions (paper Fig. 4).
 
-use crate::common::{ConnArgs, code, finger_name, rewound};
+use crate::common::{ConnArgs, code, counted_fingers, finger_name};
 use gaitd_client::{Client, ConnectOptions, GoalSpec, GoalState, Status};
 use shm_schema::EventKind;
 use std::io::Write;
@@ -123,8 +123,6 @@ fn progress_line(s: &Status, total: f64) -> String {
 struct Gaiting {
     substitutions: u32,
     rewinds: u32,
-    /// The finger placed last (the one a substitution hands the grasp to).
-    placed: Option<u32>,
 }
 
 impl Gaiting {
@@ -132,13 +130,9 @@ impl Gaiting {
     fn see(&mut self, e: &shm_schema::Event) -> Option<String> {
         let f = finger_name;
         match e.kind() {
-            Ok(EventKind::Place) => {
-                self.placed = Some(e.finger);
-                None
-            }
             Ok(EventKind::Substitution) => {
                 self.substitutions += 1;
-                let by = self.placed.map_or_else(|| "another finger".into(), f);
+                let by = counted_fingers(e).unwrap_or_else(|| "another finger".into());
                 Some(format!(
                     "substitution: {by} takes over from {}",
                     f(e.finger)
@@ -148,7 +142,7 @@ impl Gaiting {
                 self.rewinds += 1;
                 Some(format!(
                     "rewind: {} moved back with {}'s help",
-                    rewound(e),
+                    counted_fingers(e).unwrap_or_default(),
                     f(e.finger)
                 ))
             }
