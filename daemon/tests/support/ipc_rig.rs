@@ -143,7 +143,9 @@ impl TestClient {
         let t0 = std::time::Instant::now();
         loop {
             if let Some(s) = self.answers.receive().unwrap() {
-                return *s.payload();
+                let a = *s.payload();
+                assert!(a.verdict().is_ok(), "answer clients reject: {a:?}");
+                return a;
             }
             assert!(
                 t0.elapsed() < std::time::Duration::from_secs(10),
@@ -154,14 +156,20 @@ impl TestClient {
     }
 
     /// Drains status, events and notifications; returns (statuses, events).
+    /// Each one must pass the check every client makes (a sample that
+    /// fails it is dropped by clients, so the daemon must never send one).
     pub fn drain(&self) -> (Vec<Status>, Vec<Event>) {
         let mut st = Vec::new();
         while let Some(s) = self.status.receive().unwrap() {
-            st.push(*s.payload());
+            let s = *s.payload();
+            assert_eq!(s.check(), Ok(()), "status clients reject: {s:?}");
+            st.push(s);
         }
         let mut ev = Vec::new();
         while let Some(s) = self.events.receive().unwrap() {
-            ev.push(*s.payload());
+            let e = *s.payload();
+            assert_eq!(e.check(), Ok(()), "event clients reject: {e:?}");
+            ev.push(e);
         }
         self.listener.try_wait(|_| {}).unwrap();
         (st, ev)
