@@ -139,8 +139,9 @@ pub struct RtSection {
     pub fifo_priority: u32,
     /// SCHED_FIFO priority of the writer thread (it publishes status,
     /// answers and events, and wakes the planner), below `fifo_priority`;
-    /// 0 = normal scheduling; unset: `fifo_priority` − 10. Used only when
-    /// the loop runs SCHED_FIFO. See [`RtSection::writer_fifo_priority`].
+    /// 0 = normal scheduling; unset: `fifo_priority` − 10 (0 if that is
+    /// not positive). Applied only once the loop runs SCHED_FIFO. See
+    /// [`RtSection::writer_fifo_priority`].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub writer_priority: Option<u32>,
     /// CPUs the loop thread may run on (empty: no pinning).

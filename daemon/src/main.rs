@@ -89,7 +89,6 @@ fn main() -> Result<()> {
             period: cfg.period_ns(),
             spin: cfg.spin_ns(),
             cpus: cfg.rt.background_cpus.clone(),
-            fifo_priority: cfg.rt.writer_fifo_priority(),
             doorbells: vec![planner_bell.clone()],
         },
         shared.clone(),
@@ -178,16 +177,37 @@ fn main() -> Result<()> {
     }
     if cfg.rt.fifo_priority > 0 {
         match rt::set_fifo_priority(cfg.rt.fifo_priority) {
-            Ok(()) => info!(
-                priority = cfg.rt.fifo_priority,
-                "loop thread runs SCHED_FIFO"
-            ),
+            Ok(()) => {
+                info!(
+                    priority = cfg.rt.fifo_priority,
+                    "loop thread runs SCHED_FIFO"
+                );
+                // Only now: a real-time writer under a normal loop could
+                // hold the loop off a shared CPU.
+                let writer_priority = cfg.rt.writer_fifo_priority();
+                if writer_priority > 0 {
+                    match writer.set_fifo_priority(writer_priority) {
+                        Ok(()) => {
+                            info!(priority = writer_priority, "writer thread runs SCHED_FIFO")
+                        }
+                        Err(e) => warn!(
+                            priority = writer_priority,
+                            "real-time: SCHED_FIFO not permitted for the writer thread ({e}); \
+                             it runs with normal scheduling"
+                        ),
+                    }
+                }
+            }
             Err(e) => warn!(
                 priority = cfg.rt.fifo_priority,
-                "real-time: SCHED_FIFO not permitted ({e}); running with normal scheduling \
-                 (grant LimitRTPRIO/CAP_SYS_NICE)"
+                "real-time: SCHED_FIFO not permitted ({e}); loop and writer run with normal \
+                 scheduling (grant LimitRTPRIO/CAP_SYS_NICE)"
             ),
         }
+    } else if cfg.rt.writer_priority.is_some_and(|p| p > 0) {
+        warn!(
+            "rt.writer_priority is ignored: the loop runs normal scheduling (rt.fifo_priority = 0)"
+        );
     }
     // Without SCHED_FIFO the kernel's default 50 µs timer slack would
     // delay every wake-up.

@@ -17,11 +17,18 @@
 //! prepared).
 //!
 //! How the writer wakes ([`WriterWake`]): by default on its own absolute
-//! timer at the loop's next deadline, then spinning (briefly, yielding)
-//! until the loop marks that tick done — two atomic stores on the loop
-//! instead of a futex wake, which on a VM cost the loop 5–20 µs per tick
-//! and most of its tail (an inter-processor interrupt per wake). With a
-//! mock clock (tests) the loop unparks the writer instead.
+//! timer when the loop wakes (the loop's next deadline less its
+//! `spin_us`), then spinning (yielding) until the loop marks that tick
+//! done — two atomic stores on the loop instead of a futex wake, which on
+//! a VM cost the loop 5–20 µs per tick and most of its tail (an
+//! inter-processor interrupt per wake). The spin ends `SPIN_WAIT` (100 µs) after
+//! the deadline; a later tick is polled with short sleeps. With a mock
+//! clock (tests) the loop unparks the writer instead.
+//!
+//! `main` raises the writer to SCHED_FIFO (`[rt] writer_priority`, below
+//! the loop) once the loop itself runs SCHED_FIFO, so that normal threads
+//! on its CPU — busy clients, builds — cannot hold back the status, the
+//! answers and the planner's wake-up.
 //!
 //! If the ring is full (the writer starved for many periods) the loop drops
 //! the message and counts it; it never waits.
@@ -120,9 +127,6 @@ pub struct WriterSettings {
     pub spin: Nanos,
     /// CPUs to pin the writer to (empty: any).
     pub cpus: Vec<u32>,
-    /// SCHED_FIFO priority of the writer (0: normal scheduling), below the
-    /// loop's ([`RtSection::writer_fifo_priority`](crate::config::RtSection::writer_fifo_priority)).
-    pub fifo_priority: u32,
     /// Wake-ups the loop requested of other threads, delivered after every
     /// tick (so the loop itself makes no syscall for them).
     pub doorbells: Vec<Arc<Doorbell>>,
@@ -142,7 +146,6 @@ pub fn spawn(
         period,
         spin,
         cpus,
-        fifo_priority,
         doorbells,
     } = settings;
     let (tx, rx) = handoff::channel::<Outbound>(CAPACITY);
@@ -155,18 +158,6 @@ pub fn spawn(
         .spawn(move || {
             if let Err(e) = crate::rt::pin_current_thread(&cpus) {
                 tracing::warn!(?cpus, error = %e, "cannot pin the writer thread");
-            }
-            if fifo_priority > 0 {
-                match crate::rt::set_fifo_priority(fifo_priority) {
-                    Ok(()) => {
-                        tracing::info!(priority = fifo_priority, "writer thread runs SCHED_FIFO")
-                    }
-                    Err(e) => tracing::warn!(
-                        priority = fifo_priority,
-                        "real-time: SCHED_FIFO not permitted for the writer thread ({e}); \
-                         running it with normal scheduling"
-                    ),
-                }
             }
             if wake == WriterWake::Timer {
                 crate::rt::precise_timers();
@@ -226,9 +217,11 @@ fn send<T: std::fmt::Debug + ZeroCopySend + Copy>(
     }
 }
 
-/// How long the writer spins for a tick to finish before it polls with
-/// sleeps \[ns\]: above the loop's compute time (p99 ≈ 40 µs on the
-/// development VM), so it only sleeps when the loop is late.
+/// How long after the deadline the writer spins for a tick to finish
+/// before it polls with sleeps \[ns\] (at most a tenth of the period):
+/// above the loop's compute time (p99 ≈ 40 µs on the development VM), so
+/// it only sleeps when the loop is late. Under SCHED_FIFO a spin (even
+/// yielding) keeps normal threads off the writer's CPU.
 const SPIN_WAIT: Nanos = 100_000;
 
 /// The writer's sleep between polls of a late tick \[ns\].
@@ -275,7 +268,9 @@ impl Waiter<'_> {
         // Spinning is bounded by SPIN_WAIT: a SCHED_FIFO writer that spun
         // through a late tick would starve the normal threads of its CPU.
         let give_up = next + self.period / 2;
-        let stop_spinning = monotonic_now() + SPIN_WAIT;
+        // Counted from the deadline: with `spin_us` the writer wakes while
+        // the loop still busy-waits for it.
+        let stop_spinning = monotonic_now().max(next) + SPIN_WAIT.min(self.period / 10);
         let mut spins = 0u32;
         while self.shared.done_deadline.load(Ordering::Acquire) < next
             && !self.stop.load(Ordering::Acquire)

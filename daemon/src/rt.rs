@@ -57,11 +57,21 @@ pub fn lock_memory() -> Result<(), LockError> {
 
 /// Runs the calling thread with SCHED_FIFO at `priority` (1–99).
 pub fn set_fifo_priority(priority: u32) -> io::Result<()> {
+    // SAFETY: pthread_self is always a valid, running thread.
+    unsafe { set_thread_fifo_priority(libc::pthread_self(), priority) }
+}
+
+/// Runs `thread` with SCHED_FIFO at `priority` (1–99).
+///
+/// # Safety
+/// `thread` must be a thread that has not been joined or detached (e.g.
+/// from a live `JoinHandle`).
+pub unsafe fn set_thread_fifo_priority(thread: libc::pthread_t, priority: u32) -> io::Result<()> {
     let param = libc::sched_param {
         sched_priority: priority as libc::c_int,
     };
-    // SAFETY: pthread_self is always valid; param is a valid pointer.
-    let rc = unsafe { libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param) };
+    // SAFETY: the caller guarantees `thread`; param is a valid pointer.
+    let rc = unsafe { libc::pthread_setschedparam(thread, libc::SCHED_FIFO, &param) };
     if rc != 0 {
         return Err(io::Error::from_raw_os_error(rc));
     }

@@ -3,6 +3,7 @@
 //! the thread so it sees the flag at once, and joins it — on `join` or
 //! when the handle is dropped.
 
+use std::os::unix::thread::JoinHandleExt;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
@@ -20,6 +21,15 @@ impl StoppableThread {
         Self {
             stop,
             handle: Some(handle),
+        }
+    }
+
+    /// Runs the thread with SCHED_FIFO at `priority` (1–99).
+    pub fn set_fifo_priority(&self, priority: u32) -> std::io::Result<()> {
+        match &self.handle {
+            // SAFETY: the handle is live (not joined, not detached).
+            Some(h) => unsafe { crate::rt::set_thread_fifo_priority(h.as_pthread_t(), priority) },
+            None => Err(std::io::Error::other("thread already stopped")),
         }
     }
 

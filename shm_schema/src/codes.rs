@@ -338,9 +338,9 @@ code_enum! {
         DaemonStopping = 12,
         /// The controller switched to hold on a command (`reason`).
         Hold = 13,
-        /// A contact drifted beyond tolerance (`finger`, `goal_id`, `client_id`; `count` = drifts so far): the motion stops and the goal is replanned from the measured state.
+        /// A contact drifted beyond tolerance (`finger`, `goal_id`, `client_id`; `count` = replans of the goal so far, drifts and near-limits together): the motion stops and the goal is replanned from the measured state.
         Drift = 14,
-        /// While moving, the measured state came near the limit of an invariant (SPEC §6.3; `fault` = the invariant as the fault it would become, `finger` = the finger concerned, or none (0xFFFFFFFF) for force closure, `goal_id`, `client_id`, `count` = replans so far): the motion stops and the goal is replanned from the measured state.
+        /// While moving, the measured state came near the limit of an invariant (SPEC §6.3; `fault` = the invariant as the fault it would become, `finger` = the finger concerned, or none (0xFFFFFFFF) for force closure, `goal_id`, `client_id`, `count` = replans of the goal so far, drifts and near-limits together): the motion stops and the goal is replanned from the measured state.
         NearLimit = 15,
     }
 }

@@ -52,7 +52,8 @@ fn a_full_turn_is_a_full_turn() {
     assert!(angle(end.object_q, start) < 1e-6, "back where it started");
     assert!(farthest > 3.0, "it really turned (saw {farthest} rad away)");
     assert!(end.goal.gaits_done >= 6, "gaits: {}", end.goal.gaits_done);
-    // Every status and event of the turn passed the client's checks.
+    // Every event of the turn, and every status read, passed the
+    // client's checks.
     let events: Vec<_> = c.events().unwrap().collect();
     assert!(events.len() > 20, "{} events", events.len());
     assert_eq!(c.bad_samples(), 0);

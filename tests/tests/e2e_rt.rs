@@ -1,17 +1,26 @@
 //! Real-time setup of the daemon's threads (SPEC §7.1, RT-TUNING.md): the
 //! loop runs SCHED_FIFO at `rt.fifo_priority`, the writer (status, answers,
 //! events, the planner's wake-up) SCHED_FIFO just below it, every other
-//! thread normal scheduling. Where the kernel refuses SCHED_FIFO (no
-//! CAP_SYS_NICE or RLIMIT_RTPRIO), each of the two warns and every thread
-//! runs normal scheduling; the daemon works either way.
+//! thread normal scheduling. Where the kernel refuses the loop SCHED_FIFO
+//! (no CAP_SYS_NICE or RLIMIT_RTPRIO), the daemon warns and every thread
+//! runs normal scheduling (the writer is raised only after the loop was);
+//! the daemon works either way.
 
 use gaitd_client::Client;
 use gaitd_tests::TestDaemon;
 use std::time::Duration;
 
-/// One thread's name, scheduling policy and real-time priority, from
-/// /proc/<pid>/task/<tid>/stat (proc(5): fields 40 rt_priority, 41 policy).
-fn threads(pid: i32) -> Vec<(String, u32, u32)> {
+/// A thread of the daemon, as /proc/<pid>/task/<tid>/stat describes it
+/// (proc(5): fields 40 rt_priority, 41 policy).
+#[derive(Debug)]
+struct Thread {
+    tid: i32,
+    name: String,
+    policy: u32,
+    priority: u32,
+}
+
+fn threads(pid: i32) -> Vec<Thread> {
     let mut out = Vec::new();
     for t in std::fs::read_dir(format!("/proc/{pid}/task")).unwrap() {
         let dir = t.unwrap().path();
@@ -21,7 +30,13 @@ fn threads(pid: i32) -> Vec<(String, u32, u32)> {
         let after = &stat[stat.rfind(')').unwrap() + 1..];
         let f: Vec<&str> = after.split_whitespace().collect();
         let field = |n: usize| f[n - 3].parse::<u32>().unwrap();
-        out.push((comm.trim().to_string(), field(41), field(40)));
+        let tid = dir.file_name().unwrap().to_str().unwrap().parse().unwrap();
+        out.push(Thread {
+            tid,
+            name: comm.trim().to_string(),
+            policy: field(41),
+            priority: field(40),
+        });
     }
     out
 }
@@ -39,34 +54,51 @@ fn loop_and_writer_run_sched_fifo_the_rest_normal() {
     let mut c = Client::connect(d.options()).expect("connects");
     c.wait_status(Duration::from_secs(5)).expect("a status");
 
-    let ts = threads(d.pid());
+    let pid = d.pid();
+    let ts = threads(pid);
     let log = d.log();
-    let policy = |name: &str| {
-        let t = ts.iter().find(|t| t.0 == name);
-        let t = t.unwrap_or_else(|| panic!("no thread {name}: {ts:?}"));
-        (t.1, t.2)
+    // The loop is the main thread; the writer is named.
+    let find = |is: &dyn Fn(&Thread) -> bool, what: &str| {
+        let t = ts.iter().find(|t| is(t));
+        let t = t.unwrap_or_else(|| panic!("no {what} thread: {ts:?}"));
+        (t.policy, t.priority)
     };
+    let is_loop = |t: &Thread| t.tid == pid;
+    let is_writer = |t: &Thread| t.name == "gaitd-writer";
     if log.contains("SCHED_FIFO not permitted") {
-        // Refused: both threads say so, and nothing runs real-time.
+        // Refused: nothing runs real-time, the writer included.
         assert!(
-            log.contains("SCHED_FIFO not permitted for the writer thread"),
+            log.contains("loop and writer run with normal scheduling"),
             "{log}"
         );
-        assert!(ts.iter().all(|t| t.1 == SCHED_OTHER), "{ts:?}");
+        assert!(ts.iter().all(|t| t.policy == SCHED_OTHER), "{ts:?}");
         eprintln!("SCHED_FIFO not permitted here: checked the fallback only");
     } else {
-        assert_eq!(policy("gaitd"), (SCHED_FIFO, 35), "the loop: {ts:?}");
-        assert_eq!(policy("gaitd-writer"), (SCHED_FIFO, 25), "{ts:?}");
+        assert_eq!(find(&is_loop, "loop"), (SCHED_FIFO, 35), "{ts:?}");
+        assert_eq!(find(&is_writer, "writer"), (SCHED_FIFO, 25), "{ts:?}");
         assert!(log.contains("writer thread runs SCHED_FIFO"), "{log}");
-        for t in ts
-            .iter()
-            .filter(|t| t.0 != "gaitd" && t.0 != "gaitd-writer")
-        {
-            assert_eq!((t.1, t.2), (SCHED_OTHER, 0), "{t:?} of {ts:?}");
+        for t in ts.iter().filter(|t| !is_loop(t) && !is_writer(t)) {
+            assert_eq!((t.policy, t.priority), (SCHED_OTHER, 0), "{t:?} of {ts:?}");
         }
     }
     assert!(
-        ts.iter().any(|t| t.0.starts_with("gaitd-plan")),
+        ts.iter().any(|t| t.name == "gaitd-planner"),
         "the planner thread exists: {ts:?}"
     );
+}
+
+#[test]
+fn writer_priority_zero_keeps_the_writer_normal() {
+    let mut d = TestDaemon::with_rt(
+        "rt0",
+        "lock_memory = false\nfifo_priority = 35\nwriter_priority = 0",
+        "",
+    );
+    d.spawn();
+    d.wait_ready(Duration::from_secs(20));
+    let ts = threads(d.pid());
+    let writer = ts.iter().find(|t| t.name == "gaitd-writer");
+    let writer = writer.expect("a writer thread");
+    assert_eq!((writer.policy, writer.priority), (SCHED_OTHER, 0), "{ts:?}");
+    assert!(!d.log().contains("writer thread runs SCHED_FIFO"));
 }

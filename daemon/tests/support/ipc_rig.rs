@@ -209,7 +209,6 @@ pub fn daemon(ns: &Namespace) -> Daemon {
         period: ns.cfg.period_ns(),
         spin: 0,
         cpus: Vec::new(),
-        fifo_priority: 0,
         doorbells: Vec::new(),
     };
     let (outbox, writer) = outbox::spawn(out, names, settings, shared.clone()).unwrap();
