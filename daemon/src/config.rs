@@ -499,6 +499,17 @@ impl DaemonConfig {
         u64::from(self.rt.spin_us) * 1000
     }
 
+    /// How long before the loop's deadline the writer thread wakes \[ns\]:
+    /// with the loop (its `spin_ns`) when they may share a CPU, so the
+    /// writer's timer never interrupts the loop's spin or tick; at the
+    /// deadline when both are pinned to disjoint CPUs, so the writer does
+    /// not spin through the loop's busy-wait on its own CPU.
+    pub fn writer_lead_ns(&self) -> u64 {
+        let (l, b) = (&self.rt.loop_cpus, &self.rt.background_cpus);
+        let disjoint = !l.is_empty() && !b.is_empty() && !l.iter().any(|c| b.contains(c));
+        if disjoint { 0 } else { self.spin_ns() }
+    }
+
     /// The loop period \[ns\] (rounded to the nearest nanosecond).
     pub fn period_ns(&self) -> u64 {
         (1e9 / self.control.tick_hz).round() as u64
@@ -577,6 +588,19 @@ mod tests {
     fn empty_file_is_the_default() {
         let c = DaemonConfig::from_toml("", "x.toml").unwrap();
         assert_eq!(c, DaemonConfig::default());
+    }
+
+    #[test]
+    fn the_writer_wakes_with_the_loop_unless_their_cpus_are_disjoint() {
+        let lead = |rt: &str| {
+            DaemonConfig::from_toml(&format!("[rt]\nspin_us = 100\n{rt}"), "x")
+                .unwrap()
+                .writer_lead_ns()
+        };
+        assert_eq!(lead(""), 100_000);
+        assert_eq!(lead("loop_cpus = [1]\n"), 100_000);
+        assert_eq!(lead("loop_cpus = [1]\nbackground_cpus = [0, 1]\n"), 100_000);
+        assert_eq!(lead("loop_cpus = [1]\nbackground_cpus = [0]\n"), 0);
     }
 
     #[test]

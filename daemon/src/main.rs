@@ -87,7 +87,7 @@ fn main() -> Result<()> {
             status_notify_every: cfg.daemon.status_notify_every.into(),
             wake: cfg.daemon.writer_wake,
             period: cfg.period_ns(),
-            spin: cfg.spin_ns(),
+            spin: cfg.writer_lead_ns(),
             cpus: cfg.rt.background_cpus.clone(),
             doorbells: vec![planner_bell.clone()],
         },

@@ -18,7 +18,8 @@
 //!
 //! How the writer wakes ([`WriterWake`]): by default on its own absolute
 //! timer when the loop wakes (the loop's next deadline less its
-//! `spin_us`), then spinning (yielding) until the loop marks that tick
+//! `spin_us`; at the deadline when the two are pinned to disjoint CPUs),
+//! then spinning (yielding) until the loop marks that tick
 //! done — two atomic stores on the loop instead of a futex wake, which on
 //! a VM cost the loop 5–20 µs per tick and most of its tail (an
 //! inter-processor interrupt per wake). The spin ends `SPIN_WAIT` (100 µs) after
@@ -121,9 +122,11 @@ pub struct WriterSettings {
     pub wake: WriterWake,
     /// The loop's period \[ns\] (bounds how long the writer waits for a tick).
     pub period: Nanos,
-    /// The loop's busy-wait before each deadline (`[rt] spin_us`) \[ns\]: the
+    /// How long before each deadline the writer wakes \[ns\]: the loop's
+    /// busy-wait (`[rt] spin_us`) when they may share a CPU, so the
     /// writer's timer fires when the loop's does, not in the middle of its
-    /// spin (where, on a shared CPU, the interrupt would make the loop late).
+    /// spin (where the interrupt would make the loop late); 0 on disjoint
+    /// CPUs ([`DaemonConfig::writer_lead_ns`](crate::config::DaemonConfig::writer_lead_ns)).
     pub spin: Nanos,
     /// CPUs to pin the writer to (empty: any).
     pub cpus: Vec<u32>,
