@@ -175,39 +175,31 @@ fn main() -> Result<()> {
     if let Err(e) = rt::pin_current_thread(&cfg.rt.loop_cpus) {
         warn!(cpus = ?cfg.rt.loop_cpus, "real-time: cannot pin the loop thread: {e}; continuing unpinned");
     }
-    if cfg.rt.fifo_priority > 0 {
-        match rt::set_fifo_priority(cfg.rt.fifo_priority) {
-            Ok(()) => {
-                info!(
-                    priority = cfg.rt.fifo_priority,
-                    "loop thread runs SCHED_FIFO"
-                );
-                // Only now: a real-time writer under a normal loop could
-                // hold the loop off a shared CPU.
-                let writer_priority = cfg.rt.writer_fifo_priority();
-                if writer_priority > 0 {
-                    match writer.set_fifo_priority(writer_priority) {
-                        Ok(()) => {
-                            info!(priority = writer_priority, "writer thread runs SCHED_FIFO")
-                        }
-                        Err(e) => warn!(
-                            priority = writer_priority,
-                            "real-time: SCHED_FIFO not permitted for the writer thread ({e}); \
-                             it runs with normal scheduling"
-                        ),
-                    }
-                }
-            }
-            Err(e) => warn!(
-                priority = cfg.rt.fifo_priority,
-                "real-time: SCHED_FIFO not permitted ({e}); loop and writer run with normal \
-                 scheduling (grant LimitRTPRIO/CAP_SYS_NICE)"
-            ),
-        }
-    } else if cfg.rt.writer_priority.is_some_and(|p| p > 0) {
-        warn!(
+    let (loop_priority, writer_priority) = (cfg.rt.fifo_priority, cfg.rt.writer_fifo_priority());
+    let fifo =
+        rt::raise_loop_then_writer(loop_priority, writer_priority, rt::set_fifo_priority, |p| {
+            writer.set_fifo_priority(p)
+        });
+    match fifo.loop_thread {
+        Some(Ok(())) => info!(priority = loop_priority, "loop thread runs SCHED_FIFO"),
+        Some(Err(e)) => warn!(
+            priority = loop_priority,
+            "real-time: SCHED_FIFO not permitted ({e}); loop and writer run with normal \
+             scheduling (grant LimitRTPRIO/CAP_SYS_NICE)"
+        ),
+        None if cfg.rt.writer_priority.is_some_and(|p| p > 0) => warn!(
             "rt.writer_priority is ignored: the loop runs normal scheduling (rt.fifo_priority = 0)"
-        );
+        ),
+        None => {}
+    }
+    match fifo.writer {
+        Some(Ok(())) => info!(priority = writer_priority, "writer thread runs SCHED_FIFO"),
+        Some(Err(e)) => warn!(
+            priority = writer_priority,
+            "real-time: SCHED_FIFO not permitted for the writer thread ({e}); it runs with \
+             normal scheduling"
+        ),
+        None => {}
     }
     // Without SCHED_FIFO the kernel's default 50 µs timer slack would
     // delay every wake-up.

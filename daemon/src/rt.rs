@@ -78,6 +78,41 @@ pub unsafe fn set_thread_fifo_priority(thread: libc::pthread_t, priority: u32) -
     Ok(())
 }
 
+/// What became of the loop's and the writer's SCHED_FIFO requests (`None`:
+/// not attempted).
+#[derive(Debug)]
+pub struct FifoSetup {
+    /// The loop thread's request.
+    pub loop_thread: Option<io::Result<()>>,
+    /// The writer thread's request.
+    pub writer: Option<io::Result<()>>,
+}
+
+/// Raises the loop to SCHED_FIFO `loop_priority` with `raise_loop`, then,
+/// only if that worked, the writer to `writer_priority` with
+/// `raise_writer` (0 for either: not attempted). A real-time writer under a
+/// normal loop would keep the loop it waits for off a shared CPU.
+pub fn raise_loop_then_writer(
+    loop_priority: u32,
+    writer_priority: u32,
+    raise_loop: impl FnOnce(u32) -> io::Result<()>,
+    raise_writer: impl FnOnce(u32) -> io::Result<()>,
+) -> FifoSetup {
+    if loop_priority == 0 {
+        return FifoSetup {
+            loop_thread: None,
+            writer: None,
+        };
+    }
+    let loop_thread = raise_loop(loop_priority);
+    let writer =
+        (loop_thread.is_ok() && writer_priority > 0).then(|| raise_writer(writer_priority));
+    FifoSetup {
+        loop_thread: Some(loop_thread),
+        writer,
+    }
+}
+
 /// Restricts the calling thread to `cpus` (no-op for an empty list).
 pub fn pin_current_thread(cpus: &[u32]) -> io::Result<()> {
     if cpus.is_empty() {
@@ -131,6 +166,34 @@ mod tests {
         assert!(may_lock_memory(1000, libc::RLIM_INFINITY).is_ok());
         let e = may_lock_memory(1000, 8 << 20).unwrap_err();
         assert!(e.to_string().contains("LimitMEMLOCK"), "{e}");
+    }
+
+    #[test]
+    fn the_writer_is_raised_only_after_the_loop() {
+        let refused = || Err(io::Error::from_raw_os_error(libc::EPERM));
+        let asked = std::cell::Cell::new(0);
+        let writer = |p| {
+            asked.set(p);
+            Ok(())
+        };
+        // The loop refused (its priority above RLIMIT_RTPRIO, say): the
+        // writer, though it might be allowed, stays normal.
+        let s = raise_loop_then_writer(35, 25, |_| refused(), writer);
+        assert!(matches!(s.loop_thread, Some(Err(_))) && s.writer.is_none());
+        assert_eq!(asked.get(), 0);
+        let s = raise_loop_then_writer(35, 25, |_| Ok(()), writer);
+        assert!(matches!(
+            (s.loop_thread, s.writer),
+            (Some(Ok(())), Some(Ok(())))
+        ));
+        assert_eq!(asked.get(), 25);
+        let s = raise_loop_then_writer(35, 25, |_| Ok(()), |_| refused());
+        assert!(matches!(s.writer, Some(Err(_))));
+        // Not asked for.
+        let s = raise_loop_then_writer(35, 0, |_| Ok(()), |_| refused());
+        assert!(s.writer.is_none());
+        let s = raise_loop_then_writer(0, 25, |_| refused(), |_| refused());
+        assert!(s.loop_thread.is_none() && s.writer.is_none());
     }
 
     #[test]
