@@ -84,14 +84,13 @@ impl EventQueue {
     /// A finger rewind completed (paper §2.1): `relocated` as bits (bit k
     /// for finger k), `helper` free again.
     pub fn rewind(&mut self, helper: u8, relocated: u8, goal_id: u64, client_id: u64) {
-        let e = goal_event(
+        self.push(goal_event(
             EventKind::Rewind,
             helper,
             relocated.into(),
             goal_id,
             client_id,
-        );
-        self.push(e);
+        ));
     }
 
     /// The measured state came near an invariant's limit (SPEC §6.3): the
@@ -117,8 +116,13 @@ impl EventQueue {
 
     /// A contact drifted (SPEC §6.3): the goal is replanned.
     pub fn drift(&mut self, finger: u8, replan: u32, goal_id: u64, client_id: u64) {
-        let e = goal_event(EventKind::Drift, finger, replan.into(), goal_id, client_id);
-        self.push(e);
+        self.push(goal_event(
+            EventKind::Drift,
+            finger,
+            replan.into(),
+            goal_id,
+            client_id,
+        ));
     }
 
     /// A fault was detected.

@@ -476,12 +476,12 @@ impl Executor {
                             self.guard
                                 .observe(moving, &mut self.checker, &self.setpoint.state, m)
                     {
-                        self.on_near_limit(kind, finger, m);
+                        self.recover(kind, finger, m);
                     }
                 }
                 Err((FaultKind::ContactDrift, finger)) => {
                     if let Some(m) = measurement {
-                        self.on_drift(finger, m);
+                        self.recover(FaultKind::ContactDrift, finger, m);
                     }
                 }
                 Err((kind, finger)) => self.enter_fault(kind, finger),

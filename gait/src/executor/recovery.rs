@@ -42,43 +42,34 @@ pub(super) struct Drift {
 }
 
 impl Executor {
-    /// A contact drifted beyond tolerance (finger `finger`), seen in `m`.
-    pub(super) fn on_drift(&mut self, finger: u8, m: &Measurement) {
-        self.recover(None, finger, m);
-    }
-
-    /// While moving, the measured state `m` came near the limit of the
-    /// invariant `kind` stands for ([`super::guard`]).
-    pub(super) fn on_near_limit(&mut self, kind: FaultKind, finger: u8, m: &Measurement) {
-        self.recover(Some(kind), finger, m);
-    }
-
-    /// Stops and replans after a drift (`near` = None) or an invariant near
-    /// its limit; a fault when a recovery is already under way or the
-    /// budget is spent.
-    fn recover(&mut self, near: Option<FaultKind>, finger: u8, m: &Measurement) {
+    /// Stops and replans after `cause`, seen in `m`: a contact drift
+    /// (`ContactDrift`) or, while moving, the invariant `cause` stands for
+    /// near its limit ([`super::guard`]). A fault when a recovery is
+    /// already under way or the budget is spent.
+    pub(super) fn recover(&mut self, cause: FaultKind, finger: u8, m: &Measurement) {
         if self.drift.is_some() || self.replans >= self.max_replans {
             // Drifting again before the last drift was absorbed, or out of
             // replans.
-            self.enter_fault(near.unwrap_or(FaultKind::ContactDrift), finger);
+            self.enter_fault(cause, finger);
             return;
         }
         self.replans += 1;
         self.drift = Some(Drift {
-            cause: near.unwrap_or(FaultKind::ContactDrift),
+            cause,
             finger,
             offset: self.setpoint.state.object.inverse() * m.object,
         });
         let id = self.goal.or(self.pending).map_or(0, |g| g.id);
         let replan = self.replans;
-        self.events.push(match near {
-            None => Event::Drift { id, finger, replan },
-            Some(kind) => Event::NearLimit {
+        self.events.push(if cause == FaultKind::ContactDrift {
+            Event::Drift { id, finger, replan }
+        } else {
+            Event::NearLimit {
                 id,
-                kind,
+                kind: cause,
                 finger,
                 replan,
-            },
+            }
         });
         match self.phase {
             Phase::Moving => self.request_stop(AfterStop::Recover),
