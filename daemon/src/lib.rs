@@ -1,47 +1,37 @@
 //! # gaitd — the daemon's library part
 //!
 //! Everything of the `gaitd` binary except argument parsing lives here so
-//! that tests drive the same code (SPEC.md §7). One module per concept:
+//! that tests drive the same code (SPEC.md §7). The folders are the
+//! daemon's design:
 //!
-//! - [`config`]: the TOML file, every key validated by name;
-//! - [`clock`], [`ticker`]: injected time and absolute-deadline wake-ups;
-//! - [`runtime`]: the real-time loop and its phases, shutdown;
-//! - [`controller`]: the seam where the controller plugs in;
-//!   [`gait_controller`] is the real one (planner, executor, kinematic
-//!   hand), [`hold`] a still stand-in the tests use;
-//! - [`intake`], [`convert`], [`events`]: commands in, status and events out;
-//! - [`ipc`]: iceoryx2 services and ports; [`outbox`]: the writer thread
-//!   that publishes what the loop produced (the loop never publishes);
-//! - [`planner`], [`handoff`]: the planner thread and its lock-free link;
-//! - [`tracer`]: goal traces (`gait-trajectory/1`) written off the loop;
-//! - [`housekeeping`]: dead-node cleanup, client bookkeeping, rate-limited
-//!   warnings, `STATUS=`;
-//! - [`stats`], [`histogram`]: loop timing;
-//! - [`rt`], [`sd_notify`], [`signals`], [`logging`]: the process around it.
+//! ```text
+//!  process/   the process around it: config, RT set-up, systemd, signals, logs
+//!  realtime/  the loop thread: clock, deadlines, the tick's phases, command
+//!             intake, events, timing statistics          (never allocates)
+//!  control/   what a tick runs: the controller seam, the gait controller
+//!             (planner link + executor + plant), status conversion
+//!  io/        threads off the loop: iceoryx2 ports, the writer (outbox),
+//!             goal traces, housekeeping
+//! ```
+//!
+//! Data flows one way per tick: commands → [`realtime::intake`] →
+//! [`control::controller::Controller`] → [`realtime::events`] and
+//! [`control::convert`] → [`io::outbox`] (published by the writer thread).
 
-pub mod clock;
-pub mod config;
-pub mod controller;
-pub mod convert;
-pub mod events;
-pub mod gait_controller;
-pub mod handoff;
-pub mod histogram;
-pub mod hold;
-pub mod housekeeping;
-pub mod intake;
-pub mod ipc;
-pub mod logging;
-pub mod outbox;
-pub mod planner;
-pub mod rt;
-pub mod runtime;
-pub mod sd_notify;
-pub mod signals;
-pub mod stats;
-pub mod ticker;
-pub mod tracer;
-pub mod worker;
+// Lets the test-support files shared with the integration tests name
+// this crate `gaitd` in the crate's own unit tests.
+#[cfg(test)]
+extern crate self as gaitd;
+
+pub mod control;
+pub mod io;
+pub mod process;
+pub mod realtime;
+
+// The still test controller, shared with the integration tests.
+#[cfg(test)]
+#[path = "../tests/support/hold.rs"]
+mod hold;
 
 /// A random id for this daemon run (clients see a restart as a new id).
 pub fn new_instance_id() -> u64 {
@@ -50,7 +40,7 @@ pub fn new_instance_id() -> u64 {
     let n = unsafe { libc::getrandom((&raw mut v).cast(), 8, 0) };
     if n != 8 || v == 0 {
         // No entropy source: fall back to time and pid (unique enough per host).
-        v = clock::monotonic_now() ^ (u64::from(std::process::id()) << 32) | 1;
+        v = realtime::clock::monotonic_now() ^ (u64::from(std::process::id()) << 32) | 1;
     }
     v
 }

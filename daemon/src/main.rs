@@ -8,13 +8,14 @@
 
 use anyhow::{Context, Result};
 use clap::Parser;
-use gaitd::clock::MonotonicClock;
-use gaitd::config::{DEFAULT_CONFIG_PATH, DaemonConfig};
-use gaitd::gait_controller::{GaitController, GaitPlanner};
-use gaitd::housekeeping::{self, HousekeepingSetup};
-use gaitd::logging::{self, LogFormat};
-use gaitd::runtime::{Runtime, Shared};
-use gaitd::{ipc, outbox, rt, sd_notify, signals};
+use gaitd::control::gait_controller::{GaitController, GaitPlanner};
+use gaitd::io::housekeeping::{self, HousekeepingSetup};
+use gaitd::io::{ipc, outbox};
+use gaitd::process::config::{DEFAULT_CONFIG_PATH, DaemonConfig};
+use gaitd::process::logging::{self, LogFormat};
+use gaitd::process::{rt, sd_notify, signals};
+use gaitd::realtime::clock::MonotonicClock;
+use gaitd::realtime::runtime::{Runtime, Shared};
 use iceoryx2::prelude::{LogLevel, set_log_level_from_env_or};
 use shm_schema::ipc::DAEMON_NODE_NAME;
 use std::sync::Arc;
@@ -79,7 +80,7 @@ fn main() -> Result<()> {
     let shared = Arc::new(Shared::default());
     // The writer rings the planner's doorbell after each tick, so the loop
     // never wakes the planner thread itself (planner module docs).
-    let planner_bell = Arc::new(gaitd::planner::Doorbell::default());
+    let planner_bell = Arc::new(gaitd::control::planner::Doorbell::default());
     let (outbox, writer) = outbox::spawn(
         services.out,
         names.clone(),
@@ -125,10 +126,11 @@ fn main() -> Result<()> {
     // embedded kinematic hand (SPEC §6.2, §7.2).
     let planner = gait::planner::Planner::new(&cfg.hand()).context("building the planner")?;
     let background = cfg.rt.background_cpus.clone();
-    let (mut link, planner_thread) = gaitd::planner::spawn(GaitPlanner(planner), 4, move || {
-        let _ = gaitd::rt::pin_current_thread(&background);
-    })
-    .context("starting the planner thread")?;
+    let (mut link, planner_thread) =
+        gaitd::control::planner::spawn(GaitPlanner(planner), 4, move || {
+            let _ = gaitd::process::rt::pin_current_thread(&background);
+        })
+        .context("starting the planner thread")?;
     link.wake_through(planner_bell);
     let mut controller = GaitController::new(&cfg.hand(), 1.0 / cfg.control.tick_hz, link)
         .context("building the controller")?;
@@ -138,8 +140,8 @@ fn main() -> Result<()> {
     let tracer = if cfg.daemon.trace_dir.is_empty() {
         None
     } else {
-        let (recorder, tracer) = gaitd::tracer::spawn(
-            gaitd::tracer::TraceSettings {
+        let (recorder, tracer) = gaitd::io::tracer::spawn(
+            gaitd::io::tracer::TraceSettings {
                 dir: cfg.daemon.trace_dir.clone().into(),
                 instance,
                 hand: cfg.hand(),
@@ -147,7 +149,7 @@ fn main() -> Result<()> {
                 cpus: cfg.rt.background_cpus.clone(),
                 keep: cfg.daemon.trace_keep as usize,
             },
-            gaitd::tracer::DEFAULT_CAPACITY,
+            gaitd::io::tracer::DEFAULT_CAPACITY,
         )?;
         controller.set_trace(recorder);
         info!(dir = %cfg.daemon.trace_dir, "recording a trace of every goal");

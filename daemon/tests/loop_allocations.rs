@@ -14,14 +14,16 @@
 //! the planner thread, so plans (boxes) reach the loop and old ones leave
 //! it on every goal — preemption included.
 
+#[path = "support/hold.rs"]
+mod hold;
 #[path = "support/ipc_rig.rs"]
 mod ipc_rig;
 
-use gaitd::clock::MockClock;
-use gaitd::controller::{ControlCommand, ControlOutput, Controller, TickContext};
-use gaitd::hold::HoldController;
-use gaitd::planner::{self, Planner, PlannerLink};
-use gaitd::runtime::Runtime;
+use gaitd::control::controller::{ControlCommand, ControlOutput, Controller, TickContext};
+use gaitd::control::planner::{self, Planner, PlannerLink};
+use gaitd::realtime::clock::MockClock;
+use gaitd::realtime::runtime::Runtime;
+use hold::HoldController;
 use ipc_rig::{Namespace, TestClient, daemon};
 use shm_schema::{Command, CommandKind, GoalFrame, GoalState, ReasonCode, Verdict};
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -388,8 +390,8 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
     let trace_dir = std::env::temp_dir().join(format!("gaitd-alloc-traces-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&trace_dir);
     std::fs::create_dir_all(&trace_dir).unwrap();
-    let (recorder, tracer) = gaitd::tracer::spawn(
-        gaitd::tracer::TraceSettings {
+    let (recorder, tracer) = gaitd::io::tracer::spawn(
+        gaitd::io::tracer::TraceSettings {
             dir: trace_dir.clone(),
             instance: 44,
             hand,
@@ -397,7 +399,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
             cpus: Vec::new(),
             keep: 0,
         },
-        gaitd::tracer::DEFAULT_CAPACITY,
+        gaitd::io::tracer::DEFAULT_CAPACITY,
     )
     .unwrap();
     let mut g = ipc_rig::gait_loop(&ns, 44, |c| c.set_trace(recorder));

@@ -13,10 +13,12 @@
 #![allow(dead_code)]
 
 use gait::config::LimitsConfig;
-use gaitd::config::DaemonConfig;
-use gaitd::controller::{ControlCommand, ControlOutput, Controller, GoalTarget, TickContext};
-use gaitd::events::EventQueue;
-use gaitd::intake::Intake;
+use gaitd::control::controller::{
+    ControlCommand, ControlOutput, Controller, GoalTarget, TickContext,
+};
+use gaitd::process::config::DaemonConfig;
+use gaitd::realtime::events::EventQueue;
+use gaitd::realtime::intake::Intake;
 use shm_schema::command::{LIMIT_OVERRIDES, QUATERNION_NORM_TOLERANCE};
 use shm_schema::{Answer, Command, CommandKind, GoalFrame, MAX_AXIS_ANGLE, ReasonCode, Verdict};
 use std::collections::VecDeque;

@@ -6,10 +6,10 @@
 
 #![allow(dead_code)]
 
-use gaitd::config::DaemonConfig;
-use gaitd::ipc::{self, Ipc};
-use gaitd::outbox;
-use gaitd::runtime::Shared;
+use gaitd::io::ipc::{self, Ipc};
+use gaitd::io::outbox;
+use gaitd::process::config::DaemonConfig;
+use gaitd::realtime::runtime::Shared;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
@@ -243,13 +243,15 @@ pub fn let_writer_catch_up(shared: &Shared) {
 /// The real gait controller (planner thread, executor, kinematic hand) in
 /// the real loop (`Runtime`) on the mock clock, with a client connected.
 pub struct GaitLoop {
-    pub rt:
-        gaitd::runtime::Runtime<gaitd::gait_controller::GaitController, gaitd::clock::MockClock>,
-    pub clock: gaitd::clock::MockClock,
+    pub rt: gaitd::realtime::runtime::Runtime<
+        gaitd::control::gait_controller::GaitController,
+        gaitd::realtime::clock::MockClock,
+    >,
+    pub clock: gaitd::realtime::clock::MockClock,
     pub client: TestClient,
     pub shared: Arc<Shared>,
     writer: outbox::Writer,
-    planner: gaitd::planner::PlannerThread,
+    planner: gaitd::control::planner::PlannerThread,
     _commands_service:
         iceoryx2::service::port_factory::publish_subscribe::PortFactory<Ipc, Command, ()>,
     _node: Node<Ipc>,
@@ -260,9 +262,9 @@ pub struct GaitLoop {
 pub fn gait_loop(
     ns: &Namespace,
     instance: u64,
-    setup: impl FnOnce(&mut gaitd::gait_controller::GaitController),
+    setup: impl FnOnce(&mut gaitd::control::gait_controller::GaitController),
 ) -> GaitLoop {
-    use gaitd::gait_controller::{GaitController, GaitPlanner};
+    use gaitd::control::gait_controller::{GaitController, GaitPlanner};
     let Daemon {
         commands,
         outbox,
@@ -274,11 +276,11 @@ pub fn gait_loop(
     } = daemon(ns);
     let hand = ns.cfg.hand();
     let planner = gait::planner::Planner::new(&hand).unwrap();
-    let (link, planner) = gaitd::planner::spawn(GaitPlanner(planner), 4, || {}).unwrap();
+    let (link, planner) = gaitd::control::planner::spawn(GaitPlanner(planner), 4, || {}).unwrap();
     let mut controller = GaitController::new(&hand, 1e-3, link).unwrap();
     setup(&mut controller);
-    let clock = gaitd::clock::MockClock::new(0);
-    let rt = gaitd::runtime::Runtime::new(
+    let clock = gaitd::realtime::clock::MockClock::new(0);
+    let rt = gaitd::realtime::runtime::Runtime::new(
         commands,
         outbox,
         controller,

@@ -19,7 +19,7 @@
 //! thread, which runs right after every tick anyway, rings — so a flood of
 //! goals costs the loop no syscalls, and planning starts a few µs later.
 
-use crate::handoff::{self, Consumer, Producer};
+use crate::control::handoff::{self, Consumer, Producer};
 use shm_schema::ReasonCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
@@ -130,7 +130,7 @@ impl<Req: Send, P: Send> PlannerLink<Req, P> {
 }
 
 /// Handle of the planner thread: `join` (or drop) stops it and waits.
-pub type PlannerThread = crate::worker::StoppableThread;
+pub type PlannerThread = crate::io::worker::StoppableThread;
 
 /// What [`spawn`] returns: the loop's link and the thread's handle.
 pub type Spawned<Pl> = (

@@ -24,17 +24,19 @@
 //! `daemon_state = Stopped` → return; the caller then joins the writer,
 //! which publishes them, and drops the ports.
 
-use crate::clock::{Clock, Nanos};
-use crate::config::DaemonConfig;
-use crate::controller::{ControlOutput, Controller, FingerReport, GoalReport, TickContext};
-use crate::convert::fill_status;
-use crate::events::EventQueue;
-use crate::intake::Intake;
-use crate::ipc::Ipc;
-use crate::outbox::{Outbound, Outbox};
-use crate::sd_notify;
-use crate::stats::LoopStats;
-use crate::ticker::{Ticker, Wake};
+use crate::control::controller::{
+    ControlOutput, Controller, FingerReport, GoalReport, TickContext,
+};
+use crate::control::convert::fill_status;
+use crate::io::ipc::Ipc;
+use crate::io::outbox::{Outbound, Outbox};
+use crate::process::config::DaemonConfig;
+use crate::process::sd_notify;
+use crate::realtime::clock::{Clock, Nanos};
+use crate::realtime::events::EventQueue;
+use crate::realtime::intake::Intake;
+use crate::realtime::stats::LoopStats;
+use crate::realtime::ticker::{Ticker, Wake};
 use gait::HandState;
 use iceoryx2::port::subscriber::Subscriber;
 use nalgebra::Vector3;

@@ -1,7 +1,7 @@
 //! The one place where wire types (`shm_schema`) and maths types (`gait`,
 //! nalgebra) meet (STYLE: "the conversions live in one module there").
 
-use crate::controller::{ControlCommand, ControlOutput, Goal, GoalTarget};
+use crate::control::controller::{ControlCommand, ControlOutput, Goal, GoalTarget};
 use gait::config::{LimitsConfig, MotionLimit};
 use gait::{FingerMode, HandState};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
@@ -123,9 +123,9 @@ fn finger_status(hand: &HandState, k: usize, object_radius: f64) -> FingerStatus
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::controller::Controller;
-    use crate::events::EventQueue;
+    use crate::control::controller::Controller;
     use crate::hold::HoldController;
+    use crate::realtime::events::EventQueue;
     use gait::HandConfig;
     use shm_schema::{Command, DaemonState};
 
@@ -169,7 +169,7 @@ mod tests {
         let cfg = HandConfig::default();
         let mut ctl = HoldController::new(&cfg);
         let mut events = EventQueue::new();
-        let mut ctx = crate::controller::TickContext {
+        let mut ctx = crate::control::controller::TickContext {
             now: 0,
             tick: 0,
             events: &mut events,
@@ -180,7 +180,7 @@ mod tests {
             phase: shm_schema::Phase::Hold,
             fault: shm_schema::FaultCode::None,
             goal: Default::default(),
-            fingers: [crate::controller::FingerReport {
+            fingers: [crate::control::controller::FingerReport {
                 phase: shm_schema::FingerPhase::Free,
                 workspace_margin: 0.0,
                 normal_force: 0.0,

@@ -13,7 +13,7 @@
 //! (another schema version, other limits) is removed by force and created
 //! anew, and its old clients must reconnect.
 
-use crate::config::{DaemonConfig, IpcSection};
+use crate::process::config::{DaemonConfig, IpcSection};
 use iceoryx2::config::Config;
 use iceoryx2::node::NodeBuilder;
 use iceoryx2::port::notifier::Notifier;

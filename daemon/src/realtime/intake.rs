@@ -4,8 +4,8 @@
 //! further; then the daemon's own checks (shutdown, duplicate goal ids,
 //! limit overrides above the configured limits); only then the controller.
 
-use crate::controller::{ControlCommand, Controller, TickContext};
-use crate::convert::control_command;
+use crate::control::controller::{ControlCommand, Controller, TickContext};
+use crate::control::convert::control_command;
 use gait::config::LimitsConfig;
 use shm_schema::{Command, GoalState, ReasonCode, ValidCommand, Verdict};
 
@@ -214,8 +214,8 @@ impl Intake {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::events::EventQueue;
     use crate::hold::HoldController;
+    use crate::realtime::events::EventQueue;
     use gait::HandConfig;
     use shm_schema::{EventKind, GoalFrame, LimitKind, LimitOrder};
 

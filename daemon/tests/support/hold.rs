@@ -1,17 +1,21 @@
-//! The smallest honest controller: holds the paper's start grasp still.
+//! A still stand-in controller for tests: holds the paper's start grasp.
 //!
-//! **Stand-in, replaced by issue 4's executor** (planner + trajectory
-//! generator + kinematic hand simulator). Until then `gaitd` runs this: it
-//! publishes the paper's initial grasp (SPEC §4.3, paper Fig. 4 frame 1)
-//! every tick, answers Hold, Cancel and Reset, and rejects every
-//! reorientation goal with [`ReasonCode::PlannerUnavailable`] — it never
-//! pretends to move. It computes no grasp forces, so force closure is
-//! reported as [`GraspState::Unknown`] and normal forces as 0.
+//! Test support only (the daemon runs the gait controller). Tests of the
+//! loop, the command intake and the status conversion use it where a
+//! planner thread would only add noise: it publishes the paper's initial
+//! grasp (SPEC §4.3, paper Fig. 4 frame 1) every tick, answers Hold, Cancel
+//! and Reset, and rejects every reorientation goal with
+//! [`ReasonCode::PlannerUnavailable`] — it never pretends to move. It
+//! computes no grasp forces, so force closure is reported as
+//! [`GraspState::Unknown`] and normal forces as 0.
+//!
+//! Included by the integration tests (`mod support`) and by the crate's own
+//! unit tests (`#[path]`, with `gaitd` naming the crate itself).
 
-use crate::controller::{
+use gait::{FINGERS, FingerMode, HandConfig, HandState};
+use gaitd::control::controller::{
     ControlCommand, ControlOutput, Controller, FingerReport, GoalReport, TickContext,
 };
-use gait::{FINGERS, FingerMode, HandConfig, HandState};
 use nalgebra::Vector3;
 use shm_schema::{EventKind, FaultCode, FingerPhase, GraspState, Phase, ReasonCode, Verdict};
 
@@ -90,8 +94,8 @@ impl Controller for HoldController {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::controller::{Goal, GoalTarget};
-    use crate::events::EventQueue;
+    use gaitd::control::controller::{Goal, GoalTarget};
+    use gaitd::realtime::events::EventQueue;
     use nalgebra::UnitQuaternion;
 
     #[test]

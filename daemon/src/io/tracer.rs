@@ -26,7 +26,7 @@
 //! start marker finds no room is not recorded and is counted
 //! ([`TraceCounters::missed`]) and logged.
 
-use crate::handoff::{self, Consumer, Producer};
+use crate::control::handoff::{self, Consumer, Producer};
 use gait::HandConfig;
 use gait::executor::GoalTarget;
 pub use gait::trace::Sample;
@@ -206,7 +206,7 @@ pub struct TraceSettings {
 
 /// Handle of the trace thread: `join` (or drop) writes everything still
 /// queued (an unfinished trace is closed as incomplete), then stops it.
-pub type TraceWriter = crate::worker::StoppableThread;
+pub type TraceWriter = crate::io::worker::StoppableThread;
 
 /// Starts the `gaitd-trace` thread with a ring of `capacity` samples.
 pub fn spawn(
@@ -221,7 +221,7 @@ pub fn spawn(
     let handle = std::thread::Builder::new()
         .name("gaitd-trace".into())
         .spawn(move || {
-            if let Err(e) = crate::rt::pin_current_thread(&settings.cpus) {
+            if let Err(e) = crate::process::rt::pin_current_thread(&settings.cpus) {
                 tracing::warn!(cpus = ?settings.cpus, error = %e, "cannot pin the trace thread");
             }
             let mut sink = TraceSink::new(settings, counters2);

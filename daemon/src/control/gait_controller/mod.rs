@@ -8,11 +8,11 @@
 //! back every plan it no longer needs and this controller retires it to the
 //! planner thread, so nothing is allocated or freed here.
 
-use crate::controller::{
+use crate::control::controller::{
     ControlCommand, ControlOutput, Controller, FingerReport, GoalReport, GoalTarget, TickContext,
 };
-use crate::planner::{Planner, PlannerLink};
-use crate::tracer::{Sample, TraceRecorder};
+use crate::control::planner::{Planner, PlannerLink};
+use crate::io::tracer::{Sample, TraceRecorder};
 use gait::executor::{self, Command, Event, Executor, FaultKind, PlanRequest, Reason, TickReport};
 use gait::gaiting::{FingerGait, GaitTracker};
 use gait::planner::{Plan, StepKind};
@@ -106,7 +106,7 @@ impl GaitController {
     }
 
     /// Records every goal's execution through `recorder` (SPEC §8; see
-    /// [`crate::tracer`]).
+    /// [`crate::io::tracer`]).
     pub fn set_trace(&mut self, recorder: TraceRecorder) {
         self.trace = Some(recorder);
     }

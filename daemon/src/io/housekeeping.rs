@@ -12,10 +12,10 @@
 //!
 //! It has its own iceoryx2 node (ports are not shared across threads).
 
-use crate::ipc::{Ipc, create_node, status_subscriber};
-use crate::logging::RateLimit;
-use crate::runtime::Shared;
-use crate::sd_notify;
+use crate::io::ipc::{Ipc, create_node, status_subscriber};
+use crate::process::logging::RateLimit;
+use crate::process::sd_notify;
+use crate::realtime::runtime::Shared;
 use iceoryx2::config::Config;
 use iceoryx2::identifiers::UniqueNodeId;
 use iceoryx2::node::NodeView;
@@ -47,7 +47,7 @@ pub struct HousekeepingSetup {
 }
 
 /// Handle of the running thread (stops it on `join` or drop).
-pub type Housekeeping = crate::worker::StoppableThread;
+pub type Housekeeping = crate::io::worker::StoppableThread;
 
 /// Starts the thread `gaitd-housekeeping`.
 pub fn spawn(setup: HousekeepingSetup) -> std::io::Result<Housekeeping> {
@@ -60,7 +60,7 @@ pub fn spawn(setup: HousekeepingSetup) -> std::io::Result<Housekeeping> {
 }
 
 fn run(s: HousekeepingSetup, stop: &AtomicBool) {
-    if let Err(e) = crate::rt::pin_current_thread(&s.cpus) {
+    if let Err(e) = crate::process::rt::pin_current_thread(&s.cpus) {
         warn!(cpus = ?s.cpus, error = %e, "cannot pin housekeeping thread");
     }
     let node = match create_node(HOUSEKEEPING_NODE_NAME, &s.config) {

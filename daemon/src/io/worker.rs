@@ -28,7 +28,9 @@ impl StoppableThread {
     pub fn set_fifo_priority(&self, priority: u32) -> std::io::Result<()> {
         match &self.handle {
             // SAFETY: the handle is live (not joined, not detached).
-            Some(h) => unsafe { crate::rt::set_thread_fifo_priority(h.as_pthread_t(), priority) },
+            Some(h) => unsafe {
+                crate::process::rt::set_thread_fifo_priority(h.as_pthread_t(), priority)
+            },
             None => Err(std::io::Error::other("thread already stopped")),
         }
     }

@@ -2,19 +2,19 @@
 //!
 //! The daemon owns time, IPC, statistics and shutdown; a [`Controller`]
 //! owns the hand: it takes validated commands, advances one tick at a time
-//! and reports what it did in a [`ControlOutput`]. Issue 4's executor
-//! (planner + trajectory generator + kinematic hand plant) implements this
-//! trait and replaces [`HoldController`](crate::hold::HoldController).
+//! and reports what it did in a [`ControlOutput`]. The daemon runs the
+//! [`GaitController`](crate::control::gait_controller::GaitController)
+//! (planner + trajectory generator + plant); tests also use a still one.
 //!
 //! Contract (copper-rs `CuTask` phases): every method runs on the real-time
 //! loop thread, so it must not allocate, free, block, sleep, log or do I/O
 //! other than its plant; planning goes through a
-//! [`PlannerLink`](crate::planner::PlannerLink). Per tick the loop calls
+//! [`PlannerLink`](crate::control::planner::PlannerLink). Per tick the loop calls
 //! [`Controller::command`] for each command that arrived (in order), then
 //! [`Controller::tick`] exactly once.
 
-use crate::clock::Nanos;
-use crate::events::EventQueue;
+use crate::realtime::clock::Nanos;
+use crate::realtime::events::EventQueue;
 use gait::HandState;
 use gait::config::LimitsConfig;
 use nalgebra::{UnitQuaternion, Vector3};

@@ -1,0 +1,14 @@
+//! The process around the loop (SPEC §7.1): configuration, real-time
+//! set-up, systemd notification, signals and logging.
+//!
+//! - [`config`]: the TOML file, every key validated by name.
+//! - [`rt`]: real-time set-up: SCHED_FIFO, affinity, memory locking.
+//! - [`sd_notify`]: systemd notification (`READY=1`, `WATCHDOG=1`, `STATUS=`).
+//! - [`signals`]: sIGTERM/SIGINT handling.
+//! - [`logging`]: tracing set-up: human or JSON logs.
+
+pub mod config;
+pub mod logging;
+pub mod rt;
+pub mod sd_notify;
+pub mod signals;
