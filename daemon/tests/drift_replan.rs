@@ -135,7 +135,7 @@ fn a_measured_contact_near_its_workspace_limit_is_reported_and_replanned() {
         {
             let az = azimuth[k].to_radians();
             let d = Vector3::new(az.cos(), az.sin(), 0.0);
-            let p = Vector3::from(s.fingers[k].tip_position);
+            let p = Vector3::from(s.fingers[k].commanded_tip_position);
             let out =
                 UnitQuaternion::from_scaled_axis(d.cross(&p).normalize() * 0.8f64.to_radians());
             g.rt.controller_mut()

@@ -22,19 +22,18 @@
 #[path = "support/intake_oracle.rs"]
 mod oracle;
 
-use oracle::{Rig, configured_values};
+use oracle::{MAX_ANGLE, MIN_OVERRIDE_FRACTION, NORM_TOLERANCE, Rig, configured_values};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use shm_schema::command::QUATERNION_NORM_TOLERANCE;
-use shm_schema::{Command, CommandKind, GoalFrame, MAX_AXIS_ANGLE, ReasonCode};
+use shm_schema::{Command, CommandKind, GoalFrame, ReasonCode};
 
 /// Floats at and around every boundary the decoder knows.
 fn special_f64(rng: &mut ChaCha8Rng, cfg: &[f64; 9]) -> f64 {
-    let tol = QUATERNION_NORM_TOLERANCE;
+    let tol = NORM_TOLERANCE;
     let ulp = |x: f64, k: i64| f64::from_bits((x.to_bits() as i64 + k) as u64);
     let k = rng.random_range(-2..=2);
-    match rng.random_range(0..24) {
+    match rng.random_range(0..25) {
         0 => f64::NAN,
         1 => -f64::NAN,
         2 => f64::from_bits(0x7ff0_0000_0000_0001), // signalling NaN
@@ -54,10 +53,11 @@ fn special_f64(rng: &mut ChaCha8Rng, cfg: &[f64; 9]) -> f64 {
         16 => ulp(1.0 - tol, k),
         17 => ulp(2.0, k),
         18 => ulp(1e-6, k),
-        19 => ulp(MAX_AXIS_ANGLE, k),
+        19 => ulp(MAX_ANGLE, k),
         20 => ulp(cfg[rng.random_range(0..9)], k),
         21 => -cfg[rng.random_range(0..9)],
         22 => ulp(1e6, k),
+        23 => ulp(MIN_OVERRIDE_FRACTION * cfg[rng.random_range(0..9)], k),
         _ => 1.0,
     }
 }
@@ -88,7 +88,7 @@ fn valid(rng: &mut ChaCha8Rng, cfg: &[f64; 9]) -> Command {
                 1 => Command::goal(client, goal, GoalFrame::Relative, unit_quaternion(rng)),
                 _ => {
                     let q = unit_quaternion(rng);
-                    let angle = rng.random_range(-MAX_AXIS_ANGLE..=MAX_AXIS_ANGLE);
+                    let angle = rng.random_range(-MAX_ANGLE..=MAX_ANGLE);
                     Command::goal(
                         client,
                         goal,
@@ -99,7 +99,7 @@ fn valid(rng: &mut ChaCha8Rng, cfg: &[f64; 9]) -> Command {
             };
             // Slightly off unit, within tolerance: the daemon renormalises.
             if c.frame != GoalFrame::AxisAngle.code() && rng.random_bool(0.3) {
-                let s = 1.0 + rng.random_range(-0.9..0.9) * QUATERNION_NORM_TOLERANCE;
+                let s = 1.0 + rng.random_range(-0.9..0.9) * NORM_TOLERANCE;
                 c.target = c.target.map(|x| x * s);
             }
             c.request_id = rng.random();
@@ -179,8 +179,8 @@ fn mutate(c: &mut Command, rng: &mut ChaCha8Rng, cfg: &[f64; 9]) {
         9 => {
             // The quaternion scaled to a boundary norm, or to zero/huge.
             let s = match rng.random_range(0..6) {
-                0 => 1.0 + QUATERNION_NORM_TOLERANCE * (1.0 + rng.random_range(-1e-9..1e-9)),
-                1 => 1.0 - QUATERNION_NORM_TOLERANCE * (1.0 + rng.random_range(-1e-9..1e-9)),
+                0 => 1.0 + NORM_TOLERANCE * (1.0 + rng.random_range(-1e-9..1e-9)),
+                1 => 1.0 - NORM_TOLERANCE * (1.0 + rng.random_range(-1e-9..1e-9)),
                 2 => 0.0,
                 3 => 1e-7,
                 4 => 1e200,
@@ -263,6 +263,7 @@ fn a_million_hostile_commands_are_classified_and_none_reaches_the_controller_unc
         ReasonCode::NonZeroReserved,
         ReasonCode::DuplicateGoalId,
         ReasonCode::LimitAboveConfigured,
+        ReasonCode::LimitBelowMinimum,
         ReasonCode::ShuttingDown,
         ReasonCode::BadAxisAngle,
     ] {

@@ -7,10 +7,13 @@
 //! full turns, preemptions mid-motion, cancels, holds).
 //!
 //! Checked on every status the client receives: every float finite, the
-//! object quaternion of unit norm, no fault; on every goal: an absolute
-//! goal that succeeds ends within 1e-6 rad of its target, a full turn ends
-//! where it started (any drift would accumulate over turns). No wall-clock
-//! assertions: mock time, and the test waits for the planner thread.
+//! quaternions of unit norm, the measured object reported beside the
+//! commanded one, no fault. On every goal, graded on the plant's true
+//! state (the embedded hand's object, not the controller's setpoint): an
+//! absolute goal that succeeds ends within 1e-6 rad of its target, a full
+//! turn ends where the object truly was when it was sent (any drift would
+//! accumulate over turns). No wall-clock assertions: mock time, and the
+//! test waits for the planner thread.
 //!
 //! `GAITD_LONG_RUN_TICKS` changes the length (default 10⁶).
 
@@ -51,22 +54,43 @@ fn quat(q: [f64; 4]) -> UnitQuaternion<f64> {
 /// workspace margins agree with the fingertip positions (β − angle(p, d_k)).
 fn healthy(s: &Status, hand: &gait::HandConfig) -> Result<f64, String> {
     let mut floats: Vec<f64> = Vec::with_capacity(64);
-    floats.extend(s.object_q);
-    floats.extend(s.object_omega);
-    floats.extend([s.grasp_margin, s.goal.remaining_angle, s.goal.eta]);
+    floats.extend(s.commanded_object_q);
+    floats.extend(s.commanded_object_omega);
+    floats.extend(s.measured_object_q);
+    floats.extend([
+        s.object_error,
+        s.grasp_margin,
+        s.goal.remaining_angle,
+        s.goal.eta,
+    ]);
     for f in &s.fingers {
         floats.extend(f.contact_hand);
         floats.extend(f.contact_object);
-        floats.extend(f.tip_position);
-        floats.extend(f.tip_orientation);
+        floats.extend(f.commanded_tip_position);
+        floats.extend(f.commanded_tip_orientation);
+        floats.extend(f.measured_tip_position);
+        floats.extend(f.measured_tip_orientation);
         floats.extend(f.tip_contact);
-        floats.extend([f.roll, f.workspace_margin, f.normal_force]);
+        floats.extend([
+            f.roll,
+            f.workspace_margin,
+            f.commanded_normal_force,
+            f.tip_error,
+        ]);
+    }
+    let expected = shm_schema::measured::OBJECT | shm_schema::measured::TIPS;
+    if s.measured_mask & expected != expected {
+        return Err(format!("no measurement reported at tick {}", s.tick));
     }
     if let Some(i) = floats.iter().position(|x| !x.is_finite()) {
         return Err(format!("non-finite value #{i} at tick {}", s.tick));
     }
     let mut worst = 0.0f64;
-    for q in std::iter::once(&s.object_q).chain(s.fingers.iter().map(|f| &f.tip_orientation)) {
+    let quats = [&s.commanded_object_q, &s.measured_object_q]
+        .into_iter()
+        .chain(s.fingers.iter().map(|f| &f.commanded_tip_orientation))
+        .chain(s.fingers.iter().map(|f| &f.measured_tip_orientation));
+    for q in quats {
         let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
         worst = worst.max((n - 1.0).abs());
     }
@@ -79,7 +103,7 @@ fn healthy(s: &Status, hand: &gait::HandConfig) -> Result<f64, String> {
     let m = &hand.model;
     for (k, f) in s.fingers.iter().enumerate() {
         let phi = m.finger_azimuth_deg[k].to_radians();
-        let p = nalgebra::Vector3::from(f.tip_position);
+        let p = nalgebra::Vector3::from(f.commanded_tip_position);
         let d = nalgebra::Vector3::new(phi.cos(), phi.sin(), 0.0);
         let want = m.workspace_half_angle_deg.to_radians() - p.angle(&d);
         // acos-based angles near 0 are good to ~1e-8 rad.
@@ -113,12 +137,9 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
     let hand = ns.cfg.hand();
     let mut g = gait_loop(&ns, 45, |_| {});
     let mut rng = ChaCha8Rng::seed_from_u64(0x10_6e_2a);
-    let mut latest: Option<Status> = None;
     let mut in_flight: Option<InFlight> = None;
-    // A succeeded goal's target and the tick it succeeded in, until a
-    // status of that tick (or later: the hand then holds still) arrives
-    // from the writer thread.
-    let mut pending: Option<(u64, UnitQuaternion<f64>, bool)> = None;
+    // The plant's true object orientation (the hand's, not the command).
+    let truth = |g: &ipc_rig::GaitLoop| g.rt.controller().plant().state().object;
     let (mut goal_id, mut k, mut idle) = (0u64, 0u64, 0u64);
     let (mut active, mut loops) = (0u64, 0u64);
     let mut outcomes: BTreeMap<String, u64> = BTreeMap::new();
@@ -132,9 +153,9 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
     while active < total {
         loops += 1;
         // Next goal once the previous one ended and the hand rested a bit.
-        if in_flight.is_none() && pending.is_none() && idle >= 20 {
+        if in_flight.is_none() && idle >= 20 {
             k += 1;
-            let here = latest.map(|s| quat(s.object_q));
+            let here = Some(truth(&g));
             let interrupt =
                 |rng: &mut ChaCha8Rng, how| Some((active + rng.random_range(300..3000), how));
             in_flight = Some(match k % 6 {
@@ -189,19 +210,6 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
             worst_norm = worst_norm.max(healthy(s, &hand).unwrap_or_else(|e| panic!("{e}")));
             statuses += 1;
         }
-        if let Some(s) = st.last() {
-            latest = Some(*s);
-            if let Some((tick, target, turn)) = pending
-                && s.tick >= tick
-            {
-                let err = quat(s.object_q).angle_to(&target);
-                assert!(err <= 1e-6, "goal ended {err:e} rad off (tick {tick})");
-                worst_err = worst_err.max(err);
-                checked += 1;
-                turns_checked += u64::from(turn);
-                pending = None;
-            }
-        }
         // Goal ends, from events or (when the loop outran the writer
         // thread and its ring dropped the event) from the status.
         let mut ends: Vec<(u64, GoalState, u64)> = Vec::new();
@@ -230,8 +238,15 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
             if let Some(f) = in_flight
                 && f.id == id
             {
+                // The hand holds still after a success and no new goal is
+                // sent before this check: the plant's object now is where
+                // the goal left it.
                 if let (GoalState::Succeeded, Some(target)) = (state, f.target) {
-                    pending = Some((tick, target, k % 6 == 2));
+                    let err = truth(&g).angle_to(&target);
+                    assert!(err <= 1e-6, "goal ended {err:e} rad off (tick {tick})");
+                    worst_err = worst_err.max(err);
+                    checked += 1;
+                    turns_checked += u64::from(k % 6 == 2);
                 }
                 in_flight = None;
                 idle = 0;

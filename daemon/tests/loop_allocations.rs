@@ -196,7 +196,7 @@ fn the_loop_does_not_allocate_with_the_hold_controller() {
 /// A test controller that plans every goal on the planner thread: each new
 /// goal preempts the plan in use, whose box goes back to be dropped there.
 struct PlanningController {
-    link: PlannerLink<u64, TestPlan>,
+    link: PlannerLink<u64, TestPlan, ReasonCode>,
     active: Option<Box<TestPlan>>,
     pending: Option<Box<TestPlan>>,
     inner: HoldController,
@@ -212,6 +212,7 @@ struct VecPlanner;
 impl Planner for VecPlanner {
     type Request = u64;
     type Plan = TestPlan;
+    type Error = ReasonCode;
     fn plan(&mut self, n: &u64) -> Result<TestPlan, ReasonCode> {
         Ok(TestPlan {
             steps: (0..(n % 64 + 1)).map(|i| i as f64).collect(),
@@ -230,6 +231,7 @@ impl Controller for PlanningController {
                         GoalState::Planning,
                         ReasonCode::None,
                         0.0,
+                        None,
                     );
                     Verdict::Accepted
                 }

@@ -73,7 +73,7 @@ fn main() {
             plant.write(&rep.setpoint);
             while exec.pop_event().is_some() {}
             if let Some(req) = exec.take_plan_request() {
-                let plan = req.target.plan(&planner, &req.start).map(Box::new);
+                let plan = req.plan(&planner).map(Box::new);
                 drop(exec.deliver_plan(req.goal, plan));
             }
             ticks += 1;

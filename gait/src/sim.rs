@@ -21,6 +21,9 @@ pub struct MeasuredFinger {
     pub orientation: UnitQuaternion<f64>,
     /// Whether the fingertip touches the object.
     pub contact: bool,
+    /// Measured normal force at the contact \[N\], if the plant senses it
+    /// (the kinematic hand does not).
+    pub normal_force: Option<f64>,
 }
 
 /// What a plant reports each tick.
@@ -41,6 +44,7 @@ impl Measurement {
                 center: f.center,
                 orientation: f.orientation,
                 contact: f.mode == FingerMode::Grasping,
+                normal_force: None,
             }),
         }
     }
@@ -51,6 +55,7 @@ impl Measurement {
             && self.fingers.iter().all(|f| {
                 f.center.iter().all(|x| x.is_finite())
                     && f.orientation.coords.iter().all(|x| x.is_finite())
+                    && f.normal_force.is_none_or(f64::is_finite)
             })
     }
 }

@@ -57,7 +57,7 @@ fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool;
             n
         });
         if let Some(req) = exec.take_plan_request() {
-            let plan = req.target.plan(&planner, &req.start).map(Box::new);
+            let plan = req.plan(&planner).map(Box::new);
             let old = counted(|| exec.deliver_plan(req.goal, plan));
             old_plans.extend(old); // freed here, off the "loop"
         }

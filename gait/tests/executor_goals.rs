@@ -33,7 +33,7 @@ fn paper_scenario_full_turns_about_z_and_x() {
     let mut rig = Rig::new(cfg, start, 1e-3);
     let turns = [(1, Vector3::z()), (2, Vector3::x())];
     for (id, axis) in turns {
-        let before = rig.exec.setpoint().state.object;
+        let before = rig.plant.state().object;
         let target = GoalTarget::Rotation {
             axis,
             angle: std::f64::consts::TAU,
@@ -47,7 +47,7 @@ fn paper_scenario_full_turns_about_z_and_x() {
             gait::executor::Answer::Accepted
         );
         let ticks = rig.run_until_idle(200_000);
-        let after = rig.exec.setpoint().state.object;
+        let after = rig.plant.state().object;
         let err = before.angle_to(&after);
         println!("turn {id}: {ticks} ticks, final error {err:.2e} rad");
         assert!(err < 1e-6, "full turn ends where it started: {err}");
@@ -69,7 +69,7 @@ fn random_goals_from_the_paper_start() {
             limits: None,
         });
         rig.run_until_idle(100_000);
-        let err = rig.exec.setpoint().state.object.angle_to(&goal);
+        let err = rig.plant.state().object.angle_to(&goal);
         assert!(err < 1e-6, "goal {id}: error {err}");
         assert_eq!(rig.stats.goals.last(), Some(&(id, GoalState::Succeeded)));
     }

@@ -70,7 +70,7 @@ fn interruptions_keep_the_stream_continuous_and_valid() {
     last_goal = Some((id, goal)).or(last_goal);
     rig.run_until_idle(200_000);
     let (last_id, last_q) = last_goal.unwrap();
-    let err = rig.exec.setpoint().state.object.angle_to(&last_q);
+    let err = rig.plant.state().object.angle_to(&last_q);
     println!(
         "interrupted while: {interrupted:?}; {} ticks",
         rig.stats.ticks
@@ -142,7 +142,7 @@ fn a_goal_preempts_the_initial_roll() {
         s.goals,
         vec![(1, GoalState::Preempted), (2, GoalState::Succeeded)]
     );
-    assert!(rig.exec.setpoint().state.object.angle_to(&goal) < 1e-6);
+    assert!(rig.plant.state().object.angle_to(&goal) < 1e-6);
 }
 
 #[test]

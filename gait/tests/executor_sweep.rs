@@ -1,9 +1,10 @@
 //! Haar-random goals planned and executed tick by tick on the kinematic
 //! hand, from the paper's start and from random valid states (issue 4):
-//! every goal succeeds with final error ≤ 1e-6 rad, and an independent
-//! per-tick check (force closure, workspace, hemisphere, roll, collisions,
-//! no slip: equal arcs at every grasping contact between ticks, continuous
-//! setpoints) finds nothing.
+//! every goal succeeds with final error ≤ 1e-6 rad *of the plant's true
+//! object* (not the controller's setpoint), and an independent per-tick
+//! check (force closure, workspace, hemisphere, roll, collisions, no slip:
+//! equal arcs at every grasping contact between ticks) finds nothing, on
+//! the plant's true state as on the command; setpoints are continuous.
 //!
 //! CI runs `GAIT_SWEEP_GOALS` goals per start (default 300); the full sweep
 //! of 10⁴ each is `GAIT_SWEEP_GOALS=10000 cargo test --release -p gait
@@ -45,7 +46,7 @@ fn sweep(seed: u64, random_start: bool) {
         });
         let t = rig.run_until_idle(200_000);
         let s = &rig.stats;
-        let err = rig.exec.setpoint().state.object.angle_to(&goal);
+        let err = rig.plant.state().object.angle_to(&goal);
         // Every tick is checked whatever the outcome; a goal that did not
         // succeed is listed (and fails the test at the end).
         if s.goals.last() != Some(&(1, GoalState::Succeeded)) {
@@ -61,6 +62,12 @@ fn sweep(seed: u64, random_start: bool) {
             &s.violations[..s.violations.len().min(3)]
         );
         assert_eq!(s.slips, 0, "goal {i}: slip");
+        assert!(
+            s.plant_violations.is_empty(),
+            "goal {i}, the plant's state: {:?}",
+            &s.plant_violations[..s.plant_violations.len().min(3)]
+        );
+        assert_eq!(s.plant_slips, 0, "goal {i}: the plant slipped");
         assert!(
             s.discontinuities.is_empty(),
             "goal {i}: {:?}",

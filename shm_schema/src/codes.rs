@@ -208,7 +208,7 @@ code_enum! {
         DuplicateGoalId = 12,
         /// A limit override exceeds the configured limit.
         LimitAboveConfigured = 13,
-        /// No planner/executor is running in this daemon build.
+        /// The planner cannot take the goal now (its request queue is full, or this controller has no planner).
         PlannerUnavailable = 14,
         /// The controller is in a fault; send Reset first.
         Faulted = 15,
@@ -218,7 +218,7 @@ code_enum! {
         NoActiveGoal = 17,
         /// The daemon is shutting down.
         ShuttingDown = 18,
-        /// The planner found no plan for this goal.
+        /// The planner's search found no plan within its budget (SPEC §4.1).
         NoPlan = 19,
         /// Reset while there is no fault.
         NotFaulted = 20,
@@ -234,6 +234,18 @@ code_enum! {
         Reached = 25,
         /// An axis-angle target has a non-finite or zero axis, or a non-finite or huge (> 64π) angle.
         BadAxisAngle = 26,
+        /// A limit override is below the smallest allowed: 1 % of the configured limit (`MIN_LIMIT_OVERRIDE_FRACTION`).
+        LimitBelowMinimum = 27,
+        /// No plan: the state to plan from has fewer than two grasping fingers, or they are not force-closure.
+        StartNotForceClosure = 28,
+        /// No plan: the state to plan from holds a non-finite number.
+        StartNotFinite = 29,
+        /// No plan: three fingers grasp, no pair is force-closure, and no roll reaches a force-closure pair.
+        NoTwoFingerGrasp = 30,
+        /// No plan: a free finger cannot travel clear of the other fingertips (the event's `finger` names it).
+        FingerBlocked = 31,
+        /// The goal's target is not a finite orientation or turn the planner can use.
+        InvalidGoalTarget = 32,
     }
 }
 

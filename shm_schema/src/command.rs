@@ -7,13 +7,20 @@ use iceoryx2::prelude::ZeroCopySend;
 /// renormalises; anything further off is a client bug, not rounding.
 pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-3;
 
+/// Smallest motion-limit override the daemon accepts, as a fraction of the
+/// configured limit: an override must lie in [`MIN_LIMIT_OVERRIDE_FRACTION`
+/// × configured, configured]. Below it, a step could outlast the trajectory
+/// generator's duration bound (7600 s); it is rejected with
+/// `LimitBelowMinimum` (above the configured limit: `LimitAboveConfigured`).
+pub const MIN_LIMIT_OVERRIDE_FRACTION: f64 = 0.01;
+
 /// Number of motion-limit overrides in a goal (3 motion kinds × v, a, j).
 pub const LIMIT_OVERRIDES: u32 = 9;
 
 /// Velocity, acceleration and jerk limits of one motion kind (SPEC §5).
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::MotionLimits.v1")]
+#[type_name("gaitd::MotionLimits.v2")]
 pub struct MotionLimits {
     /// Velocity limit (> 0), unit of the motion kind per second.
     pub velocity: f64,
@@ -53,10 +60,10 @@ pub const fn limit_bit(kind: LimitKind, order: LimitOrder) -> u32 {
 /// A command from a client: a reorientation goal, cancel, hold or reset
 /// (SPEC §6.4, §7.3). Fields a command kind does not use must be zero.
 ///
-/// Type name `gaitd::Command.v1`, 144 bytes, alignment 8.
+/// Type name `gaitd::Command.v2`, 144 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Command.v1")]
+#[type_name("gaitd::Command.v2")]
 pub struct Command {
     /// [`CommandKind`] code.
     pub kind: u32,

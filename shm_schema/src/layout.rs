@@ -6,6 +6,7 @@
 //! that `LAYOUT.md` equals [`layout_markdown`], so the document cannot drift.
 
 use crate::codes::CodeInfo;
+use crate::command::{LIMIT_OVERRIDES, QUATERNION_NORM_TOLERANCE};
 use crate::*;
 use core::mem::{align_of, offset_of, size_of};
 use iceoryx2::prelude::ZeroCopySend;
@@ -238,16 +239,41 @@ pub fn layouts() -> Vec<TypeLayout> {
                 ),
                 f!(
                     Status,
-                    object_q,
+                    commanded_object_q,
                     "[w,x,y,z]",
-                    "object orientation q_o, object → hand"
+                    "commanded object orientation q_o, object → hand (the setpoint)"
                 ),
                 f!(
                     Status,
-                    object_omega,
+                    commanded_object_omega,
                     "rad/s",
-                    "object angular velocity, hand frame"
+                    "commanded object angular velocity, hand frame"
                 ),
+                f!(
+                    Status,
+                    measured_object_q,
+                    "[w,x,y,z]",
+                    "measured object orientation (mask bit OBJECT)"
+                ),
+                f!(
+                    Status,
+                    object_error,
+                    "rad",
+                    "angle from measured to commanded orientation (mask bit OBJECT)"
+                ),
+                f!(
+                    Status,
+                    measured_tick,
+                    "tick",
+                    "tick the measurement was read at, 0 = none yet"
+                ),
+                f!(
+                    Status,
+                    measured_mask,
+                    "bits",
+                    "valid measured fields: 1 OBJECT, 2 TIPS, 4 CONTACTS, 8 FORCES"
+                ),
+                f!(Status, reserved0, "", "padding, 0"),
                 f!(Status, goal, "GoalStatus", "current goal and progress"),
                 f!(Status, fingers, "FingerStatus", "fingers f1, f2, f3"),
                 f!(Status, timing, "Timing", "loop timing"),
@@ -286,7 +312,12 @@ pub fn layouts() -> Vec<TypeLayout> {
             "FingerStatus",
             vec![
                 f!(FingerStatus, state, "FingerPhase", "finger state"),
-                f!(FingerStatus, reserved, "", "padding, 0"),
+                f!(
+                    FingerStatus,
+                    measured_contact,
+                    "0/1",
+                    "measured contact, 1 = touching (mask bit CONTACTS)"
+                ),
                 f!(
                     FingerStatus,
                     contact_hand,
@@ -301,15 +332,15 @@ pub fn layouts() -> Vec<TypeLayout> {
                 ),
                 f!(
                     FingerStatus,
-                    tip_position,
+                    commanded_tip_position,
                     "m",
-                    "fingertip centre p, hand frame"
+                    "commanded fingertip centre p, hand frame"
                 ),
                 f!(
                     FingerStatus,
-                    tip_orientation,
+                    commanded_tip_orientation,
                     "[w,x,y,z]",
-                    "fingertip orientation Q_f, fingertip → hand"
+                    "commanded fingertip orientation Q_f, fingertip → hand"
                 ),
                 f!(
                     FingerStatus,
@@ -326,9 +357,33 @@ pub fn layouts() -> Vec<TypeLayout> {
                 ),
                 f!(
                     FingerStatus,
-                    normal_force,
+                    commanded_normal_force,
                     "N",
                     "intended normal force, 0 if none"
+                ),
+                f!(
+                    FingerStatus,
+                    measured_tip_position,
+                    "m",
+                    "measured fingertip centre, hand frame (mask bit TIPS)"
+                ),
+                f!(
+                    FingerStatus,
+                    measured_tip_orientation,
+                    "[w,x,y,z]",
+                    "measured fingertip orientation (mask bit TIPS)"
+                ),
+                f!(
+                    FingerStatus,
+                    measured_normal_force,
+                    "N",
+                    "measured normal force (mask bit FORCES)"
+                ),
+                f!(
+                    FingerStatus,
+                    tip_error,
+                    "m",
+                    "distance measured → commanded fingertip centre (mask bit TIPS)"
                 ),
             ],
         ),
@@ -468,6 +523,25 @@ pub fn layout_markdown() -> String {
         }
         s.push('\n');
     }
+    let _ = writeln!(
+        s,
+        "## Command validation\n\n\
+         What the daemon accepts in a `Command` (anything else is rejected with the\n\
+         reason code in brackets):\n\n\
+         - quaternion targets (`Absolute`, `Relative`): finite [`NonFiniteQuaternion`],\n\
+         \x20 norm ≥ 1e-6 [`ZeroQuaternion`], |norm − 1| ≤ {QUATERNION_NORM_TOLERANCE:e}\n\
+         \x20 [`NonUnitQuaternion`]; the daemon renormalises;\n\
+         - axis-angle targets `[angle, x, y, z]`: finite, |angle| ≤ 64π = {MAX_AXIS_ANGLE} rad,\n\
+         \x20 axis norm in [1e-6, 1e6] [`BadAxisAngle`];\n\
+         - motion-limit overrides: only bits 0–{} of `limit_mask` [`BadLimitMask`]; a set\n\
+         \x20 override finite [`NonFiniteLimit`] and > 0 [`NonPositiveLimit`], at most the\n\
+         \x20 configured limit [`LimitAboveConfigured`] and at least {MIN_LIMIT_OVERRIDE_FRACTION} × the\n\
+         \x20 configured limit [`LimitBelowMinimum`]; plans are timed with the limits in effect,\n\
+         \x20 so ETA and plan cost hold under an override;\n\
+         - every field a command kind does not use, and every unset override, is 0\n\
+         \x20 [`NonZeroReserved`].\n",
+        LIMIT_OVERRIDES - 1
+    );
     s.push_str("## Codes\n\n");
     for (name, rows) in code_tables() {
         let _ = writeln!(

@@ -18,7 +18,7 @@
 //!
 //! Every payload is `#[repr(C)]`, `Copy`, `ZeroCopySend`, fixed size with
 //! explicit padding and a versioned iceoryx2 type name
-//! (`gaitd::Status.v1`): iceoryx2 compares name, size and alignment when a
+//! (`gaitd::Status.v2`): iceoryx2 compares name, size and alignment when a
 //! service opens, so a client of another schema version cannot open the
 //! services instead of misreading memory. Enums travel as `u32` codes
 //! decoded with `TryFrom<u32>` ([`codes`]). The byte layout of every field is
@@ -39,11 +39,12 @@ pub use codes::{
     GraspState, Phase, ReasonCode, UnknownCode,
 };
 pub use command::{
-    Command, GoalRequest, LimitKind, LimitOrder, LimitOverrides, MAX_AXIS_ANGLE, MotionLimits,
-    ValidCommand, check_axis_angle, check_unit_quaternion, limit_bit,
+    Command, GoalRequest, LimitKind, LimitOrder, LimitOverrides, MAX_AXIS_ANGLE,
+    MIN_LIMIT_OVERRIDE_FRACTION, MotionLimits, ValidCommand, check_axis_angle,
+    check_unit_quaternion, limit_bit,
 };
 pub use event::Event;
-pub use status::{FINGERS, FingerStatus, GoalStatus, NO_FINGER, Status, Timing};
+pub use status::{FINGERS, FingerStatus, GoalStatus, NO_FINGER, Status, Timing, measured};
 
 /// Re-export of the exact iceoryx2 the schema is built against, so that
 /// daemon and clients cannot drift apart.
@@ -51,7 +52,7 @@ pub use iceoryx2;
 
 /// Version of the payload layout. It is part of every payload's type name, so
 /// a client built against another version fails to open the services.
-pub const SCHEMA_VERSION: u32 = 1;
+pub const SCHEMA_VERSION: u32 = 2;
 
 /// The iceoryx2 version every peer (Rust and Python) must use.
 pub const ICEORYX2_VERSION: &str = "0.10.0";

@@ -37,7 +37,7 @@ pub const NO_FINGER: u32 = u32::MAX;
 /// The active goal and its progress.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::GoalStatus.v1")]
+#[type_name("gaitd::GoalStatus.v2")]
 pub struct GoalStatus {
     /// Id of the current (or last) goal, 0 if none.
     pub goal_id: u64,
@@ -61,41 +61,69 @@ pub struct GoalStatus {
     pub reserved: u32,
 }
 
-/// One finger (SPEC §7.3). Contact fields are meaningful while the finger
-/// touches (Grasping, Rolling); they are 0 otherwise.
+/// Bits of [`Status::measured_mask`]: which measured fields hold a
+/// measurement (a plant reports what it senses; the rest stay 0).
+pub mod measured {
+    /// `measured_object_q` and `object_error`.
+    pub const OBJECT: u32 = 1 << 0;
+    /// Every finger's `measured_tip_position`, `measured_tip_orientation`
+    /// and `tip_error`.
+    pub const TIPS: u32 = 1 << 1;
+    /// Every finger's `measured_contact`.
+    pub const CONTACTS: u32 = 1 << 2;
+    /// Every finger's `measured_normal_force`.
+    pub const FORCES: u32 = 1 << 3;
+    /// Every bit defined.
+    pub const ALL: u32 = OBJECT | TIPS | CONTACTS | FORCES;
+}
+
+/// One finger (SPEC §7.3): the commanded state (`commanded_*` and the
+/// contact geometry derived from it) beside what the plant measured
+/// (`measured_*`, valid per [`Status::measured_mask`]). Contact fields are
+/// meaningful while the finger touches (Grasping, Rolling); they are 0
+/// otherwise.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::FingerStatus.v1")]
+#[type_name("gaitd::FingerStatus.v2")]
 pub struct FingerStatus {
     /// [`FingerPhase`] code.
     pub state: u32,
-    /// Padding, 0.
-    pub reserved: u32,
-    /// Contact point on the object surface, hand frame \[m\].
+    /// Measured contact: 1 touching, 0 not (valid with `measured::CONTACTS`).
+    pub measured_contact: u32,
+    /// Commanded contact point on the object surface, hand frame \[m\].
     pub contact_hand: [f64; 3],
-    /// Contact point on the object surface, object frame \[m\].
+    /// Commanded contact point on the object surface, object frame \[m\].
     pub contact_object: [f64; 3],
-    /// Fingertip sphere centre p, hand frame \[m\].
-    pub tip_position: [f64; 3],
-    /// Fingertip orientation Q_f [w, x, y, z] (fingertip → hand frame).
-    pub tip_orientation: [f64; 4],
-    /// Contact point on the fingertip, fingertip frame, unit vector m.
+    /// Commanded fingertip sphere centre p, hand frame \[m\].
+    pub commanded_tip_position: [f64; 3],
+    /// Commanded fingertip orientation Q_f [w, x, y, z] (fingertip → hand frame).
+    pub commanded_tip_orientation: [f64; 4],
+    /// Commanded contact point on the fingertip, fingertip frame, unit vector m.
     pub tip_contact: [f64; 3],
-    /// Roll τ about the fingertip pole axis \[rad\].
+    /// Commanded roll τ about the fingertip pole axis \[rad\].
     pub roll: f64,
-    /// Angle from the contact (or lifted tip direction) to its workspace
-    /// cone boundary, positive inside \[rad\].
+    /// Angle from the commanded contact (or lifted tip direction) to its
+    /// workspace cone boundary, positive inside \[rad\].
     pub workspace_margin: f64,
     /// Normal force the controller intends at the contact \[N\]; 0 when not
     /// in contact or not computed.
-    pub normal_force: f64,
+    pub commanded_normal_force: f64,
+    /// Measured fingertip centre, hand frame \[m\] (valid with `measured::TIPS`).
+    pub measured_tip_position: [f64; 3],
+    /// Measured fingertip orientation [w, x, y, z] (valid with `measured::TIPS`).
+    pub measured_tip_orientation: [f64; 4],
+    /// Measured normal force \[N\] (valid with `measured::FORCES`).
+    pub measured_normal_force: f64,
+    /// Tracking error: distance from the measured to the commanded
+    /// fingertip centre \[m\] (valid with `measured::TIPS`).
+    pub tip_error: f64,
 }
 
 /// Loop timing (SPEC §7.2, §11). Percentiles are refreshed every
 /// [`TIMING_REFRESH_TICKS`] ticks; last and max every tick.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Timing.v1")]
+#[type_name("gaitd::Timing.v2")]
 pub struct Timing {
     /// Loop period \[ns\].
     pub period_ns: u64,
@@ -123,12 +151,13 @@ pub struct Timing {
 pub const TIMING_REFRESH_TICKS: u64 = 100;
 
 /// The daemon's state, published every tick with latest-value semantics
-/// (SPEC §7.3).
+/// (SPEC §7.3): the commanded state beside the measured one, named so that
+/// neither is mistaken for the other.
 ///
-/// Type name `gaitd::Status.v1`, 872 bytes, alignment 8.
+/// Type name `gaitd::Status.v2`, 1144 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Status.v1")]
+#[type_name("gaitd::Status.v2")]
 pub struct Status {
     /// Tick counter since daemon start.
     pub tick: u64,
@@ -148,10 +177,22 @@ pub struct Status {
     pub grasp: u32,
     /// Force-closure margin \[rad\] (angle margin of SPEC §3); 0 when unknown.
     pub grasp_margin: f64,
-    /// Object orientation q_o [w, x, y, z] (object → hand frame).
-    pub object_q: [f64; 4],
-    /// Object angular velocity, hand frame [rad/s].
-    pub object_omega: [f64; 3],
+    /// Commanded object orientation q_o [w, x, y, z] (object → hand frame):
+    /// the controller's setpoint, not a measurement.
+    pub commanded_object_q: [f64; 4],
+    /// Commanded object angular velocity, hand frame [rad/s].
+    pub commanded_object_omega: [f64; 3],
+    /// Measured object orientation [w, x, y, z] (valid with `measured::OBJECT`).
+    pub measured_object_q: [f64; 4],
+    /// Angle between the measured and the commanded object orientation
+    /// \[rad\] (valid with `measured::OBJECT`).
+    pub object_error: f64,
+    /// Tick at which the measurement reported here was read; 0 = none yet.
+    pub measured_tick: u64,
+    /// Which measured fields are valid ([`measured`] bits).
+    pub measured_mask: u32,
+    /// Padding, 0.
+    pub reserved0: u32,
     /// Active goal and progress.
     pub goal: GoalStatus,
     /// Fingers f1, f2, f3.
@@ -162,16 +203,17 @@ pub struct Status {
     pub commands: u64,
     /// Commands rejected since start.
     pub rejected: u64,
-    /// Client nodes alive (seen by housekeeping, about once a second).
+    /// Client nodes alive (seen by housekeeping, once per housekeeping
+    /// period, about a second).
     pub clients: u32,
     /// Padding, 0.
     pub reserved: u32,
 }
 
 const _: () = assert!(core::mem::size_of::<GoalStatus>() == 56);
-const _: () = assert!(core::mem::size_of::<FingerStatus>() == 160);
+const _: () = assert!(core::mem::size_of::<FingerStatus>() == 232);
 const _: () = assert!(core::mem::size_of::<Timing>() == 200);
-const _: () = assert!(core::mem::size_of::<Status>() == 872);
+const _: () = assert!(core::mem::size_of::<Status>() == 1144);
 const _: () = assert!(core::mem::align_of::<Status>() == 8);
 
 impl Status {
@@ -185,6 +227,18 @@ impl Status {
         ReasonCode::try_from(self.goal.reason)?;
         for f in &self.fingers {
             FingerPhase::try_from(f.state)?;
+            if f.measured_contact > 1 {
+                return Err(UnknownCode {
+                    kind: "measured_contact",
+                    code: f.measured_contact,
+                });
+            }
+        }
+        if self.measured_mask & !measured::ALL != 0 {
+            return Err(UnknownCode {
+                kind: "measured_mask",
+                code: self.measured_mask,
+            });
         }
         Ok(())
     }

@@ -36,12 +36,12 @@ def named(type_name):
     return wrap
 
 
-@named("gaitd::MotionLimits.v1")
+@named("gaitd::MotionLimits.v2")
 class MotionLimits(ctypes.Structure):
     _fields_ = [("velocity", f64), ("acceleration", f64), ("jerk", f64)]
 
 
-@named("gaitd::Command.v1")
+@named("gaitd::Command.v2")
 class Command(ctypes.Structure):
     _fields_ = [
         ("kind", u32),
@@ -58,7 +58,7 @@ class Command(ctypes.Structure):
     ]
 
 
-@named("gaitd::Answer.v1")
+@named("gaitd::Answer.v2")
 class Answer(ctypes.Structure):
     _fields_ = [
         ("client_id", u64),
@@ -73,7 +73,7 @@ class Answer(ctypes.Structure):
     ]
 
 
-@named("gaitd::GoalStatus.v1")
+@named("gaitd::GoalStatus.v2")
 class GoalStatus(ctypes.Structure):
     _fields_ = [
         ("goal_id", u64),
@@ -89,23 +89,27 @@ class GoalStatus(ctypes.Structure):
     ]
 
 
-@named("gaitd::FingerStatus.v1")
+@named("gaitd::FingerStatus.v2")
 class FingerStatus(ctypes.Structure):
     _fields_ = [
         ("state", u32),
-        ("reserved", u32),
+        ("measured_contact", u32),
         ("contact_hand", f64 * 3),
         ("contact_object", f64 * 3),
-        ("tip_position", f64 * 3),
-        ("tip_orientation", f64 * 4),
+        ("commanded_tip_position", f64 * 3),
+        ("commanded_tip_orientation", f64 * 4),
         ("tip_contact", f64 * 3),
         ("roll", f64),
         ("workspace_margin", f64),
-        ("normal_force", f64),
+        ("commanded_normal_force", f64),
+        ("measured_tip_position", f64 * 3),
+        ("measured_tip_orientation", f64 * 4),
+        ("measured_normal_force", f64),
+        ("tip_error", f64),
     ]
 
 
-@named("gaitd::Timing.v1")
+@named("gaitd::Timing.v2")
 class Timing(ctypes.Structure):
     _fields_ = [
         ("period_ns", u64),
@@ -121,7 +125,7 @@ class Timing(ctypes.Structure):
     ]
 
 
-@named("gaitd::Status.v1")
+@named("gaitd::Status.v2")
 class Status(ctypes.Structure):
     _fields_ = [
         ("tick", u64),
@@ -133,8 +137,13 @@ class Status(ctypes.Structure):
         ("fault", u32),
         ("grasp", u32),
         ("grasp_margin", f64),
-        ("object_q", f64 * 4),
-        ("object_omega", f64 * 3),
+        ("commanded_object_q", f64 * 4),
+        ("commanded_object_omega", f64 * 3),
+        ("measured_object_q", f64 * 4),
+        ("object_error", f64),
+        ("measured_tick", u64),
+        ("measured_mask", u32),
+        ("reserved0", u32),
         ("goal", GoalStatus),
         ("fingers", FingerStatus * 3),
         ("timing", Timing),
@@ -145,7 +154,7 @@ class Status(ctypes.Structure):
     ]
 
 
-@named("gaitd::Event.v1")
+@named("gaitd::Event.v2")
 class Event(ctypes.Structure):
     _fields_ = [
         ("seq", u64),

@@ -66,12 +66,17 @@ fn commands_are_answered() {
     let s = c.wait_status(T).unwrap();
     // 1 rad about z from the paper's start (identity): q = (cos ½, 0, 0, sin ½).
     let want = [0.5f64.cos(), 0.0, 0.0, 0.5f64.sin()];
-    let dot: f64 = s.object_q.iter().zip(want).map(|(a, b)| a * b).sum();
+    let dot: f64 = s
+        .measured_object_q
+        .iter()
+        .zip(want)
+        .map(|(a, b)| a * b)
+        .sum();
     let err = 2.0 * dot.abs().min(1.0).acos();
     assert!(
         err < 1e-6,
         "object at the goal: {:?} ({err} rad off)",
-        s.object_q
+        s.measured_object_q
     );
     assert_eq!((s.commands, s.rejected), (4, 2));
 }

@@ -45,7 +45,12 @@ fn reader(c: &mut Client, stop: &AtomicBool) -> Seen {
             seen.last_tick,
             s.tick
         );
-        let n: f64 = s.object_q.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let n: f64 = s
+            .commanded_object_q
+            .iter()
+            .map(|x| x * x)
+            .sum::<f64>()
+            .sqrt();
         assert!((n - 1.0).abs() < 1e-9, "object quaternion norm {n}");
         assert_eq!(s.fault, 0, "no fault under load");
         if seen.statuses == 0 {

@@ -8,21 +8,21 @@ use iceoryx2::prelude::*;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use std::time::Duration;
 
-/// The status as a hypothetical schema v2 would name it (same bytes).
+/// The status as a hypothetical schema v3 would name it (same bytes).
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+#[type_name("gaitd::Status.v3")]
+struct StatusV3 {
+    bytes: [u64; 143],
+}
+const _: () = assert!(size_of::<StatusV3>() == size_of::<Status>());
+
+/// Same name as v2 but another layout (a field added without a version bump).
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::Status.v2")]
-struct StatusV2 {
-    bytes: [u64; 109],
-}
-const _: () = assert!(size_of::<StatusV2>() == size_of::<Status>());
-
-/// Same name as v1 but another layout (a field added without a version bump).
-#[derive(Debug, Clone, Copy, ZeroCopySend)]
-#[repr(C)]
-#[type_name("gaitd::Status.v1")]
 struct StatusGrown {
-    bytes: [u64; 110],
+    bytes: [u64; 144],
 }
 
 /// An old daemon's command type.
@@ -52,13 +52,13 @@ fn another_schema_version_cannot_open_the_services() {
     let d = TestDaemon::start("schema-open");
     let _c = d.client(); // the daemon is up
     let n = node(&d);
-    let v2 = n
+    let v3 = n
         .service_builder(&status_service(&d))
-        .publish_subscribe::<StatusV2>()
+        .publish_subscribe::<StatusV3>()
         .open();
     assert!(
-        matches!(v2, Err(PublishSubscribeOpenError::IncompatibleTypes)),
-        "{v2:?}"
+        matches!(v3, Err(PublishSubscribeOpenError::IncompatibleTypes)),
+        "{v3:?}"
     );
     let grown = n
         .service_builder(&status_service(&d))
@@ -93,7 +93,7 @@ fn the_client_library_reports_a_schema_mismatch_clearly() {
     let msg = err.to_string();
     assert!(msg.contains("schema mismatch"), "{msg}");
     assert!(msg.contains(&format!("{}/commands", d.prefix)), "{msg}");
-    assert!(msg.contains("gaitd::Command.v1"), "{msg}");
+    assert!(msg.contains("gaitd::Command.v2"), "{msg}");
 }
 
 #[test]
@@ -104,7 +104,7 @@ fn a_stale_service_of_another_schema_is_replaced_at_start() {
     let n = node(&d);
     let stale = n
         .service_builder(&status_service(&d))
-        .publish_subscribe::<StatusV2>()
+        .publish_subscribe::<StatusV3>()
         .create()
         .unwrap();
     d.spawn();

@@ -17,6 +17,7 @@ use crate::realtime::clock::Nanos;
 use crate::realtime::events::EventQueue;
 use gait::HandState;
 use gait::config::LimitsConfig;
+use gait::sim::Measurement;
 use nalgebra::{UnitQuaternion, Vector3};
 use shm_schema::{FaultCode, FingerPhase, GoalState, GraspState, Phase, ReasonCode, Verdict};
 
@@ -141,10 +142,13 @@ pub struct FingerReport {
 /// daemon converts it to the wire format in one place, `convert`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ControlOutput {
-    /// Hand and object state (measured, or commanded for a kinematic plant).
+    /// The commanded hand and object state (the setpoint just written).
     pub hand: HandState,
-    /// Object angular velocity, hand frame [rad/s].
+    /// Commanded object angular velocity, hand frame [rad/s].
     pub object_omega: Vector3<f64>,
+    /// What the plant measured, and the tick it was read at (`None`: no
+    /// measurement yet). Reported beside the command, never in its place.
+    pub measured: Option<(Measurement, u64)>,
     /// Controller phase.
     pub phase: Phase,
     /// Current fault.

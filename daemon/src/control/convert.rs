@@ -6,8 +6,8 @@ use gait::config::{LimitsConfig, MotionLimit};
 use gait::{FingerMode, HandState};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use shm_schema::{
-    FingerStatus, GoalFrame, GoalRequest, LimitKind, LimitOrder, NO_FINGER, ReasonCode, Status,
-    ValidCommand,
+    FingerStatus, GoalFrame, GoalRequest, LimitKind, LimitOrder, MIN_LIMIT_OVERRIDE_FRACTION,
+    NO_FINGER, ReasonCode, Status, ValidCommand, measured,
 };
 
 fn quat_to_wire(q: &UnitQuaternion<f64>) -> [f64; 4] {
@@ -23,10 +23,14 @@ fn override_limit(
     req: &GoalRequest,
     kind: LimitKind,
 ) -> Result<MotionLimit, ReasonCode> {
+    // The documented range (LAYOUT.md): [MIN_LIMIT_OVERRIDE_FRACTION ×
+    // configured, configured]. The product is computed as the reader of
+    // the documentation would, so the boundary itself is accepted.
     let pick = |order, cfg: f64| match req.limits.get(kind, order) {
         None => Ok(cfg),
-        Some(v) if v <= cfg => Ok(v),
-        Some(_) => Err(ReasonCode::LimitAboveConfigured),
+        Some(v) if v > cfg => Err(ReasonCode::LimitAboveConfigured),
+        Some(v) if v < cfg * MIN_LIMIT_OVERRIDE_FRACTION => Err(ReasonCode::LimitBelowMinimum),
+        Some(v) => Ok(v),
     };
     Ok(MotionLimit {
         velocity: pick(LimitOrder::Velocity, configured.velocity)?,
@@ -37,7 +41,8 @@ fn override_limit(
 
 /// A validated wire command → the controller's command: renormalises the
 /// target and applies limit overrides, which may only lower the
-/// configured limits (the configured ones are the hardware's).
+/// configured limits (the configured ones are the hardware's), and by at
+/// most a factor 100 ([`MIN_LIMIT_OVERRIDE_FRACTION`]).
 pub fn control_command(
     cmd: &ValidCommand,
     limits: &LimitsConfig,
@@ -80,8 +85,8 @@ pub fn fill_status(out: &ControlOutput, object_radius: f64, status: &mut Status)
     status.fault = out.fault.code();
     status.grasp = out.grasp.code();
     status.grasp_margin = out.grasp_margin;
-    status.object_q = quat_to_wire(&out.hand.object);
-    status.object_omega = vec_to_wire(&out.object_omega);
+    status.commanded_object_q = quat_to_wire(&out.hand.object);
+    status.commanded_object_omega = vec_to_wire(&out.object_omega);
     let g = &out.goal;
     status.goal.goal_id = g.goal_id;
     status.goal.client_id = g.client_id;
@@ -97,7 +102,37 @@ pub fn fill_status(out: &ControlOutput, object_radius: f64, status: &mut Status)
         *fs = finger_status(&out.hand, k, object_radius);
         fs.state = out.fingers[k].phase.code();
         fs.workspace_margin = out.fingers[k].workspace_margin;
-        fs.normal_force = out.fingers[k].normal_force;
+        fs.commanded_normal_force = out.fingers[k].normal_force;
+    }
+    fill_measured(out, status);
+}
+
+/// The measurement beside the command: orientation, fingertip poses,
+/// contacts and forces as the plant reported them, and the tracking errors.
+fn fill_measured(out: &ControlOutput, status: &mut Status) {
+    status.reserved0 = 0;
+    let Some((m, tick)) = &out.measured else {
+        status.measured_tick = 0;
+        status.measured_mask = 0;
+        status.measured_object_q = [0.0; 4];
+        status.object_error = 0.0;
+        return;
+    };
+    status.measured_tick = *tick;
+    status.measured_object_q = quat_to_wire(&m.object);
+    status.object_error = m.object.angle_to(&out.hand.object);
+    let forces = m.fingers.iter().all(|f| f.normal_force.is_some());
+    status.measured_mask = measured::OBJECT
+        | measured::TIPS
+        | measured::CONTACTS
+        | if forces { measured::FORCES } else { 0 };
+    for (k, fs) in status.fingers.iter_mut().enumerate() {
+        let f = &m.fingers[k];
+        fs.measured_tip_position = vec_to_wire(&f.center);
+        fs.measured_tip_orientation = quat_to_wire(&f.orientation);
+        fs.measured_contact = u32::from(f.contact);
+        fs.measured_normal_force = f.normal_force.unwrap_or(0.0);
+        fs.tip_error = (f.center - out.hand.fingers[k].center).norm();
     }
 }
 
@@ -107,8 +142,8 @@ pub fn fill_status(out: &ControlOutput, object_radius: f64, status: &mut Status)
 fn finger_status(hand: &HandState, k: usize, object_radius: f64) -> FingerStatus {
     let f = &hand.fingers[k];
     let mut s = FingerStatus {
-        tip_position: vec_to_wire(&f.center),
-        tip_orientation: quat_to_wire(&f.orientation),
+        commanded_tip_position: vec_to_wire(&f.center),
+        commanded_tip_orientation: quat_to_wire(&f.orientation),
         roll: f.roll,
         ..FingerStatus::default()
     };
@@ -177,6 +212,7 @@ mod tests {
         let mut out = ControlOutput {
             hand: HandState::paper_start(&cfg),
             object_omega: Vector3::zeros(),
+            measured: None,
             phase: shm_schema::Phase::Hold,
             fault: shm_schema::FaultCode::None,
             goal: Default::default(),
@@ -204,7 +240,7 @@ mod tests {
             );
             assert_eq!(f.contact_hand, f.contact_object, "object at identity");
         }
-        assert_eq!(s.object_q, [1.0, 0.0, 0.0, 0.0]);
+        assert_eq!(s.commanded_object_q, [1.0, 0.0, 0.0, 0.0]);
         assert_eq!(s.goal.eta, -1.0);
         assert_eq!(s.goal.active_finger, NO_FINGER);
     }

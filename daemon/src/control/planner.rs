@@ -20,7 +20,6 @@
 //! goals costs the loop no syscalls, and planning starts a few µs later.
 
 use crate::control::handoff::{self, Consumer, Producer};
-use shm_schema::ReasonCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
 use std::thread::Thread;
@@ -32,17 +31,19 @@ pub trait Planner: Send + 'static {
     type Request: Send + 'static;
     /// The plan handed to the loop (may own heap memory).
     type Plan: Send + 'static;
+    /// Why there is no plan (plain data: it crosses to the loop as is).
+    type Error: Send + 'static;
     /// Plans one request, or says why not.
-    fn plan(&mut self, request: &Self::Request) -> Result<Self::Plan, ReasonCode>;
+    fn plan(&mut self, request: &Self::Request) -> Result<Self::Plan, Self::Error>;
 }
 
 /// A planner's answer to request number `seq`.
 #[derive(Debug)]
-pub struct Reply<P> {
+pub struct Reply<P, E> {
     /// Sequence number returned by [`PlannerLink::submit`].
     pub seq: u64,
     /// The plan, or why there is none.
-    pub result: Result<Box<P>, ReasonCode>,
+    pub result: Result<Box<P>, E>,
 }
 
 /// A wake-up that the real-time loop requests without a system call and
@@ -72,16 +73,16 @@ impl Doorbell {
 
 /// The loop's end of the planner link. Every method is wait-free and
 /// allocation-free.
-pub struct PlannerLink<Req, P> {
+pub struct PlannerLink<Req, P, E> {
     requests: Producer<(u64, Req)>,
-    replies: Consumer<Reply<P>>,
+    replies: Consumer<Reply<P, E>>,
     retired: Producer<Box<P>>,
     planner: Thread,
     doorbell: Option<Arc<Doorbell>>,
     next_seq: u64,
 }
 
-impl<Req, P> std::fmt::Debug for PlannerLink<Req, P> {
+impl<Req, P, E> std::fmt::Debug for PlannerLink<Req, P, E> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("PlannerLink")
             .field("next_seq", &self.next_seq)
@@ -89,7 +90,7 @@ impl<Req, P> std::fmt::Debug for PlannerLink<Req, P> {
     }
 }
 
-impl<Req: Send, P: Send> PlannerLink<Req, P> {
+impl<Req: Send, P: Send, E: Send> PlannerLink<Req, P, E> {
     /// From now on the planner is woken through `doorbell` (flagged here,
     /// delivered by whoever calls [`Doorbell::deliver`]) instead of at once.
     pub fn wake_through(&mut self, doorbell: Arc<Doorbell>) {
@@ -115,7 +116,7 @@ impl<Req: Send, P: Send> PlannerLink<Req, P> {
     }
 
     /// The next finished reply, if any.
-    pub fn poll(&mut self) -> Option<Reply<P>> {
+    pub fn poll(&mut self) -> Option<Reply<P, E>> {
         self.replies.pop()
     }
 
@@ -134,7 +135,7 @@ pub type PlannerThread = crate::io::worker::StoppableThread;
 
 /// What [`spawn`] returns: the loop's link and the thread's handle.
 pub type Spawned<Pl> = (
-    PlannerLink<<Pl as Planner>::Request, <Pl as Planner>::Plan>,
+    PlannerLink<<Pl as Planner>::Request, <Pl as Planner>::Plan, <Pl as Planner>::Error>,
     PlannerThread,
 );
 
@@ -147,7 +148,7 @@ pub fn spawn<Pl: Planner>(
     on_start: impl FnOnce() + Send + 'static,
 ) -> std::io::Result<Spawned<Pl>> {
     let (req_tx, mut req_rx) = handoff::channel::<(u64, Pl::Request)>(queue);
-    let (mut rep_tx, rep_rx) = handoff::channel::<Reply<Pl::Plan>>(queue);
+    let (mut rep_tx, rep_rx) = handoff::channel::<Reply<Pl::Plan, Pl::Error>>(queue);
     // Room for every plan that can be alive on the loop side at once.
     let (ret_tx, mut ret_rx) = handoff::channel::<Box<Pl::Plan>>(queue + 2);
     let stop = Arc::new(AtomicBool::new(false));
@@ -196,6 +197,7 @@ pub fn spawn<Pl: Planner>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use shm_schema::ReasonCode;
     use std::sync::atomic::AtomicUsize;
 
     /// Builds a heap-owning "plan" and counts drops, to check where plans die.
@@ -215,6 +217,7 @@ mod tests {
     impl Planner for Squares {
         type Request = u64;
         type Plan = Plan;
+        type Error = ReasonCode;
         fn plan(&mut self, n: &u64) -> Result<Plan, ReasonCode> {
             if *n == 0 {
                 return Err(ReasonCode::NoPlan);

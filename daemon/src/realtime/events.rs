@@ -41,7 +41,8 @@ impl EventQueue {
         }
     }
 
-    /// A goal changed state.
+    /// A goal changed state; `finger` is the finger the reason concerns, if
+    /// any (e.g. the blocked finger of a `FingerBlocked` plan failure).
     pub fn goal_transition(
         &mut self,
         client_id: u64,
@@ -49,6 +50,7 @@ impl EventQueue {
         state: GoalState,
         reason: ReasonCode,
         remaining_angle: f64,
+        finger: Option<u8>,
     ) {
         let mut e = Event::new(EventKind::GoalTransition);
         e.client_id = client_id;
@@ -56,6 +58,7 @@ impl EventQueue {
         e.state = state.code();
         e.reason = reason.code();
         e.value = remaining_angle;
+        e.finger = wire_finger(finger.unwrap_or(u8::MAX));
         self.push(e);
     }
 

@@ -182,7 +182,7 @@ impl Intake {
         let verdict = self.decide_valid(&valid, goal, controller, ctx);
         if let (Some((client_id, goal_id)), Verdict::Rejected(reason)) = (goal, verdict) {
             ctx.events
-                .goal_transition(client_id, goal_id, GoalState::Rejected, reason, 0.0);
+                .goal_transition(client_id, goal_id, GoalState::Rejected, reason, 0.0, None);
         }
         verdict
     }

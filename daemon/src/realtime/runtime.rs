@@ -153,6 +153,7 @@ impl ControlOutput {
         Self {
             hand,
             object_omega: Vector3::zeros(),
+            measured: None,
             phase: Phase::Hold,
             fault: FaultCode::None,
             goal: GoalReport::default(),

@@ -51,6 +51,7 @@ impl HoldController {
             out: ControlOutput {
                 hand,
                 object_omega: Vector3::zeros(),
+                measured: None,
                 phase: Phase::Hold,
                 fault: FaultCode::None,
                 goal: GoalReport::default(),

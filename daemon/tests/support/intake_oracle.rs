@@ -19,9 +19,20 @@ use gaitd::control::controller::{
 use gaitd::process::config::DaemonConfig;
 use gaitd::realtime::events::EventQueue;
 use gaitd::realtime::intake::Intake;
-use shm_schema::command::{LIMIT_OVERRIDES, QUATERNION_NORM_TOLERANCE};
-use shm_schema::{Answer, Command, CommandKind, GoalFrame, MAX_AXIS_ANGLE, ReasonCode, Verdict};
+use shm_schema::{Answer, Command, CommandKind, GoalFrame, ReasonCode, Verdict};
 use std::collections::VecDeque;
+
+// The model's own numbers, from `shm_schema/LAYOUT.md` ("Command
+// validation"), never imported from the code under test: a change there
+// must show up here as a failure.
+/// Accepted deviation of a goal quaternion's norm from 1.
+pub const NORM_TOLERANCE: f64 = 1e-3;
+/// Largest |angle| of an axis-angle goal: 64π (32 turns) \[rad\].
+pub const MAX_ANGLE: f64 = 64.0 * std::f64::consts::PI;
+/// Limit overrides: bits 0–8 of `limit_mask`.
+pub const OVERRIDES: u32 = 9;
+/// Smallest override, as a fraction of the configured limit.
+pub const MIN_OVERRIDE_FRACTION: f64 = 0.01;
 
 /// A set of reason codes (bit = code; codes are < 64).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -162,7 +173,7 @@ impl Oracle {
             Err(_) => must.add(ReasonCode::UnknownGoalFrame),
             Ok(GoalFrame::AxisAngle) => {
                 let [angle, x, y, z] = c.target;
-                if !c.target.iter().all(|v| v.is_finite()) || angle.abs() > MAX_AXIS_ANGLE {
+                if !c.target.iter().all(|v| v.is_finite()) || angle.abs() > MAX_ANGLE {
                     must.add(ReasonCode::BadAxisAngle);
                 } else {
                     // Axis norm must lie in [1e-6, 1e6].
@@ -187,21 +198,18 @@ impl Oracle {
                         // unit" is true as well.
                         must.add(ReasonCode::ZeroQuaternion);
                         may.add(ReasonCode::NonUnitQuaternion);
-                    } else if near((n - 1.0).abs(), QUATERNION_NORM_TOLERANCE) {
+                    } else if near((n - 1.0).abs(), NORM_TOLERANCE) {
                         may.add(ReasonCode::NonUnitQuaternion);
                     } else {
                         must.add_if(
-                            (n - 1.0).abs() > QUATERNION_NORM_TOLERANCE,
+                            (n - 1.0).abs() > NORM_TOLERANCE,
                             ReasonCode::NonUnitQuaternion,
                         );
                     }
                 }
             }
         }
-        must.add_if(
-            c.limit_mask >> LIMIT_OVERRIDES != 0,
-            ReasonCode::BadLimitMask,
-        );
+        must.add_if(c.limit_mask >> OVERRIDES != 0, ReasonCode::BadLimitMask);
         for (bit, v) in values.iter().enumerate() {
             if c.limit_mask & (1 << bit) == 0 {
                 must.add_if(v.to_bits() != 0, ReasonCode::NonZeroReserved);
@@ -229,12 +237,21 @@ impl Oracle {
                 self.memory.contains(&(c.client_id, c.goal_id)),
                 ReasonCode::DuplicateGoalId,
             );
-            let above = override_values(c)
+            let set: Vec<(f64, f64)> = override_values(c)
                 .iter()
                 .zip(configured_values(&self.limits))
                 .enumerate()
-                .any(|(bit, (v, cfg))| c.limit_mask & (1 << bit) != 0 && *v > cfg);
-            state.add_if(above, ReasonCode::LimitAboveConfigured);
+                .filter(|(bit, _)| c.limit_mask & (1 << bit) != 0)
+                .map(|(_, (v, cfg))| (*v, cfg))
+                .collect();
+            state.add_if(
+                set.iter().any(|(v, cfg)| v > cfg),
+                ReasonCode::LimitAboveConfigured,
+            );
+            state.add_if(
+                set.iter().any(|(v, cfg)| *v < MIN_OVERRIDE_FRACTION * cfg),
+                ReasonCode::LimitBelowMinimum,
+            );
         }
         if b.may.is_empty() {
             Expected {
@@ -262,7 +279,9 @@ impl Oracle {
         }
         let remembered = match v {
             Verdict::Accepted => true,
-            Verdict::Rejected(r) => r == ReasonCode::LimitAboveConfigured,
+            Verdict::Rejected(r) => {
+                r == ReasonCode::LimitAboveConfigured || r == ReasonCode::LimitBelowMinimum
+            }
         };
         if remembered {
             if self.memory.len() == self.capacity {
@@ -313,7 +332,7 @@ impl Probe {
                         assert_eq!(c.frame, GoalFrame::AxisAngle.code());
                         assert!(axis.iter().all(|x| x.is_finite()), "{c:?}");
                         assert!((axis.norm() - 1.0).abs() < 1e-12, "{c:?}");
-                        assert!(angle.is_finite() && angle.abs() <= MAX_AXIS_ANGLE);
+                        assert!(angle.is_finite() && angle.abs() <= MAX_ANGLE);
                         assert_eq!(angle.to_bits(), c.target[0].to_bits());
                     }
                 }
@@ -322,6 +341,7 @@ impl Probe {
                 for bit in 0..9 {
                     assert!(got[bit].is_finite() && got[bit] > 0.0, "{c:?}");
                     assert!(got[bit] <= cfg[bit], "{c:?}");
+                    assert!(got[bit] >= MIN_OVERRIDE_FRACTION * cfg[bit], "{c:?}");
                     let want = if c.limit_mask & (1 << bit) != 0 {
                         over[bit]
                     } else {

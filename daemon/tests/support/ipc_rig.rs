@@ -264,7 +264,27 @@ pub fn gait_loop(
     instance: u64,
     setup: impl FnOnce(&mut gaitd::control::gait_controller::GaitController),
 ) -> GaitLoop {
-    use gaitd::control::gait_controller::{GaitController, GaitPlanner};
+    use gaitd::control::gait_controller::GaitPlanner;
+    let planner = gait::planner::Planner::new(&ns.cfg.hand()).unwrap();
+    gait_loop_with(ns, instance, GaitPlanner(planner), setup)
+}
+
+/// [`gait_loop`] with another planner on the planner thread (e.g. one that
+/// fails in a chosen way).
+pub fn gait_loop_with<P>(
+    ns: &Namespace,
+    instance: u64,
+    planner: P,
+    setup: impl FnOnce(&mut gaitd::control::gait_controller::GaitController),
+) -> GaitLoop
+where
+    P: gaitd::control::planner::Planner<
+            Request = gait::executor::PlanRequest,
+            Plan = gait::planner::Plan,
+            Error = gait::planner::PlanError,
+        >,
+{
+    use gaitd::control::gait_controller::GaitController;
     let Daemon {
         commands,
         outbox,
@@ -275,8 +295,7 @@ pub fn gait_loop(
         _node,
     } = daemon(ns);
     let hand = ns.cfg.hand();
-    let planner = gait::planner::Planner::new(&hand).unwrap();
-    let (link, planner) = gaitd::control::planner::spawn(GaitPlanner(planner), 4, || {}).unwrap();
+    let (link, planner) = gaitd::control::planner::spawn(planner, 4, || {}).unwrap();
     let mut controller = GaitController::new(&hand, 1e-3, link).unwrap();
     setup(&mut controller);
     let clock = gaitd::realtime::clock::MockClock::new(0);

@@ -76,8 +76,11 @@ impl Executor {
                     .iter()
                     .all(|x| x.is_finite() && *x > 0.0)
             });
-        if !(target.is_valid() && positive) {
+        if !target.is_valid() {
             return Answer::Rejected(Reason::InvalidTarget);
+        }
+        if !positive {
+            return Answer::Rejected(Reason::InvalidLimits);
         }
         if self.phase == Phase::SafeHold {
             return Answer::Rejected(Reason::FaultActive);
@@ -129,6 +132,7 @@ impl Executor {
                 goal: g.id,
                 start: self.setpoint.state,
                 target: g.target,
+                limits: g.limits,
             });
         }
     }
@@ -153,7 +157,8 @@ impl Executor {
                     // Braking past the path end is not possible: then the
                     // step simply runs to its (resting) end.
                     if self.runner.stop().is_err() {
-                        self.enter_fault(FaultKind::Trajectory, NO_FINGER);
+                        let cause = Cause::new(FaultKind::Trajectory, Source::Trajectory);
+                        self.handle(cause, NO_FINGER, None);
                     }
                 }
             }
@@ -235,12 +240,7 @@ impl Executor {
         match result {
             Err(e) => {
                 if current {
-                    let reason = match e {
-                        PlanError::NoGrasp | PlanError::NonFiniteState => Reason::InvalidStart,
-                        PlanError::InvalidGoal => Reason::InvalidTarget,
-                        _ => Reason::NoPlan,
-                    };
-                    self.end_goal(GoalState::Aborted, reason);
+                    self.end_goal(GoalState::Aborted, Reason::NoPlan(e));
                     self.phase = Phase::Holding;
                 }
                 None
@@ -251,6 +251,16 @@ impl Executor {
                 self.start_plan();
                 old
             }
+        }
+    }
+
+    /// The planner could not take the request for goal `id` (its queue is
+    /// full): the goal is aborted rather than left waiting.
+    pub fn plan_unavailable(&mut self, id: u64) {
+        let current = self.phase == Phase::Planning && self.goal.is_some_and(|g| g.id == id);
+        if current {
+            self.end_goal(GoalState::Aborted, Reason::PlannerBusy);
+            self.phase = Phase::Holding;
         }
     }
 

@@ -11,8 +11,10 @@
 //!                              │            ├──────> Canceled   (cancel / hold)
 //!                              └────────────┴──────> Preempted  (a newer goal)
 //! ```
-//! Every terminal state carries a reason code. Codes are stable integers
-//! (they cross process boundaries in `shm_schema`).
+//! Every terminal state carries a reason ([`Reason`]); the daemon turns it
+//! into a stable wire code.
+
+use crate::planner::PlanError;
 
 /// Where a goal is in its life.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -46,32 +48,34 @@ impl GoalState {
     }
 }
 
-/// Why a goal ended as it did, or why a command was refused.
+/// Why a goal ended as it did, or why a command was refused. The daemon
+/// maps each to a wire `ReasonCode` (one place: its controller's codes
+/// module); a planning failure keeps the planner's own reason (SPEC §4.1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[repr(u16)]
 pub enum Reason {
     /// Nothing to report (Succeeded, or still running).
-    None = 0,
-    /// The target orientation is not a finite, non-zero quaternion.
-    InvalidTarget = 1,
+    None,
+    /// The target orientation is not a finite, non-zero quaternion (or the
+    /// axis of a turn is not a finite non-zero vector).
+    InvalidTarget,
+    /// A motion limit of the goal is not finite and positive.
+    InvalidLimits,
     /// The hand is in safe hold: reset first.
-    FaultActive = 2,
-    /// The planner found no plan (see the plan error code).
-    NoPlan = 3,
-    /// The start state breaks an invariant, so no plan can start from it.
-    InvalidStart = 4,
+    FaultActive,
+    /// The planner returned no plan, for this reason.
+    NoPlan(PlanError),
+    /// The planner could not take the request (its queue is full).
+    PlannerBusy,
     /// A fault stopped the motion (see the fault code).
-    Fault = 5,
+    Fault,
     /// A cancel command.
-    CancelCommand = 6,
+    CancelCommand,
     /// A hold command.
-    HoldCommand = 7,
+    HoldCommand,
     /// A newer goal.
-    NewerGoal = 8,
-    /// The plan arrived for a goal that is no longer active.
-    Stale = 9,
+    NewerGoal,
     /// The goal id was used before.
-    DuplicateId = 10,
+    DuplicateId,
 }
 
 /// What the plant or the checks reported (SPEC §6.3, §6.4).

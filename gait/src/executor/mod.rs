@@ -32,6 +32,7 @@ pub mod grip;
 pub mod guard;
 pub mod lifecycle;
 mod memo;
+pub mod policy;
 pub mod recovery;
 pub mod runner;
 
@@ -45,6 +46,7 @@ use crate::sim::Measurement;
 use crate::state::HandState;
 use feedback::{Feedback, NO_FINGER};
 pub use lifecycle::{Event, EventQueue, FaultKind, GoalState, Reason};
+use policy::{Cause, Decision, FaultPolicy, Source};
 use runner::StepRunner;
 
 /// Where a goal wants the object.
@@ -139,6 +141,24 @@ pub struct PlanRequest {
     pub start: HandState,
     /// Where to.
     pub target: GoalTarget,
+    /// The motion limits the plan will be executed with (the goal's
+    /// overrides applied): it is timed and costed with them.
+    pub limits: LimitsConfig,
+}
+
+impl PlanRequest {
+    /// Plans it with `planner`, re-timed for the request's limits when they
+    /// differ from the planner's (SPEC §4.3: a plan's cost is its execution
+    /// time under the limits it runs with).
+    pub fn plan(&self, planner: &crate::planner::Planner) -> Result<Plan, PlanError> {
+        if self.limits == planner.config().limits {
+            return self.target.plan(planner, &self.start);
+        }
+        let timed = planner
+            .with_limits(&self.limits)
+            .map_err(|_| PlanError::InvalidLimits)?;
+        self.target.plan(&timed, &self.start)
+    }
 }
 
 /// The gait state machine's coarse state (module docs).
@@ -269,8 +289,8 @@ pub struct Executor {
     drift: Option<recovery::Drift>,
     /// Drifts recovered since the active goal started.
     replans: u32,
-    /// Allowed per goal (`feedback.max_replans`).
-    max_replans: u32,
+    /// What every detected cause leads to ([`policy`]).
+    policy: FaultPolicy,
 }
 
 fn rest(state: HandState) -> Setpoint {
@@ -364,7 +384,9 @@ impl Executor {
             epoch: 0,
             drift: None,
             replans: 0,
-            max_replans: config.feedback.max_replans,
+            policy: FaultPolicy {
+                max_replans: config.feedback.max_replans,
+            },
         })
     }
 
@@ -433,6 +455,25 @@ impl Executor {
         self.events.push(event);
     }
 
+    /// Carries out the [`policy`]'s decision for `cause` (about `finger`),
+    /// seen this tick; `m` is the measurement it was seen in, if any.
+    fn handle(&mut self, cause: Cause, finger: u8, m: Option<&Measurement>) {
+        let recovering = self.drift.is_some();
+        match self
+            .policy
+            .decide(cause, self.phase, self.replans, recovering)
+        {
+            Decision::Ignore => {}
+            Decision::SafeHold => self.enter_fault(cause.kind, finger),
+            Decision::Replan => match m {
+                Some(m) => self.recover(cause.kind, finger, m),
+                // Nothing measured to re-base on.
+                None => self.enter_fault(cause.kind, finger),
+            },
+        }
+    }
+
+    /// Safe hold (only through [`Executor::handle`]'s decision).
     fn enter_fault(&mut self, kind: FaultKind, finger: u8) {
         if self.fault.is_some() {
             return;
@@ -476,15 +517,12 @@ impl Executor {
                             self.guard
                                 .observe(moving, &mut self.checker, &self.setpoint.state, m)
                     {
-                        self.recover(kind, finger, m);
+                        self.handle(Cause::new(kind, Source::NearLimit), finger, Some(m));
                     }
                 }
-                Err((FaultKind::ContactDrift, finger)) => {
-                    if let Some(m) = measurement {
-                        self.recover(FaultKind::ContactDrift, finger, m);
-                    }
+                Err((kind, finger)) => {
+                    self.handle(Cause::new(kind, Source::Measurement), finger, measurement)
                 }
-                Err((kind, finger)) => self.enter_fault(kind, finger),
             }
         }
         if let Some(m) = measurement {
@@ -515,7 +553,8 @@ impl Executor {
         let status = match self.runner.advance() {
             Ok(s) => s,
             Err(_) => {
-                self.enter_fault(FaultKind::Trajectory, NO_FINGER);
+                let cause = Cause::new(FaultKind::Trajectory, Source::Trajectory);
+                self.handle(cause, NO_FINGER, None);
                 self.braking = false;
                 self.setpoint = rest(self.setpoint.state);
                 return;
@@ -597,9 +636,7 @@ impl Executor {
                 for (k, f) in r.fingers.iter().enumerate() {
                     self.report.workspace_slack[k] = f.workspace.slack;
                 }
-                if let Some(v) = r.first_violation()
-                    && self.fault.is_none()
-                {
+                if let Some(v) = r.first_violation() {
                     use crate::hand::{Invariant as I, Subject};
                     let finger = match v.subject {
                         Subject::Finger(k) | Subject::Pair(k, _) => k,
@@ -612,13 +649,12 @@ impl Executor {
                         I::Collision => FaultKind::Collision,
                         I::Contact | I::Slip | I::Spin => FaultKind::Contact,
                     };
-                    self.enter_fault(kind, finger);
+                    self.handle(Cause::new(kind, Source::Command), finger, None);
                 }
             }
             Err(_) => {
-                if self.fault.is_none() {
-                    self.enter_fault(FaultKind::Contact, NO_FINGER);
-                }
+                let cause = Cause::new(FaultKind::Contact, Source::Command);
+                self.handle(cause, NO_FINGER, None);
             }
         }
     }

@@ -44,15 +44,10 @@ pub(super) struct Drift {
 impl Executor {
     /// Stops and replans after `cause`, seen in `m`: a contact drift
     /// (`ContactDrift`) or, while moving, the invariant `cause` stands for
-    /// near its limit ([`super::guard`]). A fault when a recovery is
-    /// already under way or the budget is spent.
+    /// near its limit ([`super::guard`]). Only on the [`super::policy`]'s
+    /// decision (which refuses a second recovery under way or one past the
+    /// budget).
     pub(super) fn recover(&mut self, cause: FaultKind, finger: u8, m: &Measurement) {
-        if self.drift.is_some() || self.replans >= self.max_replans {
-            // Drifting again before the last drift was absorbed, or out of
-            // replans.
-            self.enter_fault(cause, finger);
-            return;
-        }
         self.replans += 1;
         self.drift = Some(Drift {
             cause,
@@ -110,7 +105,7 @@ impl Executor {
                 true
             }
             _ => {
-                self.enter_fault(cause, finger);
+                self.handle(Cause::new(cause, Source::Rebase), finger, None);
                 // At rest already: nothing to brake.
                 self.braking = false;
                 false

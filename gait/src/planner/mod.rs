@@ -47,11 +47,14 @@ const GREEDY_WEIGHT: f64 = 3.0;
 const TURN_CHUNK: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
 
 /// Why no plan was returned.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, thiserror::Error)]
 pub enum PlanError {
     /// The goal quaternion has a non-finite or zero component vector.
     #[error("goal orientation is not a finite non-zero quaternion")]
     InvalidGoal,
+    /// The motion limits to time the plan with are not finite and positive.
+    #[error("motion limits are not finite and positive")]
+    InvalidLimits,
     /// The start state has a number that is not finite.
     #[error("start state contains a non-finite number")]
     NonFiniteState,
@@ -126,7 +129,9 @@ pub struct Planner {
     config: HandConfig,
     geom: Geometry,
     timing: Timing,
-    cand: Candidates,
+    /// Shared: a planner re-timed for other limits
+    /// ([`Planner::with_limits`]) reuses the candidate grids.
+    cand: std::sync::Arc<Candidates>,
 }
 
 impl Planner {
@@ -138,7 +143,26 @@ impl Planner {
             config: *config,
             geom,
             timing: Timing::new(config),
-            cand: Candidates::new(&geom, config.planner.candidate_spacing_deg),
+            cand: std::sync::Arc::new(Candidates::new(&geom, config.planner.candidate_spacing_deg)),
+        })
+    }
+
+    /// The same planner costing and timing plans under `limits` instead of
+    /// the configured ones (a goal's motion-limit overrides, SPEC §7.3): the
+    /// plan's cost is its execution time under the limits it is executed
+    /// with (SPEC §4.3). Cheap: the candidate grids are shared; only the
+    /// timing tables are rebuilt.
+    pub fn with_limits(&self, limits: &crate::config::LimitsConfig) -> Result<Self, ConfigError> {
+        let config = HandConfig {
+            limits: *limits,
+            ..self.config
+        };
+        config.validate()?;
+        Ok(Self {
+            config,
+            geom: self.geom,
+            timing: Timing::new(&config),
+            cand: self.cand.clone(),
         })
     }
 

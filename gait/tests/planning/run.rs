@@ -1,6 +1,7 @@
 //! Runs the executor against the kinematic hand with a synchronous planner,
-//! checking every tick independently (SPEC §1.3) and the setpoint stream's
-//! continuity.
+//! checking every tick independently (SPEC §1.3) — the command the
+//! controller wrote and, separately, the plant's true state after it — and
+//! the setpoint stream's continuity.
 
 use gait::executor::{Command, Event, Executor, GoalState, Phase, TickReport};
 use gait::hand::InvariantChecker;
@@ -21,8 +22,14 @@ pub const MAX_JERK: f64 = 600.0;
 #[derive(Debug, Default)]
 pub struct RunStats {
     pub ticks: u64,
+    /// Invariant violations of the commanded state.
     pub violations: Vec<(u64, Violation)>,
+    /// Slips in the commanded motion (equal arcs broken between ticks).
     pub slips: u64,
+    /// Invariant violations of the plant's true state.
+    pub plant_violations: Vec<(u64, Violation)>,
+    /// Slips of the plant's true state between ticks.
+    pub plant_slips: u64,
     pub discontinuities: Vec<(u64, &'static str, f64)>,
     pub goals: Vec<(u64, GoalState)>,
     pub faults: u64,
@@ -45,6 +52,7 @@ pub struct Rig {
     checker: Checker,
     slip: InvariantChecker,
     prev: Option<Setpoint>,
+    prev_plant: Option<HandState>,
     prev_vel: Option<[Vector3<f64>; 4]>,
     prev_acc: Option<[Vector3<f64>; 4]>,
     pub stats: RunStats,
@@ -70,6 +78,7 @@ impl Rig {
             cfg,
             dt,
             prev: None,
+            prev_plant: None,
             prev_vel: None,
             prev_acc: None,
             stats: RunStats::default(),
@@ -91,7 +100,7 @@ impl Rig {
         let rep = *self.exec.tick(m.as_ref());
         self.plant.write(&rep.setpoint);
         if let Some(req) = self.exec.take_plan_request() {
-            let plan = req.target.plan(&self.planner, &req.start).map(Box::new);
+            let plan = req.plan(&self.planner).map(Box::new);
             drop(self.exec.deliver_plan(req.goal, plan));
         }
         while let Some(e) = self.exec.pop_event() {
@@ -129,6 +138,20 @@ impl Rig {
         {
             self.stats.slips += 1;
         }
+        // The plant's truth, checked on its own: what the hand really did.
+        let truth = *self.plant.state();
+        let mut v = Vec::new();
+        self.checker.check(&truth, 0, &mut v);
+        self.stats
+            .plant_violations
+            .extend(v.into_iter().map(|x| (t, x)));
+        if let Some(prev) = &self.prev_plant
+            && let Ok(slip) = self.slip.check_slip(prev, &truth)
+            && !slip.ok()
+        {
+            self.stats.plant_slips += 1;
+        }
+        self.prev_plant = Some(truth);
         let vel = velocities(&rep.setpoint);
         if let Some(pv) = self.prev_vel {
             let acc: [Vector3<f64>; 4] = std::array::from_fn(|i| (vel[i] - pv[i]) / self.dt);

@@ -156,7 +156,7 @@ pub struct BenchPing {
     seq: u64,
     t_send: u64,
     t_echo: u64,
-    pad: [u64; 106],
+    pad: [u64; 140],
 }
 
 const _: () = assert!(size_of::<BenchPing>() == size_of::<Status>());
@@ -230,7 +230,7 @@ pub fn pong(a: &PongArgs) -> gaitd_client::Result<ExitCode> {
             seq: 0,
             t_send: 0,
             t_echo: 0,
-            pad: [0; 106],
+            pad: [0; 140],
         };
         for k in 1..=a.count {
             let deadline = start + period * k as u32;
@@ -325,7 +325,7 @@ fn ping_pong(
         seq: 0,
         t_send: 0,
         t_echo: 0,
-        pad: [0; 106],
+        pad: [0; 140],
     };
     for i in 0..n as u64 + 100 {
         payload.seq = if i == n as u64 + 99 { u64::MAX } else { i };

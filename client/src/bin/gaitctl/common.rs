@@ -173,6 +173,31 @@ pub fn event_json(e: &Event) -> serde_json::Value {
     })
 }
 
+/// The names of the measured fields a status holds ([`shm_schema::measured`]).
+pub fn measured_names(mask: u32) -> Vec<&'static str> {
+    use shm_schema::measured;
+    [
+        (measured::OBJECT, "object"),
+        (measured::TIPS, "tips"),
+        (measured::CONTACTS, "contacts"),
+        (measured::FORCES, "forces"),
+    ]
+    .into_iter()
+    .filter(|(bit, _)| mask & bit != 0)
+    .map(|(_, name)| name)
+    .collect()
+}
+
+/// The object orientation as the plant measured it, or the commanded one
+/// when the status holds no measurement.
+pub fn object_q(s: &Status) -> [f64; 4] {
+    if s.measured_mask & shm_schema::measured::OBJECT != 0 {
+        s.measured_object_q
+    } else {
+        s.commanded_object_q
+    }
+}
+
 /// The status as JSON (every field, codes decoded to names).
 pub fn status_json(s: &Status) -> serde_json::Value {
     use serde_json::json;
@@ -184,12 +209,17 @@ pub fn status_json(s: &Status) -> serde_json::Value {
                 "state": code(f.phase(), f.state),
                 "contact_hand": f.contact_hand,
                 "contact_object": f.contact_object,
-                "tip_position": f.tip_position,
-                "tip_orientation": f.tip_orientation,
+                "commanded_tip_position": f.commanded_tip_position,
+                "commanded_tip_orientation": f.commanded_tip_orientation,
                 "tip_contact": f.tip_contact,
                 "roll": f.roll,
                 "workspace_margin": f.workspace_margin,
-                "normal_force": f.normal_force,
+                "commanded_normal_force": f.commanded_normal_force,
+                "measured_contact": f.measured_contact == 1,
+                "measured_tip_position": f.measured_tip_position,
+                "measured_tip_orientation": f.measured_tip_orientation,
+                "measured_normal_force": f.measured_normal_force,
+                "tip_error": f.tip_error,
             })
         })
         .collect();
@@ -204,8 +234,12 @@ pub fn status_json(s: &Status) -> serde_json::Value {
         "fault": code(s.fault(), s.fault),
         "grasp": code(s.grasp(), s.grasp),
         "grasp_margin": s.grasp_margin,
-        "object_q": s.object_q,
-        "object_omega": s.object_omega,
+        "commanded_object_q": s.commanded_object_q,
+        "commanded_object_omega": s.commanded_object_omega,
+        "measured_object_q": s.measured_object_q,
+        "object_error": s.object_error,
+        "measured_tick": s.measured_tick,
+        "measured": measured_names(s.measured_mask),
         "goal": {
             "goal_id": s.goal.goal_id,
             "client_id": format!("{:x}", s.goal.client_id),

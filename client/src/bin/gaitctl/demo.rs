@@ -6,7 +6,7 @@
 //! to a two-finger force-closure grasp, then turns the object a full turn
 //! about z and a full turn about x by finger substitutions (paper Fig. 4).
 
-use crate::common::{ConnArgs, code, counted_fingers, finger_name};
+use crate::common::{ConnArgs, code, counted_fingers, finger_name, object_q};
 use gaitd_client::{Client, ConnectOptions, GoalSpec, GoalState, Status};
 use shm_schema::EventKind;
 use std::io::Write;
@@ -266,7 +266,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
          start: object q = {:.3?}; fingers f1 f2 f3 on the equator 120° apart (no two-finger\n\
          force-closure pair): the hand rolls two of them apart, then turns the object by gaits.\n\
          fingers: G grasping, R rolling, L lifting, P placing, . free",
-        s0.object_q
+        object_q(&s0)
     );
     let tau = std::f64::consts::TAU;
     let timeout = Duration::from_secs_f64(a.goal_timeout);
@@ -293,7 +293,12 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
     let s = c
         .wait_status(Duration::from_secs(2))
         .map_err(|e| e.to_string())?;
-    let d: f64 = s.object_q.iter().zip(s0.object_q).map(|(x, y)| x * y).sum();
+    // Graded on the measured object (what the plant did), not the command.
+    let d: f64 = object_q(&s)
+        .iter()
+        .zip(object_q(&s0))
+        .map(|(x, y)| x * y)
+        .sum();
     let err = 2.0 * d.abs().min(1.0).acos();
     println!(
         "\nsummary: {} — 2 full turns in {total_time:.1} s, {total_gaits} gaits ({} substitutions, {} rewinds); object back at its start \

@@ -129,7 +129,7 @@ impl OfflineRun {
             self.tick += 1;
             if let Some(req) = self.exec.take_plan_request() {
                 let clock = std::time::Instant::now();
-                let plan = req.target.plan(&self.planner, &req.start);
+                let plan = req.plan(&self.planner);
                 run.planning_ms = clock.elapsed().as_secs_f64() * 1e3;
                 if let Ok(p) = &plan {
                     run.plan = Some(p.summary);

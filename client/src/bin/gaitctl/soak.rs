@@ -99,7 +99,14 @@ impl Soak<'_> {
     /// Takes a sample when one is due; also checks the status's quaternion.
     fn tick(&mut self) -> gaitd_client::Result<()> {
         if let Some(s) = self.c.latest_status()? {
-            let n = s.object_q.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let norm = |q: &[f64; 4]| q.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let (c, m) = (norm(&s.commanded_object_q), norm(&s.measured_object_q));
+            // The farther from 1 of the two (NaN wins).
+            let n = if (c - 1.0).abs() >= (m - 1.0).abs() || c.is_nan() {
+                c
+            } else {
+                m
+            };
             // NaN must show: min/max with NaN would hide it.
             if !n.is_finite() {
                 self.min_norm = f64::NAN;

@@ -60,13 +60,28 @@ pub fn render(s: &Status, progress: Option<f64>, rate: Option<f64>) -> String {
         code(s.grasp(), s.grasp),
         deg(s.grasp_margin)
     );
-    let q = s.object_q;
-    let w = s.object_omega;
+    let q = s.commanded_object_q;
+    let w = s.commanded_object_omega;
     let _ = writeln!(
         o,
-        "object q [{:+.4} {:+.4} {:+.4} {:+.4}]  omega [{:+.3} {:+.3} {:+.3}] rad/s",
+        "object commanded q [{:+.4} {:+.4} {:+.4} {:+.4}]  omega [{:+.3} {:+.3} {:+.3}] rad/s",
         q[0], q[1], q[2], q[3], w[0], w[1], w[2]
     );
+    if s.measured_mask & shm_schema::measured::OBJECT != 0 {
+        let m = s.measured_object_q;
+        let _ = writeln!(
+            o,
+            "object measured  q [{:+.4} {:+.4} {:+.4} {:+.4}]  error {:.4} deg  (tick {})",
+            m[0],
+            m[1],
+            m[2],
+            m[3],
+            deg(s.object_error),
+            s.measured_tick
+        );
+    } else {
+        let _ = writeln!(o, "object measured  -");
+    }
     let g = &s.goal;
     let eta = if g.eta >= 0.0 {
         format!("{:.1} s", g.eta)
@@ -92,13 +107,13 @@ pub fn render(s: &Status, progress: Option<f64>, rate: Option<f64>) -> String {
     );
     let _ = writeln!(
         o,
-        "finger  state      contact (hand) [m]           roll [deg]  ws margin [deg]  force [N]"
+        "finger  state      contact (hand) [m]           roll [deg]  ws margin [deg]  force cmd/meas [N]  tip err [mm]"
     );
     for (k, f) in s.fingers.iter().enumerate() {
         let c = f.contact_hand;
         let _ = writeln!(
             o,
-            "f{}      {:<10} [{:+.3} {:+.3} {:+.3}]   {:+8.2}    {:8.2}         {:7.3}",
+            "f{}      {:<10} [{:+.3} {:+.3} {:+.3}]   {:+8.2}    {:8.2}         {:7.3} / {}  {}",
             k + 1,
             code(f.phase(), f.state),
             c[0],
@@ -106,7 +121,17 @@ pub fn render(s: &Status, progress: Option<f64>, rate: Option<f64>) -> String {
             c[2],
             deg(f.roll),
             deg(f.workspace_margin),
-            f.normal_force
+            f.commanded_normal_force,
+            if s.measured_mask & shm_schema::measured::FORCES != 0 {
+                format!("{:7.3}", f.measured_normal_force)
+            } else {
+                "    -  ".into()
+            },
+            if s.measured_mask & shm_schema::measured::TIPS != 0 {
+                format!("{:7.3}", f.tip_error * 1e3)
+            } else {
+                "-".into()
+            }
         );
     }
     let _ = writeln!(

@@ -1,0 +1,96 @@
+//! The executor's side of the planner thread: plan requests out, plans in,
+//! replaced plans back to be freed off the loop (SPEC §7.2).
+//!
+//! Nothing is allocated or freed here: plans only move. A plan the retire
+//! ring cannot take yet waits in a small fixed table for the next tick.
+
+use crate::control::planner::PlannerLink;
+use gait::executor::{Executor, PlanRequest};
+use gait::planner::{Plan, PlanError};
+
+/// Plan requests in flight (sequence number → executor goal).
+const REQUEST_SLOTS: usize = 8;
+/// Plans kept on the loop while the retire ring is full.
+const RETIRE_SLOTS: usize = 4;
+
+/// The planner link of the gait controller (module docs).
+pub struct PlanShuttle {
+    link: PlannerLink<PlanRequest, Plan, PlanError>,
+    /// Sequence number and executor goal of each request in flight.
+    requests: [(u64, u64); REQUEST_SLOTS],
+    /// Plans waiting for room in the retire ring.
+    retiring: [Option<Box<Plan>>; RETIRE_SLOTS],
+    /// Plans leaked because the retire ring and `retiring` were full.
+    leaked: u64,
+}
+
+impl std::fmt::Debug for PlanShuttle {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PlanShuttle")
+            .field("leaked", &self.leaked)
+            .finish()
+    }
+}
+
+impl PlanShuttle {
+    /// Over `link`.
+    pub fn new(link: PlannerLink<PlanRequest, Plan, PlanError>) -> Self {
+        Self {
+            link,
+            requests: [(0, 0); REQUEST_SLOTS],
+            retiring: [const { None }; RETIRE_SLOTS],
+            leaked: 0,
+        }
+    }
+
+    /// Plans leaked so far (expected 0: see [`PlanShuttle::retire`]).
+    pub fn leaked(&self) -> u64 {
+        self.leaked
+    }
+
+    /// Hands `plan` back to the planner thread to be freed there.
+    pub fn retire(&mut self, plan: Option<Box<Plan>>) {
+        let Some(plan) = plan else { return };
+        if let Err(p) = self.link.retire(plan) {
+            // Ring full: keep it for the next tick (never drop it here).
+            match self.retiring.iter_mut().find(|slot| slot.is_none()) {
+                Some(slot) => *slot = Some(p),
+                None => {
+                    // Cannot happen (the ring has room for every plan alive
+                    // on this side, see `planner::spawn`); should it, a
+                    // leaked plan is a bounded loss, a free here is not.
+                    Box::leak(p);
+                    self.leaked += 1;
+                }
+            }
+        }
+    }
+
+    /// Retries waiting retirements, submits the executor's plan request
+    /// and delivers every finished plan to it.
+    pub fn pump(&mut self, exec: &mut Executor) {
+        for k in 0..RETIRE_SLOTS {
+            let p = self.retiring[k].take();
+            self.retire(p);
+        }
+        if let Some(req) = exec.take_plan_request() {
+            match self.link.submit(req) {
+                Ok(seq) => self.requests[(seq as usize) % REQUEST_SLOTS] = (seq, req.goal),
+                // The planner is swamped: the goal fails rather than waits.
+                Err(_) => exec.plan_unavailable(req.goal),
+            }
+        }
+        while let Some(reply) = self.link.poll() {
+            let (seq, goal) = self.requests[(reply.seq as usize) % REQUEST_SLOTS];
+            if seq != reply.seq {
+                // Its slot was reused: the goal is long gone.
+                if let Ok(p) = reply.result {
+                    self.retire(Some(p));
+                }
+                continue;
+            }
+            let old = exec.deliver_plan(goal, reply.result);
+            self.retire(old);
+        }
+    }
+}
