@@ -9,6 +9,7 @@
 mod ipc_rig;
 
 use gait::executor::Phase as ExecPhase;
+use gait::hand::Bound;
 use gait::sim::InjectedFault;
 use ipc_rig::{Namespace, gait_loop};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
@@ -104,7 +105,7 @@ fn a_measured_contact_near_its_workspace_limit_is_reported_and_replanned() {
     ns.cfg.feedback.finger_tolerance = 0.02;
     ns.cfg.feedback.contact_tolerance = 0.02;
     let azimuth = ns.cfg.model.finger_azimuth_deg;
-    let margin = ns.cfg.model.workspace_margin_deg.to_radians();
+    let model = gait::hand::HandModel::new(&ns.cfg.hand()).unwrap();
     let mut g = gait_loop(&ns, 48, |_| {});
     let target = UnitQuaternion::from_scaled_axis(Vector3::z());
     let c = target.coords;
@@ -115,6 +116,7 @@ fn a_measured_contact_near_its_workspace_limit_is_reported_and_replanned() {
         [c.w, c.x, c.y, c.z],
     ));
     let (mut near, mut states, mut end, mut biased) = (Vec::new(), Vec::new(), None, 0);
+    let mut injected = None;
     for _ in 0..100_000 {
         if biased > 0 {
             biased -= 1;
@@ -122,20 +124,31 @@ fn a_measured_contact_near_its_workspace_limit_is_reported_and_replanned() {
                 g.rt.controller_mut().plant_mut().inject(None);
             }
         }
-        let (statuses, ev) = g.tick();
-        if near.is_empty()
-            && biased == 0
-            && let Some(s) = statuses.last()
-            && s.phase() == Ok(shm_schema::Phase::Rotate)
+        let before = g.rt.controller().state().object;
+        let (_, ev) = g.tick();
+        // When to bias is decided from the controller's own state after
+        // this tick, on the loop's side: the statuses received so far come
+        // through the writer thread and may be ticks old (by then the
+        // contact may have left the edge, and the bias hit nothing).
+        let c = g.rt.controller();
+        let hand = c.state();
+        // A rotation: the object turned this tick (in every other step it
+        // holds still), with a grasping contact within 0.2° of its margin
+        // (the status reports this slack plus the margin).
+        let rotating = c.phase() == ExecPhase::Moving && hand.object.angle_to(&before) > 0.0;
+        // Once: the events that would tell it worked come through the
+        // writer too, possibly after the bias is over.
+        if injected.is_none()
+            && rotating
             && let Some(k) = (0..3).find(|&k| {
-                let f = &s.fingers[k];
-                f.phase() == Ok(shm_schema::FingerPhase::Grasping)
-                    && f.workspace_margin < margin + 0.2f64.to_radians()
+                let f = &hand.fingers[k];
+                f.mode == gait::FingerMode::Grasping
+                    && model.workspace_slack(k, &f.center, Bound::Margin) < 0.2f64.to_radians()
             })
         {
             let az = azimuth[k].to_radians();
             let d = Vector3::new(az.cos(), az.sin(), 0.0);
-            let p = Vector3::from(s.fingers[k].commanded_tip_position);
+            let p = hand.fingers[k].center;
             let out =
                 UnitQuaternion::from_scaled_axis(d.cross(&p).normalize() * 0.8f64.to_radians());
             g.rt.controller_mut()
@@ -145,6 +158,7 @@ fn a_measured_contact_near_its_workspace_limit_is_reported_and_replanned() {
                     offset: out * p - p,
                 }));
             biased = 6;
+            injected = Some(k);
         }
         end = sort_events(ev, EventKind::NearLimit, &mut near, &mut states);
         if end.is_some() {
@@ -152,12 +166,13 @@ fn a_measured_contact_near_its_workspace_limit_is_reported_and_replanned() {
         }
         g.yield_to_planner();
     }
+    let biased_finger = injected.expect("no grasping contact came near its margin");
     assert_eq!(end, Some(GoalState::Succeeded), "{states:?}");
     assert_eq!(near.len(), 1, "{near:?}");
     let e = near[0];
     assert_eq!((e.goal_id, e.client_id, e.count), (1, 5, 1));
     assert_eq!(e.fault, shm_schema::FaultCode::WorkspaceViolation.code());
-    assert!(e.finger < 3);
+    assert_eq!(e.finger, biased_finger as u32, "the biased finger is named");
     assert!(
         states
             .windows(2)

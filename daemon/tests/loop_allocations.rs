@@ -7,12 +7,13 @@
 //! duplicates, cancel, hold, reset, malformed bytes), each answer and status
 //! checked on the client side.
 //!
-//! Only allocations made on this thread while a tick runs are counted: the
-//! test's own client work between ticks is another process's job in
-//! production, and the writer thread (which publishes, and allocates inside
-//! iceoryx2's `loan_uninit`) is not the real-time thread. A second run drives a controller that plans through
-//! the planner thread, so plans (boxes) reach the loop and old ones leave
-//! it on every goal — preemption included.
+//! Only allocations made on the loop thread (this test's thread) while a
+//! tick runs are counted (`test_support::counting`, per thread): the test's
+//! own client work between ticks is another process's job in production,
+//! and the writer thread (which publishes, and allocates inside iceoryx2's
+//! `loan_uninit`) is not the real-time thread. A second run drives a
+//! controller that plans through the planner thread, so plans (boxes) reach
+//! the loop and old ones leave it on every goal — preemption included.
 
 #[path = "support/hold.rs"]
 mod hold;
@@ -26,56 +27,11 @@ use gaitd::realtime::runtime::Runtime;
 use hold::HoldController;
 use ipc_rig::{Namespace, TestClient, daemon};
 use shm_schema::{Command, CommandKind, GoalFrame, GoalState, ReasonCode, Verdict};
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::sync::atomic::{AtomicU64, Ordering};
-
-struct Counting;
-
-thread_local! {
-    static ARMED: Cell<bool> = const { Cell::new(false) };
-}
-static ALLOCS: AtomicU64 = AtomicU64::new(0);
-static BYTES: AtomicU64 = AtomicU64::new(0);
-static FREES: AtomicU64 = AtomicU64::new(0);
-
-fn armed() -> bool {
-    ARMED.try_with(Cell::get).unwrap_or(false)
-}
-
-// SAFETY: forwards to the system allocator; only counts.
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        if armed() {
-            ALLOCS.fetch_add(1, Ordering::Relaxed);
-            BYTES.fetch_add(l.size() as u64, Ordering::Relaxed);
-        }
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        if armed() {
-            FREES.fetch_add(1, Ordering::Relaxed);
-        }
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        if armed() {
-            ALLOCS.fetch_add(1, Ordering::Relaxed);
-            BYTES.fetch_add(n as u64, Ordering::Relaxed);
-        }
-        unsafe { System.realloc(p, l, n) }
-    }
-}
+use test_support::counting::{self, Counting, Tally};
 
 #[global_allocator]
 static GLOBAL: Counting = Counting;
-
-fn counted<R>(f: impl FnOnce() -> R) -> R {
-    ARMED.with(|a| a.set(true));
-    let r = f();
-    ARMED.with(|a| a.set(false));
-    r
-}
 
 const TICKS: u64 = 100_000;
 
@@ -104,23 +60,18 @@ fn command_for(t: u64) -> (Command, Verdict) {
     }
 }
 
-fn reset_counts() {
-    ALLOCS.store(0, Ordering::Relaxed);
-    BYTES.store(0, Ordering::Relaxed);
-    FREES.store(0, Ordering::Relaxed);
-}
-
-fn assert_no_allocations(what: &str) {
-    let (a, b, f) = (
-        ALLOCS.load(Ordering::Relaxed),
-        BYTES.load(Ordering::Relaxed),
-        FREES.load(Ordering::Relaxed),
+/// Asserts that the loop thread (this test's thread, which runs every
+/// tick) neither allocated nor freed in the ticks `heap` counted.
+fn assert_no_allocations(what: &str, heap: &Tally) {
+    assert!(
+        counting::is_installed(),
+        "the counting allocator is not installed"
     );
-    println!("{what}: {TICKS} ticks, {a} allocations ({b} bytes), {f} frees on the loop thread");
-    assert_eq!(
-        (a, b, f),
-        (0, 0, 0),
-        "{what}: the loop thread allocated or freed"
+    let c = heap.total();
+    println!("{what}: {TICKS} ticks, {c} on the loop thread");
+    assert!(
+        c.is_zero(),
+        "{what}: the loop thread allocated or freed: {c}"
     );
 }
 
@@ -149,14 +100,14 @@ fn the_loop_does_not_allocate_with_the_hold_controller() {
         client.wait_answer();
         client.drain();
     }
-    reset_counts();
+    let heap = Tally::default();
     let (mut statuses, mut events) = (0u64, 0u64);
     let mut last_tick = 0;
     for t in 1001..=1000 + TICKS {
         let (cmd, want) = command_for(t);
         client.send(cmd);
         // Model 20 µs of work inside the tick: time moves, deadlines hold.
-        counted(|| {
+        heap.count(|| {
             rt.run_once();
             clock.advance(20_000);
         });
@@ -173,7 +124,7 @@ fn the_loop_does_not_allocate_with_the_hold_controller() {
         statuses += st.len() as u64;
         events += ev.len() as u64;
     }
-    assert_no_allocations("hold controller");
+    assert_no_allocations("hold controller", &heap);
     assert_eq!(rt.stats().overruns(), 0, "mock time never misses a period");
     // Statuses are latest-value (buffer 1): the client sees most, not all.
     assert!(statuses > TICKS / 2, "statuses seen: {statuses}");
@@ -317,7 +268,7 @@ fn plans_cross_the_loop_without_allocation() {
             std::thread::yield_now();
         }
     }
-    reset_counts();
+    let heap = Tally::default();
     let (mut goals_accepted, mut holds_accepted) = (0u64, 0u64);
     for t in 0..TICKS {
         // A new goal every 10 ticks preempts the plan in use; a hold between.
@@ -326,7 +277,7 @@ fn plans_cross_the_loop_without_allocation() {
         if t % 10 == 0 {
             let t0 = std::time::Instant::now();
             while rt.controller().plans_received < goals_accepted + 1000 {
-                counted(|| {
+                heap.count(|| {
                     rt.run_once();
                     clock.advance(5_000);
                 });
@@ -347,7 +298,7 @@ fn plans_cross_the_loop_without_allocation() {
         } else {
             false
         };
-        counted(|| {
+        heap.count(|| {
             rt.run_once();
             clock.advance(5_000);
         });
@@ -365,7 +316,7 @@ fn plans_cross_the_loop_without_allocation() {
             std::thread::yield_now();
         }
     }
-    assert_no_allocations("planning controller");
+    assert_no_allocations("planning controller", &heap);
     assert_eq!(holds_accepted, TICKS / 10, "every hold accepted");
     assert_eq!(goals_accepted, TICKS / 10, "every goal accepted");
     assert!(
@@ -417,7 +368,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
         g.clock.advance(1_000_000);
         g.client.drain();
     }
-    reset_counts();
+    let heap = Tally::default();
     let targets = [
         (GoalFrame::AxisAngle, [std::f64::consts::TAU, 0.0, 0.0, 1.0]),
         (GoalFrame::Absolute, [0.5, 0.5, -0.5, 0.5]),
@@ -467,7 +418,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
                     rate: 5.0,
                 }));
         }
-        counted(|| {
+        heap.count(|| {
             g.rt.run_once();
             g.clock.advance(1_000_000);
         });
@@ -503,7 +454,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
     println!(
         "gait controller: {placed} placements, {lifted} lifts, {rolled} rolls, {succeeded} goals reached, {preempted} preempted, {drifts} drifts replanned"
     );
-    assert_no_allocations("gait controller");
+    assert_no_allocations("gait controller", &heap);
     println!("gait controller: {ticks} ticks in all");
     assert!(
         placed > 20 && lifted > 20 && rolled > 0,
@@ -530,11 +481,12 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
     assert!(traces >= 4, "goals were traced ({traces} files)");
 }
 
-/// The counter itself works (otherwise the tests above prove nothing).
+/// The counter itself works in this binary (otherwise the tests above
+/// prove nothing); that it counts this thread only is test_support's test.
 #[test]
 fn the_counter_sees_an_allocation() {
-    let before = ALLOCS.load(Ordering::Relaxed);
-    let b = counted(|| std::hint::black_box(Box::new(7u64)));
-    assert!(ALLOCS.load(Ordering::Relaxed) > before);
+    let heap = Tally::default();
+    let b = heap.count(|| std::hint::black_box(Box::new(7u64)));
+    assert_eq!((heap.total().allocs, heap.total().bytes), (1, 8));
     drop(b);
 }

@@ -11,12 +11,20 @@ use gait::{FingerMode, HandConfig, HandState};
 use nalgebra::{UnitQuaternion, Vector3};
 use rand::Rng;
 
-#[path = "support/counting.rs"]
-mod counting;
+use test_support::counting;
+
+#[global_allocator]
+static GLOBAL: counting::Counting = counting::Counting;
 
 fn count<T>(f: impl FnOnce() -> T) -> (T, usize, usize) {
     let (r, c) = counting::count(f);
     (r, c.allocs, c.bytes)
+}
+
+/// Otherwise every count below is zero and proves nothing.
+#[test]
+fn the_counter_is_installed() {
+    assert!(counting::is_installed());
 }
 
 #[test]

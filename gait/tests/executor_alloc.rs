@@ -7,7 +7,7 @@
 
 mod planning;
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::cell::Cell;
 
 use gait::executor::{Command, Event, Executor, GoalTarget};
 use gait::planner::{Planner, StepKind};
@@ -16,15 +16,23 @@ use gait::{HandConfig, HandState};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-#[path = "support/counting.rs"]
-mod counting;
+use test_support::counting;
 
-/// Heap allocations and frees counted so far in `counted` sections.
-static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
+#[global_allocator]
+static GLOBAL: counting::Counting = counting::Counting;
+
+thread_local! {
+    /// This thread's heap traffic in `counted` sections so far.
+    static HEAP: Cell<counting::Counts> = const { Cell::new(counting::Counts::ZERO) };
+}
 
 fn counted<T>(f: impl FnOnce() -> T) -> T {
     let (r, c) = counting::count(f);
-    ALLOCATIONS.fetch_add((c.allocs + c.frees) as u64, Ordering::Relaxed);
+    HEAP.with(|h| {
+        let mut sum = h.get();
+        sum += c;
+        h.set(sum);
+    });
     r
 }
 
@@ -143,9 +151,7 @@ fn executor_ticks_do_not_allocate() {
     println!("{id} goals, {drifts} drifts, step kinds seen {seen:?}");
     assert!(id > 20, "{id} goals");
     assert!(drifts > 5, "{drifts} drifts");
-    assert_eq!(
-        ALLOCATIONS.load(Ordering::Relaxed),
-        0,
-        "allocations in {ticks} ticks"
-    );
+    assert!(counting::is_installed());
+    let heap = HEAP.with(Cell::get);
+    assert!(heap.is_zero(), "{heap} in {ticks} ticks");
 }

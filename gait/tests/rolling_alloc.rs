@@ -14,8 +14,10 @@ use gait::rolling::{RollGoal, RollLimits, plan_roll};
 use gait::sphere::best_chart;
 use nalgebra::Vector3;
 
-#[path = "support/counting.rs"]
-mod counting;
+use test_support::counting;
+
+#[global_allocator]
+static GLOBAL: counting::Counting = counting::Counting;
 
 #[test]
 fn kinematics_hot_paths_do_not_allocate() {

@@ -591,20 +591,59 @@ mod tests {
         assert_eq!(short_type_name::<u64>(), "u64");
     }
 
+    /// What an out-of-date LAYOUT.md leads to.
+    #[derive(Debug, PartialEq)]
+    enum Stale {
+        /// `GAITD_BLESS` set outside CI: rewrite it.
+        Rewrite,
+        /// Fail with this message.
+        Fail(&'static str),
+    }
+
+    /// `GAITD_BLESS` rewrites the document, except in CI (`CI` set, and not
+    /// `false` or `0`): there a bless would turn any schema change into a
+    /// pass, so it fails even when the document is current.
+    fn on_stale(bless: bool, ci: Option<&str>, current: bool) -> Option<Stale> {
+        let ci = ci.is_some_and(|v| !matches!(v, "" | "false" | "0"));
+        match (bless, ci, current) {
+            (true, true, _) => Some(Stale::Fail(
+                "GAITD_BLESS is set in CI (CI=true): LAYOUT.md is never rewritten in CI; \
+                 bless locally (`GAITD_BLESS=1 cargo test -p shm_schema`) and commit the result",
+            )),
+            (_, _, true) => None,
+            (true, false, false) => Some(Stale::Rewrite),
+            (false, _, false) => Some(Stale::Fail(
+                "is out of date: run `GAITD_BLESS=1 cargo test -p shm_schema` \
+                 and commit the result",
+            )),
+        }
+    }
+
+    #[test]
+    fn ci_never_blesses() {
+        assert_eq!(on_stale(true, None, false), Some(Stale::Rewrite));
+        assert_eq!(on_stale(true, Some("false"), false), Some(Stale::Rewrite));
+        assert_eq!(on_stale(false, None, true), None);
+        assert!(matches!(on_stale(false, None, false), Some(Stale::Fail(_))));
+        for current in [false, true] {
+            let Some(Stale::Fail(why)) = on_stale(true, Some("true"), current) else {
+                panic!("blessed in CI");
+            };
+            assert!(why.contains("CI"), "{why}");
+        }
+    }
+
     #[test]
     fn layout_document_is_current() {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/LAYOUT.md");
         let want = layout_markdown();
         let have = std::fs::read_to_string(path).unwrap_or_default();
-        if have != want {
-            if std::env::var_os("GAITD_BLESS").is_some() {
-                std::fs::write(path, &want).unwrap();
-            } else {
-                panic!(
-                    "{path} is out of date: run `GAITD_BLESS=1 cargo test -p shm_schema` \
-                     and commit the result"
-                );
-            }
+        let ci = std::env::var("CI").ok();
+        let bless = std::env::var_os("GAITD_BLESS").is_some();
+        match on_stale(bless, ci.as_deref(), have == want) {
+            None => {}
+            Some(Stale::Rewrite) => std::fs::write(path, &want).unwrap(),
+            Some(Stale::Fail(why)) => panic!("{path}: {why}"),
         }
     }
 }
