@@ -286,6 +286,38 @@ code_enum! {
 }
 
 code_enum! {
+    /// What a plant's fingertip is to do (`PlantFingerCommand::mode`).
+    pub enum PlantFingerMode {
+        /// In contact, part of the grasp: follow the pose and press with the grip force.
+        Grasping = 1,
+        /// Lifted, in its free space: follow the pose, touch nothing.
+        Free = 2,
+        /// Descending to make contact: follow the pose; the grip force ramps in.
+        Placing = 3,
+        /// Breaking contact and rising: the grip force ramps out, then follow the pose.
+        Lifting = 4,
+    }
+}
+
+code_enum! {
+    /// A plant's own fault (`PlantMeasurement::fault`).
+    pub enum PlantFault {
+        /// No fault.
+        None = 0,
+        /// An emergency stop is pressed.
+        EmergencyStop = 1,
+        /// An actuator or sensor failed.
+        Hardware = 2,
+        /// A joint, torque or force limit was hit.
+        Limit = 3,
+        /// The simulation diverged (non-finite or exploding state).
+        Diverged = 4,
+        /// Another fault of the plant.
+        Other = 5,
+    }
+}
+
+code_enum! {
     /// Force-closure state of the grasp (SPEC §1.3 I1).
     pub enum GraspState {
         /// Not computed by this controller.
@@ -318,6 +350,18 @@ code_enum! {
         StuckFinger = 7,
         /// A NaN or infinite value appeared in the state.
         NonFiniteState = 8,
+        /// No fresh measurement from the plant for more than `plant.max_missed` ticks (it stopped, stalled or vanished).
+        PlantLost = 9,
+        /// The plant sent an invalid measurement: a bad code, a missing required field, a non-finite number or a non-unit quaternion.
+        PlantInvalid = 10,
+        /// The plant's measurements went backwards or echoed another daemon session.
+        PlantSequence = 11,
+        /// The plant reports a fault of its own (the event's `count` holds its `PlantFault` code).
+        PlantFault = 12,
+        /// A grasping contact is not touching: the measured contact flag or normal force says so.
+        ContactLost = 13,
+        /// Waiting for the plant's first valid measurement: nothing moves until it arrives.
+        PlantWaiting = 14,
     }
 }
 

@@ -31,12 +31,13 @@ pub mod command;
 pub mod event;
 pub mod ipc;
 pub mod layout;
+pub mod plant;
 pub mod status;
 
 pub use answer::{Answer, Verdict};
 pub use codes::{
     AnswerCode, CommandKind, DaemonState, EventKind, FaultCode, FingerPhase, GoalFrame, GoalState,
-    GraspState, Phase, ReasonCode, UnknownCode,
+    GraspState, Phase, PlantFault, PlantFingerMode, ReasonCode, UnknownCode,
 };
 pub use command::{
     Command, GoalRequest, LimitKind, LimitOrder, LimitOverrides, MAX_AXIS_ANGLE,
@@ -44,6 +45,10 @@ pub use command::{
     check_unit_quaternion, limit_bit,
 };
 pub use event::Event;
+pub use plant::{
+    PlantCommand, PlantFingerCommand, PlantFingerMeasurement, PlantMeasurement, command_flags,
+    measurement_valid, plant_state,
+};
 pub use status::{FINGERS, FingerStatus, GoalStatus, NO_FINGER, Status, Timing, measured};
 
 /// Re-export of the exact iceoryx2 the schema is built against, so that
@@ -85,6 +90,14 @@ pub struct ServiceNames {
     pub events: String,
     /// daemon → clients wake-ups (event service).
     pub notify: String,
+    /// daemon → plant [`PlantCommand`]s (publish-subscribe).
+    pub plant_command: String,
+    /// plant → daemon [`PlantMeasurement`]s (publish-subscribe).
+    pub plant_measurement: String,
+    /// daemon → plant wake-up: a command was published (event service).
+    pub plant_commanded: String,
+    /// plant → daemon wake-up: a measurement was published (event service).
+    pub plant_measured: String,
 }
 
 impl ServiceNames {
@@ -96,6 +109,10 @@ impl ServiceNames {
             status: format!("{prefix}/status"),
             events: format!("{prefix}/events"),
             notify: format!("{prefix}/notify"),
+            plant_command: format!("{prefix}/plant/command"),
+            plant_measurement: format!("{prefix}/plant/measurement"),
+            plant_commanded: format!("{prefix}/plant/commanded"),
+            plant_measured: format!("{prefix}/plant/measured"),
         }
     }
 }

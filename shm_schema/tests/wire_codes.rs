@@ -185,8 +185,59 @@ fn fault_codes() {
             (MeasurementMissing, 6),
             (StuckFinger, 7),
             (NonFiniteState, 8),
+            (PlantLost, 9),
+            (PlantInvalid, 10),
+            (PlantSequence, 11),
+            (PlantFault, 12),
+            (ContactLost, 13),
+            (PlantWaiting, 14),
         ],
     );
+}
+
+#[test]
+fn plant_codes_and_bits() {
+    use shm_schema::{PlantFault, PlantFingerMode, command_flags, measurement_valid, plant_state};
+    pin(
+        PlantFingerMode::ALL,
+        &[
+            (PlantFingerMode::Grasping, 1),
+            (PlantFingerMode::Free, 2),
+            (PlantFingerMode::Placing, 3),
+            (PlantFingerMode::Lifting, 4),
+        ],
+    );
+    pin(
+        PlantFault::ALL,
+        &[
+            (PlantFault::None, 0),
+            (PlantFault::EmergencyStop, 1),
+            (PlantFault::Hardware, 2),
+            (PlantFault::Limit, 3),
+            (PlantFault::Diverged, 4),
+            (PlantFault::Other, 5),
+        ],
+    );
+    use command_flags as c;
+    assert_eq!((c::ENABLE, c::HOLD, c::LOCKSTEP, c::ALL), (1, 2, 4, 7));
+    use measurement_valid as v;
+    assert_eq!(
+        [
+            v::OBJECT_ORIENTATION,
+            v::OBJECT_VELOCITY,
+            v::OBJECT_CENTER,
+            v::TIP_POSE,
+            v::TIP_VELOCITY,
+            v::CONTACT,
+            v::FORCE,
+            v::ROLL,
+            v::REQUIRED,
+            v::ALL
+        ],
+        [1, 2, 4, 8, 16, 32, 64, 128, 169, 255]
+    );
+    use plant_state as p;
+    assert_eq!((p::SIMULATED, p::PAUSED, p::FAULT, p::ALL), (1, 2, 4, 7));
 }
 
 #[test]
