@@ -32,7 +32,7 @@ pub(crate) struct Connection {
     _node: Node<Ipc>,
 }
 
-enum Attempt<T> {
+pub(crate) enum Attempt<T> {
     Done(T),
     Missing,
 }
@@ -42,7 +42,7 @@ fn type_name<T: ZeroCopySend>() -> &'static str {
     unsafe { <T as ZeroCopySend>::type_name() }
 }
 
-fn open_pubsub<T>(node: &Node<Ipc>, name: &str) -> Result<Attempt<PubSubFactory<T>>>
+pub(crate) fn open_pubsub<T>(node: &Node<Ipc>, name: &str) -> Result<Attempt<PubSubFactory<T>>>
 where
     T: std::fmt::Debug + ZeroCopySend + Copy + 'static,
 {
@@ -67,7 +67,7 @@ where
 
 type PubSubFactory<T> = iceoryx2::service::port_factory::publish_subscribe::PortFactory<Ipc, T, ()>;
 
-fn open_event(
+pub(crate) fn open_event(
     node: &Node<Ipc>,
     name: &str,
 ) -> Result<Attempt<iceoryx2::service::port_factory::event::PortFactory<Ipc>>> {
@@ -85,7 +85,7 @@ fn open_event(
     }
 }
 
-fn ipc_err(what: &'static str) -> impl Fn(&dyn std::fmt::Debug) -> Error {
+pub(crate) fn ipc_err(what: &'static str) -> impl Fn(&dyn std::fmt::Debug) -> Error {
     move |e| Error::Ipc {
         what,
         why: format!("{e:?}"),
@@ -196,14 +196,14 @@ impl Connection {
     }
 }
 
-fn open_err(service: &str, e: impl std::fmt::Debug) -> Error {
+pub(crate) fn open_err(service: &str, e: impl std::fmt::Debug) -> Error {
     Error::Open {
         service: service.into(),
         why: format!("{e:?} (too many clients? see [ipc] max_clients)"),
     }
 }
 
-fn wait_for_dir(path: &str, deadline: Instant) -> Option<()> {
+pub(crate) fn wait_for_dir(path: &str, deadline: Instant) -> Option<()> {
     loop {
         if std::path::Path::new(path).is_dir() {
             return Some(());

@@ -55,6 +55,7 @@ mod connection;
 mod error;
 mod goal;
 mod options;
+pub mod plant;
 
 pub use client::{Client, GoalTicket, Outcome, monotonic_ns};
 pub use error::{Error, Result};

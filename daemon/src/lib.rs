@@ -12,6 +12,8 @@
 //!             (planner link + executor + plant), status conversion
 //!  io/        threads off the loop: iceoryx2 ports, the writer (outbox),
 //!             goal traces, housekeeping
+//!  plant/     the hand: the embedded kinematic hand or an external plant's
+//!             link (checks, held measurements, faults, lockstep pacing)
 //! ```
 //!
 //! Data flows one way per tick: commands → [`realtime::intake`] →
@@ -25,6 +27,7 @@ extern crate self as gaitd;
 
 pub mod control;
 pub mod io;
+pub mod plant;
 pub mod process;
 pub mod realtime;
 

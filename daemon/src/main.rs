@@ -11,6 +11,8 @@ use clap::Parser;
 use gaitd::control::gait_controller::{GaitController, GaitPlanner};
 use gaitd::io::housekeeping::{self, HousekeepingSetup};
 use gaitd::io::{ipc, outbox};
+use gaitd::plant::external::ExternalPlant;
+use gaitd::plant::ports::PlantInput;
 use gaitd::process::config::{DEFAULT_CONFIG_PATH, DaemonConfig};
 use gaitd::process::logging::{self, LogFormat};
 use gaitd::process::{rt, sd_notify, signals};
@@ -77,6 +79,12 @@ fn main() -> Result<()> {
     let services = ipc::create_services(&node, &cfg, &settings.service_prefix)?;
     let names = services.names.clone();
     let commands = services.command_subscriber(cfg.ipc.command_queue as usize)?;
+    // An external plant's ports live on the loop thread (this one).
+    let plant_ports = match &services.plant_in {
+        Some(p) => Some(p.ports(&services.names)?),
+        None => None,
+    };
+    let instance = gaitd::new_instance_id();
     let shared = Arc::new(Shared::default());
     // The writer rings the planner's doorbell after each tick, so the loop
     // never wakes the planner thread itself (planner module docs).
@@ -86,7 +94,13 @@ fn main() -> Result<()> {
         names.clone(),
         outbox::WriterSettings {
             status_notify_every: cfg.daemon.status_notify_every.into(),
-            wake: cfg.daemon.writer_wake,
+            // In lockstep the plant waits for each command: the loop wakes
+            // the writer at once instead of at the next deadline.
+            wake: if cfg.plant.lockstep() {
+                outbox::WriterWake::Unpark
+            } else {
+                cfg.daemon.writer_wake
+            },
             period: cfg.period_ns(),
             spin: cfg.writer_lead_ns(),
             cpus: cfg.rt.background_cpus.clone(),
@@ -132,9 +146,14 @@ fn main() -> Result<()> {
         })
         .context("starting the planner thread")?;
     link.wake_through(planner_bell);
-    let mut controller = GaitController::new(&cfg.hand(), 1.0 / cfg.control.tick_hz, link)
-        .context("building the controller")?;
-    let instance = gaitd::new_instance_id();
+    let dt = 1.0 / cfg.control.tick_hz;
+    let mut controller = if cfg.plant.external() {
+        let plant = ExternalPlant::new(instance, cfg.period_ns(), &cfg.plant);
+        GaitController::new_external(&cfg.hand(), dt, link, plant)
+    } else {
+        GaitController::new(&cfg.hand(), dt, link)
+    }
+    .context("building the controller")?;
     // Goal traces (SPEC §8): the loop copies samples into a ring, the
     // trace thread formats and writes them.
     let tracer = if cfg.daemon.trace_dir.is_empty() {
@@ -164,6 +183,13 @@ fn main() -> Result<()> {
         instance,
         shared,
     );
+    if let Some(p) = plant_ports {
+        runtime.set_plant(PlantInput::new(p));
+        info!(
+            timing = ?cfg.plant.timing,
+            "external plant: waiting for its first valid measurement"
+        );
+    }
     if let (Some(period), Some(_)) = (sd_notify::watchdog_period(), &sd) {
         let n = sd_notify::Notifier::from_env()?.context("NOTIFY_SOCKET vanished")?;
         runtime.set_watchdog(n, period.as_nanos() as u64 / 2);

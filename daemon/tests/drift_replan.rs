@@ -61,7 +61,8 @@ fn a_slip_mid_goal_is_reported_replanned_and_the_goal_succeeds() {
         let slip_now = moving == 500 && !slipped;
         if slip_now {
             g.rt.controller_mut()
-                .plant_mut()
+                .embedded_mut()
+                .unwrap()
                 .inject(Some(InjectedFault::Slip {
                     axis: Vector3::new(0.2, 1.0, -0.4).normalize(),
                     rate: 10.0,
@@ -70,7 +71,7 @@ fn a_slip_mid_goal_is_reported_replanned_and_the_goal_succeeds() {
         }
         let (_, ev) = g.tick();
         if slip_now {
-            g.rt.controller_mut().plant_mut().inject(None);
+            g.rt.controller_mut().embedded_mut().unwrap().inject(None);
         }
         end = sort_events(ev, EventKind::Drift, &mut drifts, &mut states);
         if end.is_some() {
@@ -89,7 +90,7 @@ fn a_slip_mid_goal_is_reported_replanned_and_the_goal_succeeds() {
         .windows(2)
         .any(|w| w == [GoalState::Executing, GoalState::Planning]);
     assert!(replanned, "{states:?}");
-    let truth = g.rt.controller_mut().plant_mut().state().object;
+    let truth = g.rt.controller_mut().embedded_mut().unwrap().state().object;
     let err = truth.angle_to(&target);
     assert!(err <= 1e-6, "true object {err:e} rad from the target");
     g.finish();
@@ -121,7 +122,7 @@ fn a_measured_contact_near_its_workspace_limit_is_reported_and_replanned() {
         if biased > 0 {
             biased -= 1;
             if biased == 0 {
-                g.rt.controller_mut().plant_mut().inject(None);
+                g.rt.controller_mut().embedded_mut().unwrap().inject(None);
             }
         }
         let before = g.rt.controller().state().object;
@@ -152,7 +153,8 @@ fn a_measured_contact_near_its_workspace_limit_is_reported_and_replanned() {
             let out =
                 UnitQuaternion::from_scaled_axis(d.cross(&p).normalize() * 0.8f64.to_radians());
             g.rt.controller_mut()
-                .plant_mut()
+                .embedded_mut()
+                .unwrap()
                 .inject(Some(InjectedFault::Bias {
                     finger: k,
                     offset: out * p - p,
@@ -179,7 +181,7 @@ fn a_measured_contact_near_its_workspace_limit_is_reported_and_replanned() {
             .any(|w| w == [GoalState::Executing, GoalState::Planning]),
         "replanned: {states:?}"
     );
-    let truth = g.rt.controller_mut().plant_mut().state().object;
+    let truth = g.rt.controller_mut().embedded_mut().unwrap().state().object;
     assert!(truth.angle_to(&target) <= 1e-6);
     g.finish();
 }

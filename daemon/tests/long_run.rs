@@ -139,7 +139,7 @@ fn a_million_ticks_of_goals_without_drift_or_nan() {
     let mut rng = ChaCha8Rng::seed_from_u64(0x10_6e_2a);
     let mut in_flight: Option<InFlight> = None;
     // The plant's true object orientation (the hand's, not the command).
-    let truth = |g: &ipc_rig::GaitLoop| g.rt.controller().plant().state().object;
+    let truth = |g: &ipc_rig::GaitLoop| g.rt.controller().embedded().unwrap().state().object;
     let (mut goal_id, mut k, mut idle) = (0u64, 0u64, 0u64);
     let (mut active, mut loops) = (0u64, 0u64);
     let mut outcomes: BTreeMap<String, u64> = BTreeMap::new();

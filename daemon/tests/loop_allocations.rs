@@ -411,19 +411,19 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
         }
         let slip = t % 4000 == 2000 && g.rt.controller().phase() == gait::executor::Phase::Moving;
         if slip {
-            g.rt.controller_mut()
-                .plant_mut()
-                .inject(Some(gait::sim::InjectedFault::Slip {
+            g.rt.controller_mut().embedded_mut().unwrap().inject(Some(
+                gait::sim::InjectedFault::Slip {
                     axis: nalgebra::Vector3::x(),
                     rate: 5.0,
-                }));
+                },
+            ));
         }
         heap.count(|| {
             g.rt.run_once();
             g.clock.advance(1_000_000);
         });
         if slip {
-            g.rt.controller_mut().plant_mut().inject(None);
+            g.rt.controller_mut().embedded_mut().unwrap().inject(None);
         }
         ipc_rig::let_writer_catch_up(&g.shared);
         let (_, ev) = g.client.drain();

@@ -24,6 +24,9 @@ pub struct MeasuredFinger {
     /// Measured normal force at the contact \[N\], if the plant senses it
     /// (the kinematic hand does not).
     pub normal_force: Option<f64>,
+    /// Roll τ about the pole axis \[rad\], if the plant reports it (a hand's
+    /// twist joint; the kinematic hand reports its own).
+    pub roll: Option<f64>,
 }
 
 /// What a plant reports each tick.
@@ -33,6 +36,11 @@ pub struct Measurement {
     pub object: UnitQuaternion<f64>,
     /// The three fingertips.
     pub fingers: [MeasuredFinger; 3],
+    /// How many setpoints older than the last one written this measurement
+    /// reflects: 0 for a plant that applied the last setpoint (the
+    /// kinematic hand, a lockstep plant), 1 when it applied the one before,
+    /// and so on (an external plant echoes the command it applied).
+    pub age: u32,
 }
 
 impl Measurement {
@@ -45,8 +53,31 @@ impl Measurement {
                 orientation: f.orientation,
                 contact: f.mode == FingerMode::Grasping,
                 normal_force: None,
+                roll: Some(f.roll),
             }),
+            age: 0,
         }
+    }
+
+    /// The hand state this measurement describes: object and fingertips
+    /// where measured, modes from the contact flags, rolls as measured
+    /// (else `fallback`'s).
+    pub fn hand_state(&self, fallback: &HandState) -> HandState {
+        let mut s = *fallback;
+        s.object = self.object;
+        for (f, m) in s.fingers.iter_mut().zip(&self.fingers) {
+            f.center = m.center;
+            f.orientation = m.orientation;
+            f.mode = if m.contact {
+                FingerMode::Grasping
+            } else {
+                FingerMode::Free
+            };
+            if let Some(r) = m.roll {
+                f.roll = r;
+            }
+        }
+        s
     }
 
     /// Whether every number is finite.
@@ -56,6 +87,7 @@ impl Measurement {
                 f.center.iter().all(|x| x.is_finite())
                     && f.orientation.coords.iter().all(|x| x.is_finite())
                     && f.normal_force.is_none_or(f64::is_finite)
+                    && f.roll.is_none_or(f64::is_finite)
             })
     }
 }

@@ -19,7 +19,9 @@ use gait::HandState;
 use gait::config::LimitsConfig;
 use gait::sim::Measurement;
 use nalgebra::{UnitQuaternion, Vector3};
-use shm_schema::{FaultCode, FingerPhase, GoalState, GraspState, Phase, ReasonCode, Verdict};
+use shm_schema::{
+    FaultCode, FingerPhase, GoalState, GraspState, Phase, PlantCommand, ReasonCode, Verdict,
+};
 
 /// How a goal's target is meant (decoded from the schema's `GoalFrame`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -161,6 +163,9 @@ pub struct ControlOutput {
     pub grasp: GraspState,
     /// Force-closure margin \[rad\] (0 when unknown).
     pub grasp_margin: f64,
+    /// The command for an external plant (the loop hands it to the writer
+    /// first; `None` with the embedded hand).
+    pub plant_command: Option<PlantCommand>,
 }
 
 /// A controller the daemon's loop drives. See the module docs for the
@@ -182,4 +187,9 @@ pub trait Controller {
 
     /// Whether the hand is still (no motion in progress).
     fn at_rest(&self) -> bool;
+
+    /// What the loop received from an external plant for the coming tick
+    /// (called just before [`Controller::tick`]; the embedded hand needs
+    /// none).
+    fn feed_plant(&mut self, _sample: &crate::plant::PlantSample) {}
 }

@@ -223,6 +223,7 @@ mod tests {
             }; 3],
             grasp: shm_schema::GraspState::Unknown,
             grasp_margin: 0.0,
+            plant_command: None,
         };
         ctl.tick(&mut ctx, &mut out);
         let mut s = Status {

@@ -16,6 +16,7 @@
 use crate::process::config::{DaemonConfig, IpcSection};
 use iceoryx2::config::Config;
 use iceoryx2::node::NodeBuilder;
+use iceoryx2::port::listener::Listener;
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
@@ -24,7 +25,8 @@ use iceoryx2::service::builder::event::EventCreateError;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeCreateError;
 use shm_schema::ipc::{IpcRequest, IpcSettings};
 use shm_schema::{
-    Answer, Command, EVENT_ID_DAEMON_DEAD, EVENT_ID_MAX, Event, ServiceNames, Status,
+    Answer, Command, EVENT_ID_DAEMON_DEAD, EVENT_ID_MAX, Event, PlantCommand, PlantMeasurement,
+    ServiceNames, Status,
 };
 use tracing::{info, warn};
 
@@ -202,9 +204,53 @@ pub struct DaemonServices {
     pub commands: PubSub<Command>,
     /// Services the writer thread publishes on.
     pub out: OutServices,
+    /// plant → daemon services (an external plant only).
+    pub plant_in: Option<PlantInServices>,
     /// Service names.
     pub names: ServiceNames,
 }
+
+/// The plant → daemon services: measurements and their wake-up.
+#[derive(Debug)]
+pub struct PlantInServices {
+    /// Measurements.
+    pub measurement: PubSub<PlantMeasurement>,
+    /// "A measurement was published".
+    pub measured: EventSvc,
+}
+
+/// The loop thread's plant ports: it receives measurements (and in
+/// lockstep waits for their wake-up).
+#[derive(Debug)]
+pub struct PlantInPorts {
+    /// Measurements.
+    pub measurements: Subscriber<Ipc, PlantMeasurement, ()>,
+    /// Their wake-ups.
+    pub measured: Listener<Ipc>,
+}
+
+impl PlantInServices {
+    /// Creates the loop's ports (on the calling thread).
+    pub fn ports(&self, names: &ServiceNames) -> Result<PlantInPorts, IpcError> {
+        Ok(PlantInPorts {
+            measurements: self
+                .measurement
+                .subscriber_builder()
+                .buffer_size(PLANT_BUFFER)
+                .create()
+                .map_err(|e| err(&names.plant_measurement, "subscriber", e))?,
+            measured: self
+                .measured
+                .listener_builder()
+                .create()
+                .map_err(|e| err(&names.plant_measured, "listener", e))?,
+        })
+    }
+}
+
+/// Samples a plant-service subscriber keeps: the loop reads every tick and
+/// takes the newest, so a few are enough (safe overflow drops the oldest).
+pub const PLANT_BUFFER: usize = 2;
 
 /// The services of the daemon → clients direction.
 #[derive(Debug)]
@@ -217,6 +263,26 @@ pub struct OutServices {
     pub events: PubSub<Event>,
     /// Wake-ups.
     pub notify: EventSvc,
+    /// daemon → plant services (an external plant only).
+    pub plant: Option<PlantOutServices>,
+}
+
+/// The daemon → plant services: commands and their wake-up.
+#[derive(Debug)]
+pub struct PlantOutServices {
+    /// Commands.
+    pub command: PubSub<PlantCommand>,
+    /// "A command was published".
+    pub commanded: EventSvc,
+}
+
+/// The writer's plant ports.
+#[derive(Debug)]
+pub struct PlantOutPorts {
+    /// Commands.
+    pub command: Publisher<Ipc, PlantCommand, ()>,
+    /// Their wake-up.
+    pub commanded: Notifier<Ipc>,
 }
 
 /// The writer thread's ports (see `outbox`).
@@ -230,6 +296,8 @@ pub struct OutPorts {
     pub events: Publisher<Ipc, Event, ()>,
     /// Wake-ups.
     pub notifier: Notifier<Ipc>,
+    /// Plant commands (an external plant only).
+    pub plant: Option<PlantOutPorts>,
 }
 
 impl OutServices {
@@ -262,6 +330,22 @@ impl OutServices {
                     e,
                 )
             })?,
+            plant: match &self.plant {
+                None => None,
+                Some(p) => Some(PlantOutPorts {
+                    command: p
+                        .command
+                        .publisher_builder()
+                        .max_loaned_samples(1)
+                        .create()
+                        .map_err(|e| err(&names.plant_command, busy, e))?,
+                    commanded: p
+                        .commanded
+                        .notifier_builder()
+                        .create()
+                        .map_err(|e| err(&names.plant_commanded, busy, e))?,
+                }),
+            },
         })
     }
 }
@@ -360,6 +444,12 @@ pub fn create_services(
         |e| matches!(e, EventCreateError::AlreadyExists),
     )?;
 
+    let (plant, plant_in) = if cfg.plant.external() {
+        let (out, inp) = create_plant_services(node, &names)?;
+        (Some(out), Some(inp))
+    } else {
+        (None, None)
+    };
     Ok(DaemonServices {
         commands,
         out: OutServices {
@@ -367,9 +457,72 @@ pub fn create_services(
             status,
             events,
             notify,
+            plant,
         },
+        plant_in,
         names,
     })
+}
+
+/// The four plant services (shm_schema `PLANT-GUIDE.md`): one plant, plus
+/// room for a restarted plant while its dead predecessor is not yet
+/// cleaned up, and one observer (a recorder or monitor).
+fn create_plant_services(
+    node: &Node<Ipc>,
+    names: &ServiceNames,
+) -> Result<(PlantOutServices, PlantInServices), IpcError> {
+    // The daemon, the plant, a restarted plant, an observer, housekeeping.
+    let nodes = 5;
+    // Commands: a late or restarted plant gets the last one at once.
+    let command =
+        out_service::<PlantCommand>(node, &names.plant_command, 2, nodes, 1, PLANT_BUFFER)?;
+    let sn = service_name(&names.plant_measurement)?;
+    let build = || {
+        node.service_builder(&sn)
+            .publish_subscribe::<PlantMeasurement>()
+            .max_publishers(2)
+            .max_subscribers(2)
+            .max_nodes(nodes)
+            .history_size(0)
+            .subscriber_max_buffer_size(PLANT_BUFFER)
+            .enable_safe_overflow(true)
+    };
+    let measurement = create_or_adopt(
+        node,
+        &names.plant_measurement,
+        MessagingPattern::PublishSubscribe,
+        || build().create(),
+        || build().open(),
+        |e| matches!(e, PublishSubscribeCreateError::AlreadyExists),
+    )?;
+    let event = |name: &str, notifiers: usize, listeners: usize| {
+        let sn = service_name(name)?;
+        let build = || {
+            node.service_builder(&sn)
+                .event()
+                .max_notifiers(notifiers)
+                .max_listeners(listeners)
+                .max_nodes(nodes)
+                .event_id_max_value(EVENT_ID_MAX)
+        };
+        create_or_adopt(
+            node,
+            name,
+            MessagingPattern::Event,
+            || build().create(),
+            || build().open(),
+            |e| matches!(e, EventCreateError::AlreadyExists),
+        )
+    };
+    let commanded = event(&names.plant_commanded, 1, 2)?;
+    let measured = event(&names.plant_measured, 2, 1)?;
+    Ok((
+        PlantOutServices { command, commanded },
+        PlantInServices {
+            measurement,
+            measured,
+        },
+    ))
 }
 
 /// A daemon → clients publish-subscribe service with one publisher.

@@ -45,8 +45,8 @@ use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::*;
 use iceoryx2::sample_mut_uninit::SampleMutUninit;
 use shm_schema::{
-    Answer, DaemonState, EVENT_ID_ANSWER, EVENT_ID_EVENT, EVENT_ID_STATUS, Event, ServiceNames,
-    Status,
+    Answer, DaemonState, EVENT_ID_ANSWER, EVENT_ID_EVENT, EVENT_ID_STATUS, Event, PlantCommand,
+    ServiceNames, Status,
 };
 use std::mem::MaybeUninit;
 use std::sync::Arc;
@@ -56,6 +56,9 @@ use std::time::Duration;
 
 /// Messages in the ring.
 const CAPACITY: usize = 256;
+
+/// Notification id on the plant wake-up services (shm_schema `PLANT-GUIDE.md`).
+pub const PLANT_EVENT_ID: usize = 1;
 
 /// One message from the loop to the writer.
 #[derive(Debug, Clone, Copy)]
@@ -67,6 +70,9 @@ pub enum Outbound {
     Event(Event),
     /// A status.
     Status(Status),
+    /// A command for the external plant (published and notified first:
+    /// the plant waits for it in lockstep).
+    PlantCommand(PlantCommand),
 }
 
 /// The loop's end: wait-free, allocation-free.
@@ -315,6 +321,16 @@ fn run(
         while let Some(m) = rx.pop() {
             published += 1;
             let ok = match m {
+                Outbound::PlantCommand(c) => match &ports.plant {
+                    // Notified at once: a lockstep plant waits for it.
+                    Some(p) => {
+                        send(&p.command, c)
+                            && p.commanded
+                                .notify_with_custom_event_id(EventId::new(PLANT_EVENT_ID))
+                                .is_ok()
+                    }
+                    None => false,
+                },
                 Outbound::Answer(a) => {
                     answers = true;
                     send(&ports.answers, a)

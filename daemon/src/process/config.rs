@@ -2,6 +2,7 @@
 //! [`gait::HandConfig`] (`[model]`, `[load]`, `[limits]`) plus `[control]`.
 //! Every key is validated at start; errors name the key.
 
+pub use super::plant_config::{PlantKind, PlantSection, PlantTiming};
 use gait::config::{FeedbackConfig, LimitsConfig, LoadConfig, ModelConfig, PlannerConfig};
 use gait::{ConfigError, HandConfig};
 use serde::{Deserialize, Serialize};
@@ -188,6 +189,8 @@ pub struct DaemonConfig {
     pub ipc: IpcSection,
     /// `[rt]`: real-time setup.
     pub rt: RtSection,
+    /// `[plant]`: which hand (embedded, or another process over shared memory).
+    pub plant: PlantSection,
 }
 
 /// A key whose value is refused. Every variant names the key as written in
@@ -554,7 +557,8 @@ impl DaemonConfig {
             });
         }
         self.ipc.validate()?;
-        self.rt.validate()
+        self.rt.validate()?;
+        self.plant.validate()
     }
 
     /// Parses and validates TOML text; `path` is only used in messages.

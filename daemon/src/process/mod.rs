@@ -2,6 +2,7 @@
 //! set-up, systemd notification, signals and logging.
 //!
 //! - [`config`]: the TOML file, every key validated by name.
+//! - [`plant_config`]: `[plant]`, which hand the daemon controls.
 //! - [`rt`]: real-time set-up: SCHED_FIFO, affinity, memory locking.
 //! - [`sd_notify`]: systemd notification (`READY=1`, `WATCHDOG=1`, `STATUS=`).
 //! - [`signals`]: sIGTERM/SIGINT handling.
@@ -9,6 +10,7 @@
 
 pub mod config;
 pub mod logging;
+pub mod plant_config;
 pub mod rt;
 pub mod sd_notify;
 pub mod signals;

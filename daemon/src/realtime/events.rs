@@ -130,8 +130,15 @@ impl EventQueue {
 
     /// A fault was detected.
     pub fn fault(&mut self, fault: FaultCode) {
+        self.fault_with(fault, 0);
+    }
+
+    /// A fault with a kind-specific `count` (`PlantFault`: the plant's own
+    /// `PlantFault` code).
+    pub fn fault_with(&mut self, fault: FaultCode, count: u64) {
         let mut e = Event::new(EventKind::Fault);
         e.fault = fault.code();
+        e.count = count;
         self.push(e);
     }
 

@@ -30,6 +30,8 @@ use crate::control::controller::{
 use crate::control::convert::fill_status;
 use crate::io::ipc::Ipc;
 use crate::io::outbox::{Outbound, Outbox};
+use crate::plant::PlantSample;
+use crate::plant::ports::PlantInput;
 use crate::process::config::DaemonConfig;
 use crate::process::sd_notify;
 use crate::realtime::clock::{Clock, Nanos};
@@ -145,6 +147,12 @@ pub struct Runtime<C: Controller, K: Clock> {
     last_cleaned: u64,
     watchdog: Option<Watchdog>,
     shared: Arc<Shared>,
+    /// An external plant's input (`[plant] kind = "shm"`).
+    plant: Option<PlantInput>,
+    /// Lockstep: the plant paces the loop; how long to wait for it.
+    lockstep: Option<Nanos>,
+    /// Sequence number of the last plant measurement a tick ran on.
+    plant_seq: u64,
 }
 
 impl ControlOutput {
@@ -164,6 +172,7 @@ impl ControlOutput {
             }; gait::FINGERS],
             grasp: GraspState::Unknown,
             grasp_margin: 0.0,
+            plant_command: None,
         }
     }
 }
@@ -199,7 +208,21 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             last_cleaned: 0,
             watchdog: None,
             shared,
+            plant: None,
+            lockstep: cfg
+                .plant
+                .lockstep()
+                .then(|| u64::from(cfg.plant.lockstep_timeout_ms) * 1_000_000),
+            plant_seq: 0,
         }
+    }
+
+    /// Reads an external plant through `input` every tick (and, in
+    /// lockstep, is paced by it: see [`Runtime::run`]).
+    pub fn set_plant(&mut self, input: PlantInput) {
+        self.out.fault = FaultCode::PlantWaiting;
+        self.out.phase = Phase::SafeHold;
+        self.plant = Some(input);
     }
 
     /// Sends `WATCHDOG=1` through `notifier` every `interval` ns.
@@ -240,6 +263,10 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         self.ticker =
             Ticker::new(self.clock.now(), self.settings.period).with_spin(self.settings.spin);
         self.events.push(Event::new(EventKind::DaemonStarted));
+        if self.lockstep.is_some() && self.plant.is_some() {
+            self.run_lockstep(stop);
+            return self.shutdown();
+        }
         while !stop.load(Ordering::Acquire) {
             let stopping = || stop.load(Ordering::Acquire);
             match self.ticker.wait_or_stop(&mut self.clock, stopping) {
@@ -277,8 +304,85 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         }
     }
 
-    /// One tick for wake-up `w` (all four phases).
+    /// The lockstep loop (PLANT-GUIDE.md): a tick runs only on a new plant
+    /// measurement, with now = its plant time. While none comes the loop
+    /// waits (at most a period at a time, so the stop flag and a heartbeat
+    /// status — the last one, published again — keep going); after
+    /// `plant.lockstep_timeout_ms` without one, one tick runs to fault
+    /// (`PlantLost`) and the wait goes on. Commands are handled on the
+    /// plant's ticks.
+    fn run_lockstep(&mut self, stop: &AtomicBool) {
+        let timeout = self.lockstep.unwrap_or(u64::MAX);
+        let period = self.settings.period;
+        let (mut last_progress, mut next_beat) = (self.clock.now(), self.clock.now() + period);
+        let mut timed_out = false;
+        while !stop.load(Ordering::Acquire) {
+            if let Some(p) = self.plant.as_mut() {
+                p.wait(std::time::Duration::from_nanos(period));
+            }
+            let now = self.clock.now();
+            let sample = self
+                .plant
+                .as_mut()
+                .map(|p| p.drain(now))
+                .unwrap_or_default();
+            if let Some(m) = sample.newest.filter(|m| m.seq != self.plant_seq) {
+                // The plant's clock is the daemon's clock.
+                self.plant_seq = m.seq;
+                last_progress = now;
+                timed_out = false;
+                self.step_with(m.time_ns, &sample);
+                next_beat = self.clock.now() + period;
+            } else if self.plant_seq != 0
+                && !timed_out
+                && now.saturating_sub(last_progress) > timeout
+            {
+                timed_out = true;
+                let lost = PlantSample {
+                    timed_out: true,
+                    ..PlantSample::default()
+                };
+                let t = self.status.time_ns + period;
+                self.step_with(t, &lost);
+                next_beat = now + period;
+            } else if now >= next_beat {
+                next_beat = now + period;
+                self.heartbeat(now);
+            }
+        }
+    }
+
+    /// A lockstep tick at plant time `now` with `sample`.
+    fn step_with(&mut self, now: Nanos, sample: &PlantSample) {
+        self.controller.feed_plant(sample);
+        self.step(Wake {
+            deadline: now,
+            now,
+            missed: 0,
+        });
+    }
+
+    /// While a lockstep loop waits for its plant: the last status again
+    /// (its publish time tells clients the daemon is alive).
+    fn heartbeat(&mut self, now: Nanos) {
+        if self.tick == 0 {
+            self.publish_status(now, DaemonState::Running);
+        } else {
+            self.outbox.push(Outbound::Status(self.status));
+        }
+        self.outbox.tick_done(now, now + self.settings.period);
+    }
+
+    /// One tick for wake-up `w` (all four phases). With an external plant
+    /// in real time, the measurements that arrived are read first.
     pub fn step(&mut self, w: Wake) {
+        if self.lockstep.is_none()
+            && let Some(p) = self.plant.as_mut()
+        {
+            let sample = p.drain(self.clock.now());
+            self.controller.feed_plant(&sample);
+        }
+        let wall_start = self.clock.now();
         self.tick += 1;
         // 1. preprocess
         self.stats.record_wake(w.jitter(), w.missed);
@@ -302,8 +406,12 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             tick: self.tick,
             events: &mut self.events,
         };
+        self.out.plant_command = None;
         self.controller.tick(&mut ctx, &mut self.out);
-        // 3. postprocess
+        // 3. postprocess: the plant's command first (it may be waiting).
+        if let Some(c) = self.out.plant_command.take() {
+            self.outbox.push(Outbound::PlantCommand(c));
+        }
         self.publish_events(w.now);
         if self.tick.is_multiple_of(self.settings.status_every) {
             self.publish_status(w.now, DaemonState::Running);
@@ -312,10 +420,15 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             .tick_done(w.deadline, self.ticker.next_deadline());
         self.feed_watchdog(w.now);
         self.shared.ticks.store(self.tick, Ordering::Relaxed);
-        // 4. stats
+        // 4. stats (wall clock: in lockstep `w.now` is the plant's time)
         let end = self.clock.now();
+        let start = if self.lockstep.is_some() {
+            wall_start
+        } else {
+            w.now
+        };
         self.stats
-            .record_compute(end.saturating_sub(w.now), self.tick);
+            .record_compute(end.saturating_sub(start), self.tick);
     }
 
     fn drain_commands(&mut self, now: Nanos) {

@@ -58,6 +58,7 @@ impl HoldController {
                 fingers,
                 grasp: GraspState::Unknown,
                 grasp_margin: 0.0,
+                plant_command: None,
             },
         }
     }

@@ -184,6 +184,9 @@ pub struct Daemon {
     pub writer: outbox::Writer,
     pub client: TestClient,
     pub shared: Arc<Shared>,
+    /// The loop's plant ports (with `[plant] kind = "shm"`).
+    pub plant: Option<ipc::PlantInPorts>,
+    _plant_services: Option<ipc::PlantInServices>,
     _commands_service:
         iceoryx2::service::port_factory::publish_subscribe::PortFactory<Ipc, Command, ()>,
     _node: Node<Ipc>,
@@ -198,6 +201,7 @@ pub fn daemon(ns: &Namespace) -> Daemon {
     let ipc::DaemonServices {
         commands: commands_service,
         out,
+        plant_in,
         names,
     } = services;
     let client = TestClient::open(&ice, &names);
@@ -211,13 +215,17 @@ pub fn daemon(ns: &Namespace) -> Daemon {
         cpus: Vec::new(),
         doorbells: Vec::new(),
     };
+    let names_for_plant = names.clone();
     let (outbox, writer) = outbox::spawn(out, names, settings, shared.clone()).unwrap();
+    let plant = plant_in.map(|p| p.ports(&names_for_plant).unwrap());
     Daemon {
         commands,
         outbox,
         writer,
         client,
         shared,
+        plant,
+        _plant_services: None,
         _commands_service: commands_service,
         _node: node,
     }
@@ -291,15 +299,27 @@ where
         writer,
         client,
         shared,
+        plant,
         _commands_service,
         _node,
+        ..
     } = daemon(ns);
     let hand = ns.cfg.hand();
     let (link, planner) = gaitd::control::planner::spawn(planner, 4, || {}).unwrap();
-    let mut controller = GaitController::new(&hand, 1e-3, link).unwrap();
+    let mut controller = match plant {
+        None => GaitController::new(&hand, 1e-3, link).unwrap(),
+        Some(_) => {
+            let x = gaitd::plant::external::ExternalPlant::new(
+                instance,
+                ns.cfg.period_ns(),
+                &ns.cfg.plant,
+            );
+            GaitController::new_external(&hand, 1e-3, link, x).unwrap()
+        }
+    };
     setup(&mut controller);
     let clock = gaitd::realtime::clock::MockClock::new(0);
-    let rt = gaitd::realtime::runtime::Runtime::new(
+    let mut rt = gaitd::realtime::runtime::Runtime::new(
         commands,
         outbox,
         controller,
@@ -308,6 +328,9 @@ where
         instance,
         shared.clone(),
     );
+    if let Some(p) = plant {
+        rt.set_plant(gaitd::plant::ports::PlantInput::new(p));
+    }
     GaitLoop {
         rt,
         clock,

@@ -105,6 +105,19 @@ pub enum FaultKind {
     /// I5: a grasping fingertip off the contact sphere, or the state is not
     /// finite.
     Contact = 12,
+    /// No plant has sent a valid measurement yet: nothing moves.
+    PlantWaiting = 13,
+    /// The plant stopped sending fresh measurements.
+    PlantLost = 14,
+    /// The plant sent an invalid measurement (codes, required fields,
+    /// non-finite numbers, non-unit quaternions).
+    PlantInvalid = 15,
+    /// The plant's measurements went backwards, or echoed another session.
+    PlantSequence = 16,
+    /// The plant reports a fault of its own.
+    PlantFault = 17,
+    /// A grasping contact is measured as not touching.
+    ContactLost = 18,
 }
 
 /// What happened, for clients (SPEC §7.3 events).

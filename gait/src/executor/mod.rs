@@ -32,6 +32,7 @@ pub mod grip;
 pub mod guard;
 pub mod lifecycle;
 mod memo;
+mod plant;
 pub mod policy;
 pub mod recovery;
 pub mod runner;
@@ -275,6 +276,14 @@ pub struct Executor {
     object_acceleration: Vector3<f64>,
     /// Object moment of inertia (solid sphere) [kg m²].
     inertia: f64,
+    /// Radius of the sphere of grasping fingertip centres, R + r \[m\].
+    contact_radius: f64,
+    /// The last [`WRITTEN`] setpoint states written, a ring: a measurement
+    /// that reflects an older setpoint ([`Measurement::age`]) is compared
+    /// with the one it reflects.
+    written: [HandState; WRITTEN],
+    /// Where the next written setpoint goes in `written`.
+    written_next: usize,
     events: EventQueue,
     report: TickReport,
     tick: u64,
@@ -301,6 +310,27 @@ fn rest(state: HandState) -> Setpoint {
         finger_rate: [Vector3::zeros(); 3],
         estimate_epoch: 0,
     }
+}
+
+/// Setpoints remembered for comparing late measurements: 16 ticks (16 ms
+/// at 1 kHz), well beyond a plant link's tolerated delay.
+const WRITTEN: usize = 16;
+
+/// The fault a broken invariant is, and the finger it concerns.
+fn invariant_fault(v: crate::hand::Violation) -> (FaultKind, u8) {
+    use crate::hand::{Invariant as I, Subject};
+    let finger = match v.subject {
+        Subject::Finger(k) | Subject::Pair(k, _) => k,
+        Subject::Grasp => NO_FINGER,
+    };
+    let kind = match v.invariant {
+        I::ForceClosure => FaultKind::ForceClosure,
+        I::Workspace | I::FreeSpace => FaultKind::Workspace,
+        I::Hemisphere | I::Roll => FaultKind::Fingertip,
+        I::Collision => FaultKind::Collision,
+        I::Contact | I::Slip | I::Spin => FaultKind::Contact,
+    };
+    (kind, finger)
 }
 
 /// The object rotation a step makes \[rad\].
@@ -362,6 +392,9 @@ impl Executor {
             rotation_after_step: 0.0,
             object_acceleration: Vector3::zeros(),
             inertia: 0.4 * config.load.object_mass * config.model.object_radius.powi(2),
+            contact_radius: config.model.object_radius + config.model.fingertip_radius,
+            written: [start; WRITTEN],
+            written_next: 0,
             events: EventQueue::default(),
             report: TickReport {
                 tick: 0,
@@ -500,11 +533,16 @@ impl Executor {
     pub fn tick(&mut self, measurement: Option<&Measurement>) -> &TickReport {
         self.tick += 1;
         let mut correction = Vector3::zeros();
+        // A measurement older than the setpoints kept counts as none.
+        let measurement = measurement.filter(|m| (m.age as usize) < WRITTEN - 1);
+        // The setpoint it reflects (and the one before), to compare with.
+        let age = measurement.map_or(0, |m| m.age as usize);
+        let (cmd, prev_cmd) = (self.written(age), self.written(age + 1));
         if self.phase != Phase::SafeHold {
             match self.feedback.check(
                 measurement,
-                &self.setpoint.state,
-                &self.prev_setpoint.state,
+                &cmd,
+                &prev_cmd,
                 self.prev_measurement.as_ref(),
                 &self.drift.map_or(UnitQuaternion::identity(), |d| d.offset),
             ) {
@@ -514,8 +552,7 @@ impl Executor {
                     let moving = self.phase == Phase::Moving;
                     if let Some(m) = measurement
                         && let Some((kind, finger)) =
-                            self.guard
-                                .observe(moving, &mut self.checker, &self.setpoint.state, m)
+                            self.guard.observe(moving, &mut self.checker, &cmd, m)
                     {
                         self.handle(Cause::new(kind, Source::NearLimit), finger, Some(m));
                     }
@@ -533,9 +570,30 @@ impl Executor {
         self.advance();
         self.setpoint.estimate_epoch = self.epoch;
         self.setpoint.object_rate += correction;
+        self.remember_written();
         self.check_invariants();
         self.fill_report();
         &self.report
+    }
+
+    /// The setpoint state written `age` ticks before the last one (0: the
+    /// last).
+    fn written(&self, age: usize) -> HandState {
+        let i = (self.written_next + 2 * WRITTEN - 1 - age.min(WRITTEN - 1)) % WRITTEN;
+        self.written[i]
+    }
+
+    /// Records the setpoint about to be written.
+    fn remember_written(&mut self) {
+        self.written[self.written_next] = self.setpoint.state;
+        self.written_next = (self.written_next + 1) % WRITTEN;
+    }
+
+    /// Forgets the setpoints written before `state` (a re-based estimate:
+    /// the older ones belong to the old estimate).
+    fn reset_written(&mut self, state: HandState) {
+        self.written = [state; WRITTEN];
+        self.written_next = 0;
     }
 
     /// Moves the setpoint one period along the running step.
@@ -637,18 +695,7 @@ impl Executor {
                     self.report.workspace_slack[k] = f.workspace.slack;
                 }
                 if let Some(v) = r.first_violation() {
-                    use crate::hand::{Invariant as I, Subject};
-                    let finger = match v.subject {
-                        Subject::Finger(k) | Subject::Pair(k, _) => k,
-                        Subject::Grasp => NO_FINGER,
-                    };
-                    let kind = match v.invariant {
-                        I::ForceClosure => FaultKind::ForceClosure,
-                        I::Workspace | I::FreeSpace => FaultKind::Workspace,
-                        I::Hemisphere | I::Roll => FaultKind::Fingertip,
-                        I::Collision => FaultKind::Collision,
-                        I::Contact | I::Slip | I::Spin => FaultKind::Contact,
-                    };
+                    let (kind, finger) = invariant_fault(v);
                     self.handle(Cause::new(kind, Source::Command), finger, None);
                 }
             }

@@ -15,6 +15,7 @@
 //! | invariant near its limit (measured) | not moving | ignore (only a moving hand is guarded) |
 //! | any other measured fault (missing, non-finite, object or finger not following) | any but safe hold | safe hold |
 //! | commanded state breaks an invariant, trajectory refused, re-based state invalid | any but safe hold | safe hold |
+//! | the plant: lost, lying, out of sequence, its own fault, a contact lost | any but safe hold | safe hold |
 
 use super::Phase;
 use super::lifecycle::FaultKind;
@@ -33,6 +34,9 @@ pub enum Source {
     Trajectory,
     /// The measured state a recovery re-based on breaks an invariant.
     Rebase,
+    /// The plant itself: it is lost, lies, went out of sequence or reports
+    /// a fault of its own.
+    Plant,
 }
 
 /// A detected cause: what, and where it was seen.
@@ -82,7 +86,7 @@ impl FaultPolicy {
             Source::Measurement => cause.kind == FaultKind::ContactDrift,
             Source::NearLimit if phase != Phase::Moving => return Decision::Ignore,
             Source::NearLimit => true,
-            Source::Command | Source::Trajectory | Source::Rebase => false,
+            Source::Command | Source::Trajectory | Source::Rebase | Source::Plant => false,
         };
         if recoverable && !recovering && replans < self.max_replans {
             Decision::Replan
@@ -138,6 +142,13 @@ mod tests {
             (K::Contact, S::Command, P::Planning, 0, false, SafeHold),
             (K::Trajectory, S::Trajectory, P::Stopping, 0, false, SafeHold),
             (K::ContactDrift, S::Rebase, P::Stopping, 0, false, SafeHold),
+            // The plant.
+            (K::PlantLost, S::Plant, P::Moving, 0, false, SafeHold),
+            (K::PlantInvalid, S::Plant, P::Holding, 0, false, SafeHold),
+            (K::PlantSequence, S::Plant, P::Planning, 0, false, SafeHold),
+            (K::PlantFault, S::Plant, P::Stopping, 0, false, SafeHold),
+            (K::ContactLost, S::Measurement, P::Moving, 0, false, SafeHold),
+            (K::PlantLost, S::Plant, P::SafeHold, 0, false, Ignore),
         ];
         for (kind, source, phase, replans, recovering, want) in table {
             let got = policy.decide(Cause::new(kind, source), phase, replans, recovering);

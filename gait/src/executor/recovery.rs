@@ -113,17 +113,12 @@ impl Executor {
         }
     }
 
-    /// The commanded state with the object and fingertips where they were
-    /// last measured (reset after a fault).
+    /// The state last measured, as the model holds it (reset after a
+    /// fault): object and fingertips where measured, modes from the contact
+    /// flags, rolls as measured (an external plant may have been restarted
+    /// in another grasp).
     pub(super) fn measured_state(&self) -> Option<HandState> {
-        let m = self.prev_measurement?;
-        let mut state = self.setpoint.state;
-        state.object = m.object;
-        for (k, f) in state.fingers.iter_mut().enumerate() {
-            f.center = m.fingers[k].center;
-            f.orientation = m.fingers[k].orientation;
-        }
-        Some(state)
+        self.prev_measurement.map(|m| self.measured_hand(&m))
     }
 
     /// Takes `state` as the new estimate, at rest, in a new epoch.
@@ -132,6 +127,7 @@ impl Executor {
         self.setpoint = rest(state);
         self.setpoint.estimate_epoch = self.epoch;
         self.prev_setpoint = self.setpoint;
+        self.reset_written(state);
         self.drift = None;
     }
 

@@ -269,3 +269,24 @@ pub fn status_json(s: &Status) -> serde_json::Value {
         "clients": s.clients,
     })
 }
+
+/// The flag [`stop_on_signal`] sets.
+static SIGNALLED: std::sync::OnceLock<&'static std::sync::atomic::AtomicBool> =
+    std::sync::OnceLock::new();
+
+extern "C" fn on_signal(_: libc::c_int) {
+    if let Some(f) = SIGNALLED.get() {
+        f.store(true, std::sync::atomic::Ordering::Release);
+    }
+}
+
+/// SIGINT and SIGTERM set `flag` instead of killing the process (so a
+/// long-running command ends cleanly and prints its summary).
+pub fn stop_on_signal(flag: &'static std::sync::atomic::AtomicBool) {
+    let _ = SIGNALLED.set(flag);
+    // SAFETY: the handler only stores to an atomic (async-signal-safe).
+    unsafe {
+        libc::signal(libc::SIGINT, on_signal as *const () as libc::sighandler_t);
+        libc::signal(libc::SIGTERM, on_signal as *const () as libc::sighandler_t);
+    }
+}

@@ -10,6 +10,7 @@ mod load;
 mod noise;
 mod offline;
 mod plan;
+mod plant;
 mod plot;
 mod reorient;
 mod soak;
@@ -58,6 +59,9 @@ enum Cmd {
     /// Draw a trace: contact paths on the sphere, rotation, force closure,
     /// finger states (SVG or PNG).
     Plot(plot::Args),
+    /// Run a plant out of process for a daemon with `[plant] kind = "shm"`:
+    /// `sim` (the kinematic hand) or `mujoco` (the MuJoCo physics hand).
+    Plant(plant::Args),
     /// Internal: the echo side of the bench's iceoryx2 ping-pong.
     #[command(hide = true, name = "__pong")]
     Pong(bench::PongArgs),
@@ -77,6 +81,7 @@ fn main() -> ExitCode {
         Cmd::Demo(a) => return offline_exit(demo::run(&cli.conn, &a)),
         Cmd::Plan(a) => return offline_exit(plan::run(&a)),
         Cmd::Plot(a) => return offline_exit(plot::run(&a)),
+        Cmd::Plant(a) => return plant::main(&cli.conn, &a),
         Cmd::Pong(a) => bench::pong(&a),
     };
     match result {

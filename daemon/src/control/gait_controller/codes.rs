@@ -80,6 +80,12 @@ pub fn fault_code(k: FaultKind) -> FaultCode {
         FaultKind::Workspace => FaultCode::WorkspaceViolation,
         FaultKind::Fingertip => FaultCode::FingertipViolation,
         FaultKind::Collision => FaultCode::FingertipCollision,
+        FaultKind::PlantWaiting => FaultCode::PlantWaiting,
+        FaultKind::PlantLost => FaultCode::PlantLost,
+        FaultKind::PlantInvalid => FaultCode::PlantInvalid,
+        FaultKind::PlantSequence => FaultCode::PlantSequence,
+        FaultKind::PlantFault => FaultCode::PlantFault,
+        FaultKind::ContactLost => FaultCode::ContactLost,
     }
 }
 

@@ -6,7 +6,7 @@
 use super::GaitController;
 use super::codes::{fault_code, goal_reason, goal_state, reason_finger};
 use crate::control::controller::TickContext;
-use gait::executor::Event;
+use gait::executor::{Event, FaultKind};
 use gait::gaiting::FingerGait;
 use gait::planner::StepKind;
 use shm_schema::EventKind;
@@ -63,7 +63,11 @@ impl GaitController {
                 }
                 Event::Fault { kind, .. } => {
                     self.gaits.reset();
-                    ctx.events.fault(fault_code(kind));
+                    let count = match kind {
+                        FaultKind::PlantFault => u64::from(self.plant_fault.code()),
+                        _ => 0,
+                    };
+                    ctx.events.fault_with(fault_code(kind), count);
                 }
                 Event::FaultCleared => ctx
                     .events

@@ -27,7 +27,11 @@ use crate::control::controller::{
 };
 use crate::control::planner::{Planner, PlannerLink};
 use crate::io::tracer::TraceRecorder;
+use crate::plant::external::ExternalPlant;
+use crate::plant::{Hand, PlantSample};
+use crate::realtime::clock::Nanos;
 use codes::reason_code;
+use gait::executor::TickReport;
 use gait::executor::{self, Command, Executor, PlanRequest, Reason};
 use gait::gaiting::GaitTracker;
 use gait::planner::{Plan, PlanError};
@@ -36,7 +40,10 @@ use gait::{HandConfig, HandState};
 use goal_ids::GoalIds;
 use nalgebra::Vector3;
 use plan_link::PlanShuttle;
-use shm_schema::{EventKind, GoalState, ReasonCode, Verdict};
+use shm_schema::{
+    EventKind, FingerPhase, GoalState, PlantFault, PlantFingerMode, ReasonCode, Verdict,
+    command_flags,
+};
 
 /// Plans on the planner thread (SPEC §4), timed with each goal's limits.
 #[derive(Debug)]
@@ -54,7 +61,11 @@ impl Planner for GaitPlanner {
 /// The daemon's controller (module docs).
 pub struct GaitController {
     exec: Executor,
-    plant: KinematicHand,
+    hand: Hand,
+    /// What the loop received from an external plant for this tick.
+    sample: PlantSample,
+    /// The plant's own fault code of the last `PlantFault` (for the event).
+    plant_fault: PlantFault,
     planning: PlanShuttle,
     ids: GoalIds,
     /// Recognises substitutions and rewinds in the finished steps.
@@ -79,17 +90,51 @@ impl std::fmt::Debug for GaitController {
 }
 
 impl GaitController {
-    /// The hand at the paper's start grasp, ticking every `dt`; plans go
-    /// through `link`.
+    /// The embedded kinematic hand at the paper's start grasp, ticking
+    /// every `dt`; plans go through `link`.
     pub fn new(
         config: &HandConfig,
         dt: f64,
         link: PlannerLink<PlanRequest, Plan, PlanError>,
     ) -> Result<Self, gait::ConfigError> {
         let start = HandState::paper_start(config);
+        Self::with_hand(
+            config,
+            dt,
+            link,
+            Hand::Embedded(KinematicHand::new(start, dt)),
+        )
+    }
+
+    /// An external plant over `plant`'s link: nothing moves until its
+    /// first valid measurement, which becomes the start state if it
+    /// satisfies every invariant (SPEC §1.3; else the fault says which is
+    /// broken).
+    pub fn new_external(
+        config: &HandConfig,
+        dt: f64,
+        link: PlannerLink<PlanRequest, Plan, PlanError>,
+        plant: ExternalPlant,
+    ) -> Result<Self, gait::ConfigError> {
+        let mut c = Self::with_hand(config, dt, link, Hand::External(plant))?;
+        c.exec.await_plant();
+        // (The waiting fault is the status's, not an event.)
+        while c.exec.pop_event().is_some() {}
+        Ok(c)
+    }
+
+    fn with_hand(
+        config: &HandConfig,
+        dt: f64,
+        link: PlannerLink<PlanRequest, Plan, PlanError>,
+        hand: Hand,
+    ) -> Result<Self, gait::ConfigError> {
+        let start = HandState::paper_start(config);
         Ok(Self {
             exec: Executor::new(config, dt, start)?,
-            plant: KinematicHand::new(start, dt),
+            hand,
+            sample: PlantSample::default(),
+            plant_fault: PlantFault::None,
             planning: PlanShuttle::new(link),
             ids: GoalIds::new(),
             gaits: GaitTracker::new(),
@@ -117,14 +162,81 @@ impl GaitController {
         self.planning.leaked()
     }
 
-    /// The embedded plant (tests inject faults through it).
-    pub fn plant_mut(&mut self) -> &mut KinematicHand {
-        &mut self.plant
+    /// The embedded hand, if that is the plant (tests inject faults
+    /// through it).
+    pub fn embedded_mut(&mut self) -> Option<&mut KinematicHand> {
+        match &mut self.hand {
+            Hand::Embedded(h) => Some(h),
+            Hand::External(_) => None,
+        }
     }
 
-    /// The embedded plant.
-    pub fn plant(&self) -> &KinematicHand {
-        &self.plant
+    /// The embedded hand, if that is the plant.
+    pub fn embedded(&self) -> Option<&KinematicHand> {
+        match &self.hand {
+            Hand::Embedded(h) => Some(h),
+            Hand::External(_) => None,
+        }
+    }
+
+    /// Whether the controller waits for an external plant's first valid
+    /// measurement.
+    pub fn awaiting_plant(&self) -> bool {
+        self.exec.awaiting_plant()
+    }
+
+    /// This tick's measurement: the embedded hand's, or the external
+    /// plant's (fresh or held) with its faults handed to the executor and,
+    /// while waiting for the plant, the start from its first valid state.
+    /// Returns it and whether it is fresh (not held).
+    fn read_plant(&mut self, now: Nanos) -> (Option<Measurement>, bool) {
+        match &mut self.hand {
+            Hand::Embedded(h) => (h.read(), true),
+            Hand::External(x) => {
+                let r = x.read(&self.sample, now);
+                if let Some((kind, code)) = r.fault {
+                    self.plant_fault = code;
+                    self.exec.plant_fault(kind, ExternalPlant::any_finger());
+                }
+                if r.fresh
+                    && let Some(m) = &r.measurement
+                {
+                    self.exec.start_from(m);
+                }
+                let m = r
+                    .measurement
+                    .filter(|_| r.fresh || !self.exec.awaiting_plant());
+                (m, r.fresh)
+            }
+        }
+    }
+
+    /// Writes this tick's setpoint: the embedded hand applies it; an
+    /// external plant gets a command (pose, velocities, mode and grip per
+    /// finger, flags), handed to the loop in `out`.
+    fn write_plant(&mut self, r: &TickReport, out: &mut ControlOutput) {
+        match &mut self.hand {
+            Hand::Embedded(h) => h.write(&r.setpoint),
+            Hand::External(x) => {
+                let modes = out.fingers.map(|f| match f.phase {
+                    FingerPhase::Grasping | FingerPhase::Rolling => PlantFingerMode::Grasping,
+                    FingerPhase::Lifting => PlantFingerMode::Lifting,
+                    FingerPhase::Placing => PlantFingerMode::Placing,
+                    FingerPhase::Free => PlantFingerMode::Free,
+                });
+                let mut flags = 0;
+                if !self.exec.awaiting_plant() {
+                    flags |= command_flags::ENABLE;
+                }
+                if self.exec.phase() == executor::Phase::SafeHold {
+                    flags |= command_flags::HOLD;
+                }
+                if x.lockstep() {
+                    flags |= command_flags::LOCKSTEP;
+                }
+                out.plant_command = Some(x.command(&r.setpoint, &modes, &r.grip, flags));
+            }
+        }
     }
 }
 
@@ -185,16 +297,22 @@ impl Controller for GaitController {
 
     fn tick(&mut self, ctx: &mut TickContext<'_>, out: &mut ControlOutput) {
         self.planning.pump(&mut self.exec);
-        let m = self.plant.read();
-        if let Some(m) = m {
+        let (m, fresh) = self.read_plant(ctx.now);
+        if let Some(m) = m
+            && fresh
+        {
             self.measured = Some((m, ctx.tick));
         }
         let r = *self.exec.tick(m.as_ref());
-        self.plant.write(&r.setpoint);
         self.planning.pump(&mut self.exec);
         self.forward_events(ctx, r.remaining_angle);
         self.record_trace(&r);
         self.output(&r, out);
+        self.write_plant(&r, out);
+    }
+
+    fn feed_plant(&mut self, sample: &PlantSample) {
+        self.sample = *sample;
     }
 
     fn begin_safe_hold(&mut self, ctx: &mut TickContext<'_>) {

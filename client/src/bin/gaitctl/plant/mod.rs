@@ -1,0 +1,141 @@
+//! `gaitctl plant sim|mujoco --config FILE`: run a plant out of process
+//! against a daemon started with `[plant] kind = "shm"` (shm_schema
+//! `PLANT-GUIDE.md`). `sim` is the kinematic hand (the embedded one, over
+//! the plant interface: every setpoint executed exactly); `mujoco` starts
+//! the MuJoCo physics hand of the Python package (`client/python`).
+
+mod config;
+mod sim;
+
+use crate::common::ConnArgs;
+use config::PlantView;
+use gaitd_client::plant::{PlantHost, Timing};
+use std::process::ExitCode;
+
+/// Which plant.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// The kinematic hand: executes every setpoint exactly.
+    Sim,
+    /// The MuJoCo physics hand (Python package `gaitd`, `client/python`).
+    Mujoco,
+}
+
+/// Pacing.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimingArg {
+    /// The plant's measurement drives each daemon tick.
+    Lockstep,
+    /// Both on the wall clock.
+    Realtime,
+}
+
+/// `gaitctl plant` arguments.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Which plant.
+    #[arg(value_enum)]
+    pub kind: Kind,
+    /// The daemon's configuration file: the model, the load, the control
+    /// rate, `[plant] timing` and `[ipc]` come from it.
+    #[arg(long)]
+    pub config: String,
+    /// Override `[plant] timing`.
+    #[arg(long, value_enum)]
+    pub timing: Option<TimingArg>,
+    /// Stop after this many simulated seconds (default: until Ctrl-C).
+    #[arg(long)]
+    pub seconds: Option<f64>,
+    /// Python interpreter for `mujoco` [env: GAITD_PYTHON; default python3].
+    #[arg(long)]
+    pub python: Option<String>,
+}
+
+/// Runs the plant.
+pub fn run(conn: &ConnArgs, a: &Args) -> Result<(), String> {
+    let view = PlantView::load(&a.config)?;
+    let timing = match a.timing {
+        Some(TimingArg::Lockstep) => Timing::Lockstep,
+        Some(TimingArg::Realtime) => Timing::Realtime,
+        None => view.timing,
+    };
+    match a.kind {
+        Kind::Sim => {
+            let opts = view.connect_options(conn);
+            let mut host = PlantHost::open(&opts).map_err(|e| e.to_string())?;
+            let stop = &sim::STOP;
+            crate::common::stop_on_signal(stop);
+            let mut model = sim::KinematicPlant::new(&view.hand, view.period_ns(), a.seconds);
+            eprintln!(
+                "kinematic plant: {timing:?}, {} Hz, paper start grasp",
+                view.tick_hz
+            );
+            let r = host
+                .run(&mut model, timing, view.period_ns(), stop)
+                .map_err(|e| e.to_string())?;
+            eprintln!(
+                "{} steps ({:.2} s simulated in {:.2} s: real-time factor {:.1}), {} commands applied, {} refused",
+                r.steps,
+                r.sim_seconds,
+                r.wall_seconds,
+                r.sim_seconds / r.wall_seconds.max(1e-9),
+                r.applied,
+                r.refused
+            );
+            Ok(())
+        }
+        Kind::Mujoco => mujoco(conn, a, timing),
+    }
+}
+
+/// Runs the Python MuJoCo plant (`python -m gaitd.plants.mujoco`).
+fn mujoco(conn: &ConnArgs, a: &Args, timing: Timing) -> Result<(), String> {
+    let python = a
+        .python
+        .clone()
+        .or_else(|| std::env::var("GAITD_PYTHON").ok())
+        .unwrap_or_else(|| "python3".into());
+    let mut cmd = std::process::Command::new(&python);
+    cmd.args(["-m", "gaitd.plants.mujoco", "--config", &a.config])
+        .arg("--timing")
+        .arg(match timing {
+            Timing::Lockstep => "lockstep",
+            Timing::Realtime => "realtime",
+        });
+    if let Some(s) = a.seconds {
+        cmd.arg("--seconds").arg(s.to_string());
+    }
+    for (flag, v) in [
+        ("--prefix", &conn.prefix),
+        ("--ipc-root", &conn.ipc_root),
+        ("--ipc-file-prefix", &conn.ipc_file_prefix),
+        ("--ipc-config", &conn.ipc_config),
+    ] {
+        if let Some(v) = v {
+            cmd.arg(flag).arg(v);
+        }
+    }
+    let status = cmd.status().map_err(|e| {
+        format!(
+            "cannot run {python} (the MuJoCo plant needs the Python package: \
+             `pip install -e client/python[mujoco]`; GAITD_PYTHON or --python names the \
+             interpreter): {e}"
+        )
+    })?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("the MuJoCo plant exited with {status}"))
+    }
+}
+
+/// `main`'s entry: errors are the user's (a message, exit 1).
+pub fn main(conn: &ConnArgs, a: &Args) -> ExitCode {
+    match run(conn, a) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("gaitctl plant: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

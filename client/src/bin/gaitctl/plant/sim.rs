@@ -1,0 +1,90 @@
+//! The kinematic hand as an out-of-process plant: the embedded hand
+//! (`gait::sim::KinematicHand`, every setpoint executed exactly) behind
+//! the plant interface, so the interface is tested without physics.
+
+use gait::planner::Setpoint;
+use gait::sim::{KinematicHand, Plant};
+use gait::{FingerMode, HandConfig, HandState};
+use gaitd_client::plant::PlantModel;
+use gaitd_client::shm_schema::{
+    PlantCommand, PlantFingerMode, PlantMeasurement, measurement_valid, plant_state,
+};
+use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// The kinematic plant; stops the run after `seconds` simulated, if given.
+pub struct KinematicPlant {
+    hand: KinematicHand,
+    until_ns: Option<u64>,
+    time_ns: u64,
+    period_ns: u64,
+}
+
+fn quat(q: [f64; 4]) -> UnitQuaternion<f64> {
+    UnitQuaternion::new_normalize(Quaternion::new(q[0], q[1], q[2], q[3]))
+}
+
+fn q4(q: &UnitQuaternion<f64>) -> [f64; 4] {
+    [q.w, q.i, q.j, q.k]
+}
+
+/// Set once the simulated time is up (and on Ctrl-C, see `common`).
+pub static STOP: AtomicBool = AtomicBool::new(false);
+
+impl KinematicPlant {
+    /// At the paper's start grasp of `config`.
+    pub fn new(config: &HandConfig, period_ns: u64, seconds: Option<f64>) -> Self {
+        let start = HandState::paper_start(config);
+        Self {
+            hand: KinematicHand::new(start, period_ns as f64 * 1e-9),
+            until_ns: seconds.map(|s| (s * 1e9) as u64),
+            time_ns: 0,
+            period_ns,
+        }
+    }
+}
+
+impl PlantModel for KinematicPlant {
+    fn apply(&mut self, c: &PlantCommand) {
+        let mut state = *self.hand.state();
+        state.object = quat(c.object_q);
+        for (f, cf) in state.fingers.iter_mut().zip(&c.fingers) {
+            f.center = Vector3::from(cf.position);
+            f.orientation = quat(cf.orientation);
+            f.roll = cf.roll;
+            f.mode = if cf.mode == PlantFingerMode::Grasping.code() {
+                FingerMode::Grasping
+            } else {
+                FingerMode::Free
+            };
+        }
+        let sp = Setpoint {
+            state,
+            object_rate: Vector3::from(c.object_omega),
+            finger_velocity: c.fingers.map(|f| Vector3::from(f.velocity)),
+            finger_rate: c.fingers.map(|f| Vector3::from(f.angular_velocity)),
+            estimate_epoch: 0,
+        };
+        self.hand.write(&sp);
+    }
+
+    fn step(&mut self, _dt: f64) {
+        self.time_ns += self.period_ns;
+        if self.until_ns.is_some_and(|t| self.time_ns >= t) {
+            STOP.store(true, Ordering::Release);
+        }
+    }
+
+    fn measure(&mut self, m: &mut PlantMeasurement) {
+        let s = self.hand.state();
+        m.valid = measurement_valid::REQUIRED;
+        m.state = plant_state::SIMULATED;
+        m.object_q = q4(&s.object);
+        for (w, f) in m.fingers.iter_mut().zip(&s.fingers) {
+            w.position = f.center.into();
+            w.orientation = q4(&f.orientation);
+            w.contact = u32::from(f.mode == FingerMode::Grasping);
+            w.roll = f.roll;
+        }
+    }
+}
