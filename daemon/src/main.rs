@@ -10,6 +10,7 @@ use gaitd::process::logging::{self, LogFormat};
 use gaitd::process::signals;
 use gaitd::process::startup::Daemon;
 use iceoryx2::prelude::{LogLevel, set_log_level_from_env_or};
+use std::process::ExitCode;
 
 /// gaitd: real-time finger-gaiting controller daemon.
 #[derive(Parser, Debug)]
@@ -29,18 +30,55 @@ struct Args {
     log_level: String,
 }
 
-fn main() -> Result<()> {
+fn main() -> ExitCode {
     let args = Args::parse();
-    let cfg = load_config(&args.config)?;
+    let cfg = match load_config(&args.config) {
+        Ok(cfg) => cfg,
+        Err(e) => return failed(&e),
+    };
     if args.check_config {
-        return check_config(&cfg, &args.config);
+        return check_config(&cfg, &args.config)
+            .map_or_else(|e| failed(&e), |()| ExitCode::SUCCESS);
     }
     logging::init(args.log_format, &args.log_level);
     // iceoryx2 prints its own diagnostics; keep them to real errors unless asked.
     set_log_level_from_env_or(LogLevel::Error);
+    match serve(&cfg) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // Logging is up: the error goes where the logs go, in their format.
+            tracing::error!("{}", chain(&e));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Starts the daemon and runs it until SIGTERM/SIGINT.
+fn serve(cfg: &DaemonConfig) -> Result<()> {
     let stop = signals::install().context("installing SIGTERM/SIGINT handlers")?;
-    Daemon::start(&cfg)?.run(stop);
+    Daemon::start(cfg)?.run(stop);
     Ok(())
+}
+
+/// Reports a user's mistake (a bad file, key, setting): its message and
+/// causes, never a backtrace — those are for bugs, which panic.
+fn failed(e: &anyhow::Error) -> ExitCode {
+    eprintln!("gaitd: {}", chain(e));
+    ExitCode::FAILURE
+}
+
+/// The error and its causes on one line, each text once (many of our
+/// errors already include their cause's text in their message).
+fn chain(e: &anyhow::Error) -> String {
+    let mut text = e.to_string();
+    for cause in e.chain().skip(1) {
+        let cause = cause.to_string();
+        if !text.contains(&cause) {
+            text.push_str(": ");
+            text.push_str(&cause);
+        }
+    }
+    text
 }
 
 /// The configuration file, validated; a clear message when the service's
