@@ -7,8 +7,8 @@ use clap::Parser;
 use gaitd::io::ipc;
 use gaitd::process::config::{DEFAULT_CONFIG_PATH, DaemonConfig};
 use gaitd::process::logging::{self, LogFormat};
-use gaitd::process::signals;
 use gaitd::process::startup::Daemon;
+use gaitd::process::{check, signals};
 use iceoryx2::prelude::{LogLevel, set_log_level_from_env_or};
 use std::process::ExitCode;
 
@@ -94,19 +94,16 @@ fn load_config(path: &str) -> Result<DaemonConfig> {
     Ok(DaemonConfig::load(path)?)
 }
 
-/// `--check-config`: prints the effective configuration and where the
-/// iceoryx2 resources will live.
+/// `--check-config`: prints the configuration in effect (environment
+/// overrides applied, where the iceoryx2 resources will live); loading the
+/// iceoryx2 config file it names, so a bad one fails here.
 fn check_config(cfg: &DaemonConfig, path: &str) -> Result<()> {
-    // Print the effective values, derived defaults included.
-    let mut shown = cfg.clone();
-    shown.rt.writer_priority = Some(cfg.rt.writer_fifo_priority());
-    println!("{}", toml::to_string_pretty(&shown)?);
-    // Also resolve where the iceoryx2 resources will live (loads the
-    // iceoryx2 config file if one is named, so a bad one fails here).
-    let (_, ipc) = ipc::resolve(&cfg.ipc)?;
+    let ipc = ipc::resolve_explained(&cfg.ipc)?;
+    println!("{}", check::effective_config(cfg, &ipc, path)?);
+    let s = &ipc.settings;
     eprintln!(
         "ipc: service prefix {}, iceoryx2 root {}, file prefix {}",
-        ipc.service_prefix, ipc.root_path, ipc.file_prefix
+        s.service_prefix, s.root_path, s.file_prefix
     );
     eprintln!("config OK: {path}");
     Ok(())

@@ -2,12 +2,14 @@
 //! set-up, systemd notification, signals and logging.
 //!
 //! - [`config`]: the TOML file, every key validated by name.
+//! - [`check`]: what `--check-config` prints: the configuration in effect.
 //! - [`rt`]: real-time set-up: SCHED_FIFO, affinity, memory locking.
 //! - [`sd_notify`]: systemd notification (`READY=1`, `WATCHDOG=1`, `STATUS=`).
 //! - [`signals`]: SIGTERM/SIGINT handling.
 //! - [`logging`]: tracing set-up: human or JSON logs.
 //! - [`startup`]: the start-up steps in their order, and the shut-down.
 
+pub mod check;
 pub mod config;
 pub mod logging;
 pub mod rt;
