@@ -11,6 +11,7 @@ mod noise;
 mod offline;
 mod plan;
 mod plot;
+mod progress;
 mod reorient;
 mod soak;
 mod status;
