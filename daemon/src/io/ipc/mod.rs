@@ -408,3 +408,86 @@ pub fn status_subscriber(
         .map_err(|e| err(&names.status, "subscriber", e))?;
     Ok(sub)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use iceoryx2::service::port_factory::PortFactory;
+    use iceoryx2::service::static_config::publish_subscribe::StaticConfig;
+    use shm_schema::ipc::IpcSettings;
+
+    /// `shm_schema/CLIENT-GUIDE.md` states the settings of the services the
+    /// daemon creates with the default `[ipc]`: checked here against the
+    /// services themselves, created in a namespace of this test's own.
+    #[test]
+    fn the_client_guide_states_the_service_settings() {
+        let guide = include_str!("../../../../shm_schema/CLIENT-GUIDE.md");
+        let cfg = DaemonConfig::default();
+        let pid = std::process::id();
+        let dir = std::env::temp_dir().join(format!("gaitd-ipc-guide-{pid}"));
+        let settings = IpcSettings {
+            service_prefix: format!("guide-{pid}"),
+            root_path: format!("{}/iceoryx2/", dir.display()),
+            file_prefix: format!("gguide{pid}_"),
+        };
+        let mut config = Config::default();
+        settings.apply(&mut config).unwrap();
+        let node = create_node("gaitd-guide-test", &config).unwrap();
+        let s = create_services(&node, &cfg, &settings.service_prefix).unwrap();
+        let row = |name: &str, payload: &str, c: &StaticConfig| {
+            let overflow = if c.has_safe_overflow() { "yes" } else { "no" };
+            format!(
+                "| `<prefix>/{name}` | `{payload}` | {} | {} | {} | {} | {} | {overflow}",
+                c.max_publishers(),
+                c.max_subscribers(),
+                c.max_nodes(),
+                c.history_size(),
+                c.subscriber_max_buffer_size()
+            )
+        };
+        let n = s.out.notify.static_config();
+        let mut want = vec![
+            row("commands", "Command", s.commands.static_config()),
+            row("answers", "Answer", s.out.answers.static_config()),
+            row("status", "Status", s.out.status.static_config()),
+            row("events", "Event", s.out.events.static_config()),
+            format!(
+                "| `<prefix>/notify` | event | {} | {} | {} | {} | {} |",
+                n.max_notifiers(),
+                n.max_listeners(),
+                n.max_nodes(),
+                n.event_id_max_value(),
+                n.notifier_dead_event().map_or(0, |e| e.as_value())
+            ),
+        ];
+        let ipc = &cfg.ipc;
+        want.push(format!(
+            "(`max_clients` = N = {}, `command_queue` = {},\n`answer_buffer` = {}, \
+             `event_history` = {}, `event_buffer` = {})",
+            ipc.max_clients,
+            ipc.command_queue,
+            ipc.answer_buffer,
+            ipc.event_history,
+            ipc.event_buffer
+        ));
+        drop(s);
+        drop(node);
+        let _ = std::fs::remove_dir_all(&dir);
+        if let Ok(shm) = std::fs::read_dir("/dev/shm") {
+            for e in shm.flatten() {
+                if e.file_name()
+                    .to_string_lossy()
+                    .starts_with(&settings.file_prefix)
+                {
+                    let _ = std::fs::remove_file(e.path());
+                }
+            }
+        }
+        for w in want {
+            assert!(
+                guide.contains(&w),
+                "shm_schema/CLIENT-GUIDE.md is out of date: it should say\n{w}"
+            );
+        }
+    }
+}
