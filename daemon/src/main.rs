@@ -19,7 +19,8 @@ struct Args {
     /// Configuration file (TOML).
     #[arg(long, default_value = DEFAULT_CONFIG_PATH)]
     config: String,
-    /// Validate the configuration file, print the effective configuration and exit.
+    /// Validate the configuration file, print the configuration in effect
+    /// (environment overrides applied, defaults resolved) and exit.
     #[arg(long)]
     check_config: bool,
     /// Log format.
