@@ -713,6 +713,10 @@ pub fn layout_markdown() -> String {
         "# gaitd shared-memory schema v{SCHEMA_VERSION}\n\n\
          Generated from `shm_schema` by `cargo test -p shm_schema` (set `GAITD_BLESS=1` to\n\
          rewrite it); a test fails when this file and the code disagree.\n\n\
+         This file is the bytes. How to connect (iceoryx2 root path, file prefix, environment\n\
+         variables), the service settings a client must match, when the daemon is ready, how\n\
+         to choose ids and what the progress counters count, with a walk-through in Python:\n\
+         [CLIENT-GUIDE.md](CLIENT-GUIDE.md).\n\n\
          All payloads are `#[repr(C)]`, little-endian as the host, with explicit padding\n\
          (fields named `reserved`, always 0). Enums travel as `u32` codes (tables below);\n\
          readers must refuse unknown codes. iceoryx2 {ICEORYX2_VERSION} compares the type name,\n\

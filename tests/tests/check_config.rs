@@ -29,7 +29,10 @@ fn shipped_example_config_is_valid() {
     // The effective values are printed, derived defaults included.
     let shown = String::from_utf8_lossy(&out.stdout);
     assert!(shown.contains("fifo_priority = 80\n"), "{shown}");
-    assert!(shown.contains("writer_priority = 70\n"), "{shown}");
+    assert!(
+        shown.contains("writer_priority = 70  # unset: derived from fifo_priority\n"),
+        "{shown}"
+    );
 }
 
 #[test]
@@ -131,4 +134,97 @@ fn a_missing_iceoryx2_config_is_refused() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("/nonexistent/iceoryx2.toml"), "{err}");
+}
+
+/// The `[ipc]` section of `--check-config`'s output.
+fn ipc_section(stdout: &[u8]) -> String {
+    let text = String::from_utf8_lossy(stdout);
+    let body = text
+        .split("\n[ipc]\n")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no [ipc] section in:\n{text}"));
+    body.split("\n[").next().unwrap_or_default().to_owned()
+}
+
+/// `--check-config` with `env` (and no other GAITD_* location variable).
+fn check_shipped_config_with(env: &[(&str, &str)]) -> Output {
+    let mut cmd = gaitd();
+    cmd.arg("--config")
+        .arg(gaitd_tests::repo_root().join("deploy/gaitd.toml"))
+        .arg("--check-config");
+    for k in [
+        "GAITD_PREFIX",
+        "GAITD_IPC_CONFIG",
+        "GAITD_IPC_ROOT",
+        "GAITD_IPC_FILE_PREFIX",
+    ] {
+        cmd.env_remove(k);
+    }
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.output().unwrap()
+}
+
+/// The printed configuration is the one in effect: environment overrides
+/// applied and defaults resolved in `[ipc]` itself (the shipped file has
+/// empty strings there), each with where it came from.
+#[test]
+fn the_printed_ipc_section_has_the_values_in_effect() {
+    let out = check_shipped_config_with(&[
+        ("GAITD_PREFIX", "xyz"),
+        ("GAITD_IPC_ROOT", "/tmp/gaitd-check-env/iceoryx2/"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let ipc = ipc_section(&out.stdout);
+    let line = |key: &str| {
+        ipc.lines()
+            .find(|l| l.starts_with(&format!("{key} = ")))
+            .unwrap_or_else(|| panic!("no {key} in [ipc]:\n{ipc}"))
+            .to_owned()
+    };
+    assert_eq!(
+        line("service_prefix"),
+        r#"service_prefix = "xyz"  # from $GAITD_PREFIX"#
+    );
+    assert_eq!(
+        line("root_path"),
+        r#"root_path = "/tmp/gaitd-check-env/iceoryx2/"  # from $GAITD_IPC_ROOT"#
+    );
+    assert_eq!(line("file_prefix"), r#"file_prefix = "gaitd_"  # default"#);
+    assert!(line("iceoryx2_config").starts_with(r#"iceoryx2_config = """#));
+
+    // The shipped iceoryx2 config named in the environment decides the
+    // root path and the file prefix.
+    let iox = gaitd_tests::repo_root().join("deploy/iceoryx2.toml");
+    let out = check_shipped_config_with(&[("GAITD_IPC_CONFIG", iox.to_str().unwrap())]);
+    assert!(out.status.success());
+    let ipc = ipc_section(&out.stdout);
+    for want in [
+        r#"service_prefix = "gaitd"  # default"#.to_owned(),
+        format!(
+            r#"iceoryx2_config = "{}"  # from $GAITD_IPC_CONFIG"#,
+            iox.display()
+        ),
+        r#"root_path = "/run/gaitd/iceoryx2/"  # from the iceoryx2 config file"#.to_owned(),
+        r#"file_prefix = "gaitd_"  # from the iceoryx2 config file"#.to_owned(),
+    ] {
+        assert!(ipc.lines().any(|l| l == want), "{want} in:\n{ipc}");
+    }
+}
+
+/// A bad value from the environment is named with its variable.
+#[test]
+fn a_bad_environment_value_names_its_variable() {
+    let out = check_shipped_config_with(&[("GAITD_PREFIX", "has space")]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("`has space`") && err.contains("$GAITD_PREFIX"),
+        "{err}"
+    );
 }

@@ -243,7 +243,7 @@ fn gaitctl_status_and_watch_show_the_daemon() {
 
     let out = d
         .gaitctl()
-        .args(["watch", "--frames", "3"])
+        .args(["watch", "--frames", "3", "--live", "always"])
         .output()
         .unwrap();
     assert!(

@@ -167,7 +167,8 @@ mod tests {
 
     #[test]
     fn every_lie_is_named() {
-        let cases: [(&str, fn(&mut PlantMeasurement), BadMeasurement); 6] = [
+        type Lie = fn(&mut PlantMeasurement);
+        let cases: [(&str, Lie, BadMeasurement); 6] = [
             (
                 "NaN",
                 |m| m.fingers[1].position[2] = f64::NAN,

@@ -3,14 +3,18 @@
 //!
 //! - [`config`]: the TOML file, every key validated by name.
 //! - [`plant_config`]: `[plant]`, which hand the daemon controls.
+//! - [`check`]: what `--check-config` prints: the configuration in effect.
 //! - [`rt`]: real-time set-up: SCHED_FIFO, affinity, memory locking.
 //! - [`sd_notify`]: systemd notification (`READY=1`, `WATCHDOG=1`, `STATUS=`).
-//! - [`signals`]: sIGTERM/SIGINT handling.
+//! - [`signals`]: SIGTERM/SIGINT handling.
 //! - [`logging`]: tracing set-up: human or JSON logs.
+//! - [`startup`]: the start-up steps in their order, and the shut-down.
 
+pub mod check;
 pub mod config;
 pub mod logging;
 pub mod plant_config;
 pub mod rt;
 pub mod sd_notify;
 pub mod signals;
+pub mod startup;

@@ -1,5 +1,50 @@
 //! Montana's contact equations in chart coordinates (SPEC §2.2, paper
 //! eq. (3), (4)).
+//!
+//! A contact is described by the chart coordinates of its point on the
+//! fingertip, $\alpha_f = (u_f, v_f)$, and on the object,
+//! $\alpha_o = (u_o, v_o)$, and by the contact angle $\psi$ between the two
+//! Gauss frames ([`ChartContact`]). The fingertip moves relative to the
+//! object with linear velocity $(v_x, v_y, v_z)$ and angular velocity
+//! $(\omega_x, \omega_y, \omega_z)$, both in the fingertip contact frame
+//! $C_f$ ([`ContactTwist`]; $v_z = 0$ while the contact holds). On a
+//! sphere of radius $\rho$ ($\rho = r$ for the fingertip, $R$ for the
+//! object), at latitude $u$ of its chart, the metric, curvature and torsion
+//! forms are
+//!
+//! $$M = \begin{bmatrix} \rho & 0 \\\\ 0 & \rho \cos u \end{bmatrix}, \qquad
+//! K = \begin{bmatrix} 1/\rho & 0 \\\\ 0 & 1/\rho \end{bmatrix}, \qquad
+//! T = \begin{bmatrix} 0 & -\tan(u)/\rho \end{bmatrix}.$$
+//!
+//! Montana's equations ([`montana`]), with
+//! $\tilde K_o = R_\psi K_o R_\psi$ the object's curvature seen in $C_f$:
+//!
+//! $$\dot\alpha_f = M_f^{-1} \left(K_f + \tilde K_o\right)^{-1}
+//! \left( \begin{bmatrix} -\omega_y \\\\ \omega_x \end{bmatrix} -
+//! \tilde K_o \begin{bmatrix} v_x \\\\ v_y \end{bmatrix} \right),$$
+//!
+//! $$\dot\alpha_o = M_o^{-1} R_\psi \left(K_f + \tilde K_o\right)^{-1}
+//! \left( \begin{bmatrix} -\omega_y \\\\ \omega_x \end{bmatrix} +
+//! K_f \begin{bmatrix} v_x \\\\ v_y \end{bmatrix} \right),$$
+//!
+//! $$\dot\psi = \omega_z + T_f M_f \dot\alpha_f + T_o M_o \dot\alpha_o,
+//! \qquad
+//! R_\psi = \begin{bmatrix} \cos\psi & -\sin\psi \\\\ -\sin\psi & -\cos\psi \end{bmatrix}.$$
+//!
+//! $R_\psi$ ([`r_psi`]) maps tangent coordinates in $C_f$ to coordinates in
+//! $C_o$; it is a reflection, $R_\psi^2 = I$. Pure rolling is $v = 0$,
+//! $\omega_z = 0$ (paper eq. (3)); for two spheres the contact points then
+//! move by paper eq. (4) ([`rolling_finger_rates`],
+//! [`rolling_object_rates`]),
+//!
+//! $$\dot\alpha_f = M_f^{-1} R_\psi M_o \dot\alpha_o
+//! \quad\Longleftrightarrow\quad
+//! \dot\alpha_o = M_o^{-1} R_\psi M_f \dot\alpha_f,$$
+//!
+//! which gives the paper's Theory 2: a great circle on one sphere rolls
+//! onto a great circle on the other, and from $(0, 0, 0, 0, 0)$ moving the
+//! fingertip contact to $(0, \Delta v)$ moves the object contact to
+//! $(0, -\tfrac{r}{R} \Delta v)$.
 
 use super::state::ContactGeometry;
 use crate::sphere::{ChartPoint, curvature, metric, torsion};
@@ -39,19 +84,18 @@ pub struct ChartRates {
     pub psi: f64,
 }
 
-/// R_ψ = [[cos ψ, −sin ψ], [−sin ψ, −cos ψ]] (SPEC §2.2): maps tangent
-/// coordinates in C_f to coordinates in C_o (a reflection; R_ψ² = I).
+/// $R_\psi = \begin{bmatrix} \cos\psi & -\sin\psi \\\\ -\sin\psi & -\cos\psi \end{bmatrix}$
+/// (SPEC §2.2): maps tangent coordinates in $C_f$ to coordinates in $C_o$
+/// (a reflection: $R_\psi^2 = I$).
 pub fn r_psi(psi: f64) -> Matrix2<f64> {
     let (s, c) = psi.sin_cos();
     Matrix2::new(c, -s, -s, -c)
 }
 
-/// Montana's equations, general form (SPEC §2.2):
-///   α̇_f = M_f⁻¹ (K_f + K̃_o)⁻¹ ([−ω_y, ω_x]ᵀ − K̃_o [v_x, v_y]ᵀ)
-///   α̇_o = M_o⁻¹ R_ψ (K_f + K̃_o)⁻¹ ([−ω_y, ω_x]ᵀ + K_f [v_x, v_y]ᵀ)
-///   ψ̇   = ω_z + T_f M_f α̇_f + T_o M_o α̇_o,   K̃_o = R_ψ K_o R_ψ.
-/// Singular only where a chart is (|u| = π/2), never used there: the atlas
-/// keeps |u| ≤ 60°.
+/// Montana's equations in the general form of the module docs (SPEC
+/// §2.2): the rates $(\dot\alpha_f, \dot\alpha_o, \dot\psi)$ of contact `c`
+/// under the relative motion `twist`. Singular only where a chart is
+/// ($|u| = \pi/2$), never used there: the atlas keeps $|u| \le 60°$.
 pub fn montana(geom: &ContactGeometry, c: &ChartContact, twist: &ContactTwist) -> ChartRates {
     let (rf, ro) = (geom.fingertip_radius, geom.object_radius);
     let (uf, uo) = (c.finger.u, c.object.u);
@@ -76,7 +120,8 @@ pub fn montana(geom: &ContactGeometry, c: &ChartContact, twist: &ContactTwist) -
     }
 }
 
-/// Sphere–sphere pure rolling, paper eq. (4): α̇_f = M_f⁻¹ R_ψ M_o α̇_o.
+/// Sphere–sphere pure rolling, paper eq. (4):
+/// $\dot\alpha_f = M_f^{-1} R_\psi M_o \dot\alpha_o$.
 pub fn rolling_finger_rates(
     geom: &ContactGeometry,
     c: &ChartContact,
@@ -88,7 +133,8 @@ pub fn rolling_finger_rates(
     Vector2::new(t.x / mf[(0, 0)], t.y / mf[(1, 1)])
 }
 
-/// The inverse of eq. (4) (R_ψ is an involution): α̇_o = M_o⁻¹ R_ψ M_f α̇_f.
+/// The inverse of eq. (4) ($R_\psi$ is an involution):
+/// $\dot\alpha_o = M_o^{-1} R_\psi M_f \dot\alpha_f$.
 pub fn rolling_object_rates(
     geom: &ContactGeometry,
     c: &ChartContact,
@@ -100,7 +146,9 @@ pub fn rolling_object_rates(
     Vector2::new(t.x / mo[(0, 0)], t.y / mo[(1, 1)])
 }
 
-/// ψ̇ for pure rolling given both coordinate rates (ω_z = 0).
+/// $\dot\psi = T_f M_f \dot\alpha_f + T_o M_o \dot\alpha_o$: the contact
+/// angle's rate for pure rolling ($\omega_z = 0$) given both coordinate
+/// rates.
 pub fn rolling_psi_rate(
     geom: &ContactGeometry,
     c: &ChartContact,

@@ -2,16 +2,41 @@
 //! extended with slip, and the map between hand-frame body rates and
 //! Montana's contact-frame twist.
 //!
-//! Derivation (hand frame, object centre fixed at O). Let v_s be the slip:
-//! the velocity of the fingertip's material point at the contact relative
-//! to the object's, v_s = v_fp − v_op (tangent). With p_f = (R + r) n,
-//! v_fp = ṗ_f + ω_f × (−r n) and v_op = ω_o × (R n):
-//!   ṅ   = ((R ω_o + r ω_f) × n + v_s) / (R + r)
-//!   ṅ_o = Q_oᵀ (ṅ − ω_o × n)      = Q_oᵀ (r (ω_f − ω_o) × n + v_s) / (R + r)
-//!   ṁ   = −Q_fᵀ (ṅ − ω_f × n)     = Q_fᵀ (R (ω_f − ω_o) × n − v_s) / (R + r)
-//! With v_s = 0 these are SPEC §2.3 exactly (no sign error found). Rolling
-//! without slip, both contact points move at the speed
-//! rR |(ω_f − ω_o) × n| / (R + r) — equal arc lengths.
+//! Hand frame, object centre fixed at the origin. $n$ is the outward
+//! object normal at the contact (a unit vector), $\omega_o$ and $\omega_f$
+//! the angular velocities of object and fingertip, $Q_o$ and $Q_f$ their
+//! orientations, $R$ and $r$ their radii; the fingertip centre is
+//! $p_f = (R + r) n$, the contact point is $n_o = Q_o^\top n$ on the object
+//! (object frame) and $m = Q_f^\top (-n)$ on the fingertip (fingertip
+//! frame). For pure rolling (SPEC §2.3):
+//!
+//! $$\dot n = \frac{(R \omega_o + r \omega_f) \times n}{R + r}, \qquad
+//! \dot n_o = \frac{r}{R + r} Q_o^\top \big( (\omega_f - \omega_o) \times n \big), \qquad
+//! \dot m = \frac{R}{R + r} Q_f^\top \big( (\omega_f - \omega_o) \times n \big),$$
+//!
+//! with spin $s = (\omega_f - \omega_o) \cdot n$ (zero when rolling) and
+//! roll rate $\dot\tau = \omega_f \cdot (Q_f e_z)$ about the fingertip's
+//! pole axis ([`contact_rates`]).
+//!
+//! Derivation, with slip. Let $v_s = v_{fp} - v_{op}$ be the velocity of
+//! the fingertip's material point at the contact relative to the object's
+//! (tangent to the surface), where $v_{fp} = \dot p_f + \omega_f \times (-r n)$
+//! and $v_{op} = \omega_o \times (R n)$. Then
+//!
+//! $$\dot n = \frac{(R \omega_o + r \omega_f) \times n + v_s}{R + r},$$
+//!
+//! $$\dot n_o = Q_o^\top \left( \dot n - \omega_o \times n \right)
+//! = Q_o^\top \frac{r (\omega_f - \omega_o) \times n + v_s}{R + r},$$
+//!
+//! $$\dot m = -Q_f^\top \left( \dot n - \omega_f \times n \right)
+//! = Q_f^\top \frac{R (\omega_f - \omega_o) \times n - v_s}{R + r}.$$
+//!
+//! With $v_s = 0$ these are SPEC §2.3 exactly (no sign error found).
+//! Rolling without slip, both contact points move at the same speed,
+//! $\frac{r R}{R + r} \left\lvert (\omega_f - \omega_o) \times n \right\rvert$:
+//! equal arc lengths. Montana's twist is this relative motion seen in the
+//! fingertip contact frame $C_f$: $\omega = C_f^\top (\omega_f - \omega_o)$,
+//! $v = C_f^\top v_s$ ([`twist_from_body_rates`], [`body_rates_from_twist`]).
 
 use super::montana::ContactTwist;
 use super::state::{ContactGeometry, ContactState};
@@ -87,9 +112,9 @@ pub fn twist_from_body_rates(
     }
 }
 
-/// Hand-frame rates realising Montana's twist `twist` (in C_f of chart
+/// Hand-frame rates realising Montana's twist `twist` (in $C_f$ of chart
 /// `finger_chart`) while the object turns at `object_rate`:
-/// ω_f = ω_o + C_f ω, v_s = C_f (v_x, v_y, 0).
+/// $\omega_f = \omega_o + C_f \omega$, $v_s = C_f (v_x, v_y, 0)$.
 pub fn body_rates_from_twist(
     s: &ContactState,
     finger_chart: ChartId,

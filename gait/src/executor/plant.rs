@@ -59,7 +59,7 @@ impl Executor {
                 let (kind, finger) = match other {
                     Ok(r) => r
                         .first_violation()
-                        .map_or((FaultKind::Contact, NO_FINGER), |v| invariant_fault(v)),
+                        .map_or((FaultKind::Contact, NO_FINGER), invariant_fault),
                     Err(_) => (FaultKind::Contact, NO_FINGER),
                 };
                 // Still nothing moves; the fault now says why.

@@ -1,25 +1,43 @@
-//! Exact force-closure test and margin t* (SPEC.md §3.2) with Clarabel.
+//! Exact force-closure test and margin $t^\star$ (SPEC.md §3.2) with
+//! Clarabel.
 //!
-//! For contacts i = 1..k with force vectors f_i = (f_n, f_1, f_2 \[, s\])
-//! (s = τ_n μ/μ_t for soft contacts) and the normalised grasp map G of
-//! [`super::contact`]:
+//! Contact $i = 1, \dots, k$ carries the force vector
+//! $f_i = (f_{n,i}, f_{1,i}, f_{2,i})$ (normal, then the two tangential
+//! components) if it is a hard contact, and
+//! $f_i = (f_{n,i}, f_{1,i}, f_{2,i}, s_i)$ with $s_i = \tau_{n,i} \mu / \mu_t$
+//! (the torsion about the normal, scaled into the cone) if it is soft.
+//! With $G$ the normalised grasp map of [`super::contact`] and
+//! $f = (f_1, \dots, f_k)$, the margin is the optimum of the second-order
+//! cone program
 //!
-//! ```text
-//! t* = max t   s.t.   G f = 0,   Σ_i f_n,i = 1,
-//!                     ‖(f_1,i, f_2,i [, s_i])‖ ≤ μ f_n,i − t   (one second-order cone per contact)
-//! ```
+//! $$\begin{aligned}
+//! t^\star = \max_{f, t} \quad & t \\\\
+//! \text{s.t.} \quad & G f = 0, \qquad \textstyle\sum_{i=1}^k f_{n,i} = 1, \\\\
+//! & \left\lVert (f_{1,i}, f_{2,i}) \right\rVert_2 \le \mu f_{n,i} - t
+//! && \text{hard contact } i, \\\\
+//! & \left\lVert (f_{1,i}, f_{2,i}, s_i) \right\rVert_2 \le \mu f_{n,i} - t
+//! && \text{soft contact } i,
+//! \end{aligned}$$
 //!
-//! The grasp is force-closure ⇔ rank G = 6 and t* > 0 (an internal force
-//! strictly inside every cone exists). t* is bounded above by μ/k, and is
-//! dimensionless (a tangential force per unit total normal force).
+//! one second-order cone per contact. The grasp is force-closure if and
+//! only if $\operatorname{rank} G = 6$ and $t^\star > 0$: an internal force
+//! strictly inside every friction cone exists. $t^\star \le \mu / k$, and it
+//! is dimensionless (a tangential force per unit of total normal force).
 //!
-//! In Clarabel's form (min qᵀx, A x + s = b, s ∈ K) the variables are
-//! x = (f_1, …, f_k, t), q = −e_t, and the rows are: 6 + 1 zero-cone rows
-//! (G f = 0, Σ f_n = 1), then per contact a second-order cone
-//! s = (μ f_n − t, f_1, f_2 \[, s\]). Only A changes with the contacts and μ;
-//! its pattern is fixed per contact-kind sequence, so a [`ConicSolver`]
-//! builds the problem once and re-solves with `update_A` (see the crate
-//! docs for the measured allocations per re-solve).
+//! In Clarabel's form
+//!
+//! $$\min_x \ q^\top x \quad \text{s.t.} \quad A x + s = b, \quad s \in \mathcal K$$
+//!
+//! the variables are $x = (f_1, \dots, f_k, t)$ and $q = -e_t$; the rows of
+//! $A$ are $6 + 1$ zero-cone rows ($G f = 0$ and $\sum_i f_{n,i} = 1$, so
+//! $b = e_7$), then per contact a second-order cone
+//! $s = (\mu f_{n,i} - t, f_{1,i}, f_{2,i} [, s_i])$: the cone
+//! $\mathcal K = \\{0\\}^7 \times \mathcal Q_1 \times \dots \times \mathcal Q_k$,
+//! $\mathcal Q_i$ of dimension 3 (hard) or 4 (soft). Only $A$ changes with
+//! the contacts and $\mu$; its pattern is fixed per contact-kind sequence,
+//! so a [`ConicSolver`] builds the problem once and re-solves with
+//! `update_A` (see the crate docs for the measured allocations per
+//! re-solve).
 
 use clarabel::solver::{DefaultSolver, IPSolver, SecondOrderConeT, SupportedConeT, ZeroConeT};
 
@@ -32,14 +50,14 @@ use super::socp::{self, CscBuilder, EntrySink, ValueWriter};
 pub struct ClosureMargin {
     /// Numerical rank of the normalised grasp map (0..=6).
     pub rank: u8,
-    /// The margin t*; `None` when rank < 6 (not force-closure, no solve).
+    /// The margin $t^\star$; `None` when rank < 6 (not force-closure, no solve).
     pub t_star: Option<f64>,
     /// Interior-point iterations used (0 when not solved).
     pub iterations: u32,
 }
 
 impl ClosureMargin {
-    /// Force closure: rank 6 and t* > 0.
+    /// Force closure: rank 6 and $t^\star > 0$.
     pub fn is_force_closure(&self) -> bool {
         self.rank == 6 && self.t_star.is_some_and(|t| t > 0.0)
     }

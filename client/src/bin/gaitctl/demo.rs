@@ -7,9 +7,9 @@
 //! about z and a full turn about x by finger substitutions (paper Fig. 4).
 
 use crate::common::{ConnArgs, code, counted_fingers, finger_name, object_q};
+use crate::progress::{LiveArg, Progress};
 use gaitd_client::{Client, ConnectOptions, GoalSpec, GoalState, Status};
 use shm_schema::EventKind;
-use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Child, ExitCode};
 use std::time::{Duration, Instant};
@@ -26,6 +26,8 @@ pub struct Args {
     /// Give up on a goal after this many seconds.
     #[arg(long, default_value_t = 120.0)]
     goal_timeout: f64,
+    #[command(flatten)]
+    live: LiveArg,
 }
 
 /// A daemon started for the demo, in its own IPC namespace.
@@ -155,11 +157,10 @@ impl Gaiting {
 /// (state, seconds, gaits).
 fn run_goal(
     c: &mut Client,
-    label: &str,
-    goal: &GoalSpec,
+    (label, goal): (&str, &GoalSpec),
     total: f64,
     timeout: Duration,
-    gaiting: &mut Gaiting,
+    (gaiting, view): (&mut Gaiting, &mut Progress),
 ) -> Result<(GoalState, f64, u32), String> {
     println!("\n== {label}");
     let t = c
@@ -169,8 +170,7 @@ fn run_goal(
         return Err(format!("goal rejected: {r}"));
     }
     let t0 = Instant::now();
-    let mut out = std::io::stderr();
-    let me = c.client_id();
+    let me = (c.client_id(), t.goal_id);
     loop {
         if t0.elapsed() > timeout {
             return Err(format!("{label}: no outcome after {timeout:?}"));
@@ -180,14 +180,11 @@ fn run_goal(
         let events: Vec<_> = c
             .events()
             .map_err(|e| e.to_string())?
-            .filter(|e| (e.client_id, e.goal_id) == (me, t.goal_id))
+            .filter(|e| (e.client_id, e.goal_id) == me)
             .collect();
         for e in &events {
             if let Some(l) = gaiting.see(e) {
-                // Over the progress line, which is drawn again below.
-                let _ = write!(out, "\r{:110}\r", "");
-                let _ = out.flush();
-                println!("   {l}");
+                view.println(&format!("   {l}"));
             }
             if e.kind() == Ok(EventKind::GoalTransition)
                 && let (Ok(state), Ok(reason)) = (e.state(), e.reason())
@@ -197,7 +194,7 @@ fn run_goal(
             }
         }
         let status = c.latest_status().map_err(|e| e.to_string())?;
-        let mine = status.filter(|s| (s.goal.client_id, s.goal.goal_id) == (me, t.goal_id));
+        let mine = status.filter(|s| (s.goal.client_id, s.goal.goal_id) == me);
         // Events can be missed (history overflow); the status says too.
         if end.is_none()
             && let Some(s) = mine
@@ -210,7 +207,8 @@ fn run_goal(
             let s = c
                 .wait_status(Duration::from_secs(1))
                 .map_err(|e| e.to_string())?;
-            let _ = writeln!(out, "\r{}", progress_line(&s, total));
+            view.status(&s, || progress_line(&s, total));
+            view.finish();
             let secs = t0.elapsed().as_secs_f64();
             println!(
                 "   {state} ({reason}) after {secs:.2} s, {} gaits",
@@ -219,8 +217,7 @@ fn run_goal(
             return Ok((state, secs, s.goal.gaits_done));
         }
         if let Some(s) = mine {
-            let _ = write!(out, "\r{}", progress_line(&s, total));
-            let _ = out.flush();
+            view.status(&s, || progress_line(&s, total));
         }
         std::thread::sleep(Duration::from_millis(20));
     }
@@ -264,10 +261,13 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
     println!(
         "paper scenario (paper §4, Fig. 4): R = 0.5, r = 0.1, θ = 20°, workspace cones 60°\n\
          start: object q = {:.3?}; fingers f1 f2 f3 on the equator 120° apart (no two-finger\n\
-         force-closure pair): the hand rolls two of them apart, then turns the object by gaits.\n\
-         fingers: G grasping, R rolling, L lifting, P placing, . free",
+         force-closure pair): the hand rolls two of them apart, then turns the object by gaits.",
         object_q(&s0)
     );
+    let mut view = Progress::new(a.live.live);
+    if view.redraws() {
+        println!("fingers: G grasping, R rolling, L lifting, P placing, . free");
+    }
     let tau = std::f64::consts::TAU;
     let timeout = Duration::from_secs_f64(a.goal_timeout);
     let goals = [
@@ -285,7 +285,8 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
     let mut total_gaits = 0;
     let mut gaiting = Gaiting::default();
     for (label, g) in &goals {
-        let (state, secs, gaits) = run_goal(&mut c, label, g, tau, timeout, &mut gaiting)?;
+        let (state, secs, gaits) =
+            run_goal(&mut c, (label, g), tau, timeout, (&mut gaiting, &mut view))?;
         ok &= state == GoalState::Succeeded;
         total_time += secs;
         total_gaits += gaits;

@@ -12,6 +12,7 @@ mod offline;
 mod plan;
 mod plant;
 mod plot;
+mod progress;
 mod reorient;
 mod soak;
 mod status;
@@ -84,13 +85,7 @@ fn main() -> ExitCode {
         Cmd::Plant(a) => return plant::main(&cli.conn, &a),
         Cmd::Pong(a) => bench::pong(&a),
     };
-    match result {
-        Ok(code) => code,
-        Err(e) => {
-            eprintln!("gaitctl: {e}");
-            ExitCode::from(2)
-        }
-    }
+    result.unwrap_or_else(|e| failed(&e))
 }
 
 /// Exit code of an offline subcommand (no daemon involved).
@@ -99,4 +94,23 @@ fn offline_exit(r: Result<ExitCode, String>) -> ExitCode {
         eprintln!("gaitctl: {e}");
         ExitCode::from(2)
     })
+}
+
+/// Reports a user's mistake (no daemon, a bad argument, setting or file):
+/// the message and its causes on one line, exit code 2. Never a backtrace:
+/// those are for bugs, which panic.
+fn failed(e: &dyn std::error::Error) -> ExitCode {
+    let mut text = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        let c_text = c.to_string();
+        // Most messages already include their cause's text.
+        if !text.contains(&c_text) {
+            text.push_str(": ");
+            text.push_str(&c_text);
+        }
+        cause = c.source();
+    }
+    eprintln!("gaitctl: {text}");
+    ExitCode::from(2)
 }

@@ -1,7 +1,8 @@
 //! `gaitctl reorient`: send a goal, optionally wait for its outcome.
 
 use crate::common::{ConnArgs, code};
-use gaitd_client::{GoalFrame, GoalSpec, GoalState, LimitKind, LimitOrder, Verdict};
+use crate::progress::{LiveArg, Progress};
+use gaitd_client::{Client, GoalFrame, GoalSpec, GoalState, LimitKind, LimitOrder, Verdict};
 use std::process::ExitCode;
 use std::time::Duration;
 
@@ -35,6 +36,8 @@ pub struct Args {
     /// With --wait: give up after this many seconds.
     #[arg(long, default_value_t = 120.0)]
     wait_timeout: f64,
+    #[command(flatten)]
+    live: LiveArg,
 }
 
 fn parse_limit(s: &str) -> Result<(LimitKind, LimitOrder, f64), String> {
@@ -114,17 +117,30 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     if !a.wait {
         return Ok(ExitCode::SUCCESS);
     }
+    wait(&mut c, t.goal_id, a)
+}
+
+/// `--wait`: progress until goal `goal_id` ends; exit 0 if it succeeded.
+fn wait(c: &mut Client, goal_id: u64, a: &Args) -> gaitd_client::Result<ExitCode> {
     let deadline = std::time::Instant::now() + Duration::from_secs_f64(a.wait_timeout);
+    let mut view = Progress::new(a.live.live);
     loop {
         let left = deadline.saturating_duration_since(std::time::Instant::now());
         if left.is_zero() {
+            view.finish();
             return Err(gaitd_client::Error::Timeout {
                 what: "the goal's outcome",
                 waited: Duration::from_secs_f64(a.wait_timeout),
             });
         }
-        match c.wait_outcome(t.goal_id, left.min(Duration::from_millis(250))) {
+        match c.wait_outcome(goal_id, left.min(Duration::from_millis(50))) {
             Ok(o) => {
+                if let Some(s) = c.latest_status()?
+                    && (s.goal.client_id, s.goal.goal_id) == (c.client_id(), goal_id)
+                {
+                    view.status(&s, || progress_line(&s));
+                }
+                view.finish();
                 println!("goal {}: {} ({})", o.goal_id, o.state, o.reason);
                 return Ok(if o.state == GoalState::Succeeded {
                     ExitCode::SUCCESS
@@ -134,19 +150,27 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
             }
             Err(gaitd_client::Error::Timeout { .. }) => {
                 if let Some(s) = c.latest_status()?
-                    && s.goal.goal_id == t.goal_id
+                    && (s.goal.client_id, s.goal.goal_id) == (c.client_id(), goal_id)
                 {
-                    eprint!(
-                        "\r{} remaining {:7.2} deg  gaits {}/{}  phase {}   ",
-                        code(s.goal_state(), s.goal.state),
-                        s.goal.remaining_angle.to_degrees(),
-                        s.goal.gaits_done,
-                        s.goal.gaits_planned,
-                        code(s.phase(), s.phase)
-                    );
+                    view.status(&s, || progress_line(&s));
                 }
             }
-            Err(e) => return Err(e),
+            Err(e) => {
+                view.finish();
+                return Err(e);
+            }
         }
     }
+}
+
+/// The redrawn progress line of `--wait`.
+fn progress_line(s: &gaitd_client::Status) -> String {
+    format!(
+        "{} remaining {:7.2} deg  gaits {}/{}  phase {}",
+        code(s.goal_state(), s.goal.state),
+        s.goal.remaining_angle.to_degrees(),
+        s.goal.gaits_done,
+        s.goal.gaits_planned,
+        code(s.phase(), s.phase)
+    )
 }

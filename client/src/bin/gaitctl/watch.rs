@@ -1,8 +1,12 @@
 //! `gaitctl watch`: a live view refreshed in place with ANSI escapes (no
 //! TUI library): phase, fingers, force-closure margin, goal progress bar,
 //! tick timing, and the latest events (gaits, goal transitions, faults).
+//! When standard output is not a terminal (`--live`): one line per change
+//! of goal, goal state or phase, and one per event.
 
 use crate::common::{ConnArgs, code, deg, event_line, us};
+use crate::progress::{Changes, LiveArg, change_line};
+use gaitd_client::Client;
 use gaitd_client::Status;
 use shm_schema::EventKind;
 use std::collections::VecDeque;
@@ -20,9 +24,12 @@ pub struct Args {
     /// Stop after this many frames (default: until Ctrl-C).
     #[arg(long)]
     frames: Option<u64>,
-    /// Latest events shown under the view (0: none).
+    /// Latest events shown under the view (0: none; without redrawing:
+    /// 0 prints no event lines).
     #[arg(long, default_value_t = 6)]
     events: usize,
+    #[command(flatten)]
+    live: LiveArg,
 }
 
 fn bar(fraction: f64, width: usize) -> String {
@@ -152,7 +159,59 @@ pub fn render(s: &Status, progress: Option<f64>, rate: Option<f64>) -> String {
 /// Runs the subcommand.
 pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let mut c = conn.connect()?;
-    let period = Duration::from_secs_f64(1.0 / a.rate.clamp(0.5, 100.0));
+    if a.live.live.redraw() {
+        redraw(&mut c, conn, a)
+    } else {
+        lines(&mut c, conn, a)
+    }
+}
+
+fn period(a: &Args) -> Duration {
+    Duration::from_secs_f64(1.0 / a.rate.clamp(0.5, 100.0))
+}
+
+/// For logs and pipes: the daemon's line when it (re)appears, then a line
+/// per change of goal, goal state or phase and one per event (missed
+/// periods are not listed: they count in the status).
+fn lines(c: &mut Client, conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
+    let (mut changes, mut instance, mut frames) = (Changes::default(), 0, 0u64);
+    loop {
+        let start = Instant::now();
+        let s = match c.wait_status(conn.timeout()) {
+            Ok(s) => s,
+            Err(gaitd_client::Error::Timeout { .. }) => {
+                println!("daemon not answering; reconnecting...");
+                c.ensure_connected(conn.timeout())?;
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        if s.instance != instance {
+            instance = s.instance;
+            println!(
+                "{}",
+                render(&s, None, None).lines().next().unwrap_or_default()
+            );
+        }
+        if changes.changed(&s) {
+            println!("{}", change_line(&s));
+        }
+        for e in c.events()? {
+            if a.events > 0 && e.kind() != Ok(EventKind::Overrun) {
+                println!("{}", event_line(&e));
+            }
+        }
+        frames += 1;
+        if a.frames.is_some_and(|n| frames >= n) {
+            return Ok(ExitCode::SUCCESS);
+        }
+        std::thread::sleep(period(a).saturating_sub(start.elapsed()));
+    }
+}
+
+/// On a terminal: the whole view, redrawn in place.
+fn redraw(c: &mut Client, conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
+    let period = period(a);
     let mut out = std::io::stdout();
     let _ = write!(out, "\x1b[2J");
     let (mut goal, mut initial) = (0u64, 0f64);

@@ -12,8 +12,15 @@
 //! dead-node cleanup at node creation); an incompatible or corrupted one
 //! (another schema version, other limits) is removed by force and created
 //! anew, and its old clients must reconnect.
+//!
+//! Where the resources live (root path, file prefix, service prefix) is
+//! resolved in `resolve.rs`.
 
-use crate::process::config::{DaemonConfig, IpcSection};
+mod resolve;
+
+pub use resolve::{IpcOrigins, Origin, ResolvedIpc, resolve, resolve_explained};
+
+use crate::process::config::DaemonConfig;
 use iceoryx2::config::Config;
 use iceoryx2::node::NodeBuilder;
 use iceoryx2::port::listener::Listener;
@@ -23,7 +30,7 @@ use iceoryx2::port::subscriber::Subscriber;
 use iceoryx2::prelude::*;
 use iceoryx2::service::builder::event::EventCreateError;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeCreateError;
-use shm_schema::ipc::{IpcRequest, IpcSettings};
+use shm_schema::ipc::IpcSettingsError;
 use shm_schema::{
     Answer, Command, EVENT_ID_DAEMON_DEAD, EVENT_ID_MAX, Event, PlantCommand, PlantMeasurement,
     ServiceNames, Status,
@@ -39,6 +46,16 @@ pub enum IpcError {
     /// The settings (prefix, root path, file prefix) are unusable.
     #[error("ipc settings: {0}")]
     Settings(#[from] shm_schema::ipc::IpcSettingsError),
+    /// One resolved setting is unusable; says where it came from.
+    #[error("ipc settings: `{value}` ({origin}): {error}")]
+    BadSetting {
+        /// What is wrong.
+        error: IpcSettingsError,
+        /// The value.
+        value: String,
+        /// Where it came from.
+        origin: Origin,
+    },
     /// The iceoryx2 config file could not be loaded.
     #[error("cannot load iceoryx2 config {path}: {why}")]
     ConfigFile {
@@ -73,39 +90,6 @@ pub enum IpcError {
         /// What failed.
         why: String,
     },
-}
-
-/// Loads the iceoryx2 config a daemon with `ipc` settings uses and the
-/// resolved settings (explicit keys → environment → config file → defaults).
-pub fn resolve(ipc: &IpcSection) -> Result<(Config, IpcSettings), IpcError> {
-    let opt = |s: &String| (!s.is_empty()).then(|| s.clone());
-    let req = IpcRequest {
-        service_prefix: opt(&ipc.service_prefix),
-        iceoryx2_config: opt(&ipc.iceoryx2_config),
-        root_path: opt(&ipc.root_path),
-        file_prefix: opt(&ipc.file_prefix),
-    }
-    .or_env(|k| std::env::var(k).ok());
-    let file = match &req.iceoryx2_config {
-        Some(path) => {
-            let fp = FilePath::new(path.as_bytes()).map_err(|e| IpcError::ConfigFile {
-                path: path.clone(),
-                why: format!("{e:?}"),
-            })?;
-            Some(Config::from_file(&fp).map_err(|e| IpcError::ConfigFile {
-                path: path.clone(),
-                why: format!("{e:?}"),
-            })?)
-        }
-        None => None,
-    };
-    // SAFETY: getuid has no preconditions.
-    let uid = unsafe { libc::getuid() };
-    let run_dir = std::path::Path::new("/run/gaitd").is_dir();
-    let settings = req.resolve(file.as_ref(), uid, run_dir);
-    let mut config = file.unwrap_or_default();
-    settings.apply(&mut config)?;
-    Ok((config, settings))
 }
 
 /// Creates the node `name` under `config` (cleaning up dead nodes of
@@ -576,4 +560,87 @@ pub fn status_subscriber(
         .create()
         .map_err(|e| err(&names.status, "subscriber", e))?;
     Ok(sub)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use iceoryx2::service::port_factory::PortFactory;
+    use iceoryx2::service::static_config::publish_subscribe::StaticConfig;
+    use shm_schema::ipc::IpcSettings;
+
+    /// `shm_schema/CLIENT-GUIDE.md` states the settings of the services the
+    /// daemon creates with the default `[ipc]`: checked here against the
+    /// services themselves, created in a namespace of this test's own.
+    #[test]
+    fn the_client_guide_states_the_service_settings() {
+        let guide = include_str!("../../../../shm_schema/CLIENT-GUIDE.md");
+        let cfg = DaemonConfig::default();
+        let pid = std::process::id();
+        let dir = std::env::temp_dir().join(format!("gaitd-ipc-guide-{pid}"));
+        let settings = IpcSettings {
+            service_prefix: format!("guide-{pid}"),
+            root_path: format!("{}/iceoryx2/", dir.display()),
+            file_prefix: format!("gguide{pid}_"),
+        };
+        let mut config = Config::default();
+        settings.apply(&mut config).unwrap();
+        let node = create_node("gaitd-guide-test", &config).unwrap();
+        let s = create_services(&node, &cfg, &settings.service_prefix).unwrap();
+        let row = |name: &str, payload: &str, c: &StaticConfig| {
+            let overflow = if c.has_safe_overflow() { "yes" } else { "no" };
+            format!(
+                "| `<prefix>/{name}` | `{payload}` | {} | {} | {} | {} | {} | {overflow}",
+                c.max_publishers(),
+                c.max_subscribers(),
+                c.max_nodes(),
+                c.history_size(),
+                c.subscriber_max_buffer_size()
+            )
+        };
+        let n = s.out.notify.static_config();
+        let mut want = vec![
+            row("commands", "Command", s.commands.static_config()),
+            row("answers", "Answer", s.out.answers.static_config()),
+            row("status", "Status", s.out.status.static_config()),
+            row("events", "Event", s.out.events.static_config()),
+            format!(
+                "| `<prefix>/notify` | event | {} | {} | {} | {} | {} |",
+                n.max_notifiers(),
+                n.max_listeners(),
+                n.max_nodes(),
+                n.event_id_max_value(),
+                n.notifier_dead_event().map_or(0, |e| e.as_value())
+            ),
+        ];
+        let ipc = &cfg.ipc;
+        want.push(format!(
+            "(`max_clients` = N = {}, `command_queue` = {},\n`answer_buffer` = {}, \
+             `event_history` = {}, `event_buffer` = {})",
+            ipc.max_clients,
+            ipc.command_queue,
+            ipc.answer_buffer,
+            ipc.event_history,
+            ipc.event_buffer
+        ));
+        drop(s);
+        drop(node);
+        let _ = std::fs::remove_dir_all(&dir);
+        if let Ok(shm) = std::fs::read_dir("/dev/shm") {
+            for e in shm.flatten() {
+                if e.file_name()
+                    .to_string_lossy()
+                    .starts_with(&settings.file_prefix)
+                {
+                    let _ = std::fs::remove_file(e.path());
+                }
+            }
+        }
+        for w in want {
+            assert!(
+                guide.contains(&w),
+                "shm_schema/CLIENT-GUIDE.md is out of date: it should say\n{w}"
+            );
+        }
+    }
 }

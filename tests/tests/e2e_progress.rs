@@ -1,0 +1,135 @@
+//! Live views without a terminal: `gaitctl demo`, `reorient --wait` and
+//! `watch` with standard output piped (a log file, a CI job) print one
+//! line per change of phase or goal state — no carriage returns, no ANSI
+//! escapes — so `gaitctl demo > log` is a readable log.
+
+use gaitd_tests::TestDaemon;
+use std::process::Output;
+
+/// Standard output, after checking that the command succeeded and that
+/// neither stream redraws anything.
+fn log_text(what: &str, out: &Output) -> String {
+    let (text, err) = (
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(out.status.success(), "{what} failed:\n{text}\n{err}");
+    for (stream, s) in [("stdout", text.as_str()), ("stderr", &err)] {
+        assert!(
+            !s.contains('\r'),
+            "{what}: carriage return on {stream}:\n{s:?}"
+        );
+        assert!(
+            !s.contains('\x1b'),
+            "{what}: ANSI escape on {stream}:\n{s:?}"
+        );
+    }
+    text
+}
+
+/// Lines showing `goal` in `state` and the phases that appear for it.
+fn phase_lines<'a>(text: &'a str, goal: &str, state: &str) -> Vec<&'a str> {
+    text.lines()
+        .filter(|l| l.contains(&format!("goal {goal} {state}")) && l.contains(" phase "))
+        .collect()
+}
+
+#[test]
+fn reorient_wait_prints_a_line_per_change_when_piped() {
+    let d = TestDaemon::start("progress-reorient");
+    let out = d
+        .gaitctl()
+        .args([
+            "reorient",
+            "--axis",
+            "0,0,1",
+            "--angle-deg",
+            "90",
+            "--relative",
+            "--wait",
+        ])
+        .output()
+        .unwrap();
+    let text = log_text("reorient --wait", &out);
+    let executing = phase_lines(&text, "1", "Executing");
+    // Rolling to a pair, then rotations with gaits between them.
+    for phase in ["Roll", "Rotate", "Place", "Lift"] {
+        assert!(
+            executing
+                .iter()
+                .any(|l| l.contains(&format!("phase {phase} "))),
+            "no line for phase {phase}:\n{text}"
+        );
+    }
+    // One line per change, not per poll.
+    for pair in executing.windows(2) {
+        let phase = |l: &str| {
+            l.split(" phase ")
+                .nth(1)
+                .and_then(|p| p.split_whitespace().next())
+                .map(str::to_owned)
+        };
+        assert_ne!(
+            phase(pair[0]),
+            phase(pair[1]),
+            "a line without a change:\n{text}"
+        );
+    }
+    assert!(!phase_lines(&text, "1", "Succeeded").is_empty(), "{text}");
+    assert_eq!(
+        text.lines().last(),
+        Some("goal 1: Succeeded (Reached)"),
+        "{text}"
+    );
+}
+
+#[test]
+fn watch_prints_lines_when_piped() {
+    let d = TestDaemon::start("progress-watch");
+    let out = d
+        .gaitctl()
+        .args(["watch", "--frames", "3"])
+        .output()
+        .unwrap();
+    let text = log_text("watch", &out);
+    let first = text.lines().next().unwrap_or_default();
+    assert!(
+        first.starts_with("gaitd ") && first.contains("Running"),
+        "{text}"
+    );
+    assert_eq!(
+        text.lines().filter(|l| l.contains(" phase Hold")).count(),
+        1,
+        "a line per change, and nothing changed:\n{text}"
+    );
+    assert!(
+        text.contains("DaemonStarted"),
+        "the event history as lines:\n{text}"
+    );
+}
+
+/// The README's headline command against a running daemon, into a log.
+#[test]
+fn demo_into_a_log_is_readable() {
+    let d = TestDaemon::start("progress-demo");
+    let out = d.gaitctl().arg("demo").output().unwrap();
+    let text = log_text("demo", &out);
+    assert!(text.contains("using the running gaitd"), "{text}");
+    for (goal, label) in [
+        ("1", "== a full turn about z"),
+        ("2", "== a full turn about x"),
+    ] {
+        assert!(text.contains(label), "{text}");
+        let executing = phase_lines(&text, goal, "Executing");
+        assert!(
+            executing.iter().any(|l| l.contains("phase Rotate ")) && executing.len() >= 4,
+            "goal {goal}: its phases as lines:\n{text}"
+        );
+        assert!(!phase_lines(&text, goal, "Succeeded").is_empty(), "{text}");
+    }
+    assert!(
+        text.contains("   substitution: "),
+        "gait events as lines:\n{text}"
+    );
+    assert!(text.contains("summary: succeeded"), "{text}");
+}
