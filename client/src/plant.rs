@@ -334,6 +334,35 @@ impl PlantHost {
         Ok(r)
     }
 
+    /// Publishes `m` exactly as given (no numbering, no echo) and notifies:
+    /// for plants that number their own measurements (and for test
+    /// fixtures that must lie).
+    pub fn send_raw(&mut self, m: &PlantMeasurement) -> Result<()> {
+        let sample = self
+            .measurements
+            .loan_uninit()
+            .map_err(|e| ipc_err("loan a measurement")(&e))?;
+        sample
+            .write_payload(*m)
+            .send()
+            .map_err(|e| ipc_err("send a measurement")(&e))?;
+        self.measured
+            .notify_with_custom_event_id(EventId::new(PLANT_EVENT_ID))
+            .map_err(|e| ipc_err("notify a measurement")(&e))?;
+        Ok(())
+    }
+
+    /// The newest command received, waiting up to `timeout` for one.
+    pub fn next_command(&mut self, timeout: Duration) -> Result<Option<PlantCommand>> {
+        if let Some(c) = self.newest()? {
+            return Ok(Some(c));
+        }
+        self.commanded
+            .timed_wait(|_| {}, timeout)
+            .map_err(|e| ipc_err("wait for a command")(&e))?;
+        self.newest()
+    }
+
     /// Lockstep with no command for a while: publishes the last measurement
     /// again (same sequence number and time), so a restarted daemon learns
     /// the state.

@@ -237,6 +237,78 @@ pub fn remove_shm(file_prefix: &str) {
     }
 }
 
+/// A plant process attached to a [`TestDaemon`] started with
+/// `[plant] kind = "shm"`: `gaitctl plant sim` (the kinematic hand) or the
+/// misbehaving `plant_fixture`. Dropping it kills the process.
+pub struct TestPlant {
+    /// The process (None once killed).
+    pub child: Option<std::process::Child>,
+    log: PathBuf,
+}
+
+impl TestPlant {
+    /// `gaitctl plant sim --config <the daemon's config>` (its `[ipc]` and
+    /// `[plant]` settings).
+    pub fn sim(d: &TestDaemon) -> Self {
+        let log = d.dir.join(format!(
+            "plant-{}.log",
+            NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+        ));
+        let mut cmd = d.gaitctl();
+        cmd.arg("plant")
+            .arg("sim")
+            .arg("--config")
+            .arg(d.config_path());
+        Self::spawn(cmd, log)
+    }
+
+    /// The misbehaving fixture: `lie` after `after` good steps (see
+    /// `src/bin/plant_fixture.rs`).
+    pub fn fixture(d: &TestDaemon, lie: &str, after: u64) -> Self {
+        let log = d.dir.join(format!("fixture-{lie}.log"));
+        let mut cmd = Command::new(workspace_bin("plant_fixture"));
+        cmd.arg("--prefix")
+            .arg(&d.prefix)
+            .arg("--root")
+            .arg(format!("{}/", d.root.display()))
+            .arg("--file-prefix")
+            .arg(&d.file_prefix)
+            .arg("--lie")
+            .arg(lie)
+            .arg("--after")
+            .arg(after.to_string());
+        Self::spawn(cmd, log)
+    }
+
+    fn spawn(mut cmd: Command, log: PathBuf) -> Self {
+        let file = std::fs::File::create(&log).expect("plant log");
+        cmd.stdout(std::process::Stdio::null()).stderr(file);
+        Self {
+            child: Some(cmd.spawn().expect("spawn the plant")),
+            log,
+        }
+    }
+
+    /// Kills the plant at once (SIGKILL: no goodbye).
+    pub fn kill(&mut self) {
+        if let Some(mut c) = self.child.take() {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+    }
+
+    /// What the plant printed.
+    pub fn log(&self) -> String {
+        std::fs::read_to_string(&self.log).unwrap_or_default()
+    }
+}
+
+impl Drop for TestPlant {
+    fn drop(&mut self) {
+        self.kill();
+    }
+}
+
 impl Drop for TestDaemon {
     fn drop(&mut self) {
         if let Some(mut c) = self.child.take() {

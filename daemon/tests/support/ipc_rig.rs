@@ -377,3 +377,165 @@ impl GaitLoop {
         planner.join();
     }
 }
+
+/// A plant in the test process for a daemon with `[plant] kind = "shm"`:
+/// the kinematic hand following every command exactly, over the plant
+/// services (raw iceoryx2 ports), numbering its measurements and echoing
+/// the command it applied.
+pub struct RigPlant {
+    commands: Subscriber<Ipc, shm_schema::PlantCommand, ()>,
+    measurements: Publisher<Ipc, shm_schema::PlantMeasurement, ()>,
+    measured: iceoryx2::port::notifier::Notifier<Ipc>,
+    commanded: Listener<Ipc>,
+    hand: gait::sim::KinematicHand,
+    seq: u64,
+    time_ns: u64,
+    last: Option<shm_schema::PlantCommand>,
+    _node: Node<Ipc>,
+}
+
+impl RigPlant {
+    /// Opens the plant services of the daemon in `ns`, at the paper start.
+    pub fn open(ns: &Namespace) -> Self {
+        let (ice, settings) = ipc::resolve(&ns.cfg.ipc).unwrap();
+        let names = ServiceNames::new(&settings.service_prefix);
+        let node = NodeBuilder::new().config(&ice).create::<Ipc>().unwrap();
+        let sn = |s: &str| ServiceName::new(s).unwrap();
+        let commands = node
+            .service_builder(&sn(&names.plant_command))
+            .publish_subscribe::<shm_schema::PlantCommand>()
+            .open()
+            .unwrap()
+            .subscriber_builder()
+            .buffer_size(2)
+            .create()
+            .unwrap();
+        let measurements = node
+            .service_builder(&sn(&names.plant_measurement))
+            .publish_subscribe::<shm_schema::PlantMeasurement>()
+            .open()
+            .unwrap()
+            .publisher_builder()
+            .create()
+            .unwrap();
+        let measured = node
+            .service_builder(&sn(&names.plant_measured))
+            .event()
+            .open()
+            .unwrap()
+            .notifier_builder()
+            .create()
+            .unwrap();
+        let commanded = node
+            .service_builder(&sn(&names.plant_commanded))
+            .event()
+            .open()
+            .unwrap()
+            .listener_builder()
+            .create()
+            .unwrap();
+        let start = gait::HandState::paper_start(&ns.cfg.hand());
+        Self {
+            commands,
+            measurements,
+            measured,
+            commanded,
+            hand: gait::sim::KinematicHand::new(start, 1e-3),
+            seq: 0,
+            time_ns: 0,
+            last: None,
+            _node: node,
+        }
+    }
+
+    /// Publishes the next measurement of the hand's state (and notifies).
+    pub fn publish(&mut self) {
+        use shm_schema::{PlantMeasurement, measurement_valid, plant_state};
+        self.seq += 1;
+        self.time_ns += 1_000_000;
+        let s = *self.hand.state();
+        let q = |q: &nalgebra::UnitQuaternion<f64>| [q.w, q.i, q.j, q.k];
+        let mut m = PlantMeasurement {
+            session: self.last.map_or(0, |c| c.session),
+            seq: self.seq,
+            applied: self.last.map_or(0, |c| c.seq),
+            time_ns: self.time_ns,
+            valid: measurement_valid::REQUIRED,
+            state: plant_state::SIMULATED,
+            object_q: q(&s.object),
+            ..PlantMeasurement::default()
+        };
+        for (w, f) in m.fingers.iter_mut().zip(&s.fingers) {
+            w.position = f.center.into();
+            w.orientation = q(&f.orientation);
+            w.roll = f.roll;
+            w.contact = u32::from(f.mode == gait::FingerMode::Grasping);
+        }
+        self.measurements
+            .loan_uninit()
+            .unwrap()
+            .write_payload(m)
+            .send()
+            .unwrap();
+        self.measured.notify().unwrap();
+    }
+
+    /// Takes the newest command, waiting (bounded, wall clock) for one that
+    /// answers our last measurement; applies it. Returns false on timeout.
+    pub fn follow(&mut self, timeout: std::time::Duration) -> bool {
+        let t0 = std::time::Instant::now();
+        loop {
+            let mut newest = None;
+            while let Some(s) = self.commands.receive().unwrap() {
+                newest = Some(*s.payload());
+            }
+            if let Some(c) = newest
+                && c.answers == self.seq
+            {
+                self.apply(&c);
+                return true;
+            }
+            if t0.elapsed() > timeout {
+                return false;
+            }
+            let _ = self
+                .commanded
+                .timed_wait(|_| {}, std::time::Duration::from_millis(5));
+        }
+    }
+
+    fn apply(&mut self, c: &shm_schema::PlantCommand) {
+        use gait::sim::Plant;
+        use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+        let quat =
+            |q: [f64; 4]| UnitQuaternion::new_normalize(Quaternion::new(q[0], q[1], q[2], q[3]));
+        self.last = Some(*c);
+        if c.flags & shm_schema::command_flags::ENABLE == 0 {
+            return;
+        }
+        let mut state = *self.hand.state();
+        state.object = quat(c.object_q);
+        for (f, cf) in state.fingers.iter_mut().zip(&c.fingers) {
+            f.center = Vector3::from(cf.position);
+            f.orientation = quat(cf.orientation);
+            f.roll = cf.roll;
+            f.mode = if cf.mode == shm_schema::PlantFingerMode::Grasping.code() {
+                gait::FingerMode::Grasping
+            } else {
+                gait::FingerMode::Free
+            };
+        }
+        self.hand.write(&gait::planner::Setpoint {
+            state,
+            object_rate: Vector3::from(c.object_omega),
+            finger_velocity: c.fingers.map(|f| Vector3::from(f.velocity)),
+            finger_rate: c.fingers.map(|f| Vector3::from(f.angular_velocity)),
+            estimate_epoch: 0,
+        });
+    }
+
+    /// The hand's true state.
+    pub fn state(&self) -> &gait::HandState {
+        self.hand.state()
+    }
+}

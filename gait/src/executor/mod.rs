@@ -284,6 +284,8 @@ pub struct Executor {
     written: [HandState; WRITTEN],
     /// Where the next written setpoint goes in `written`.
     written_next: usize,
+    /// The setpoint state the last measurement reflected.
+    prev_reflected: HandState,
     events: EventQueue,
     report: TickReport,
     tick: u64,
@@ -395,6 +397,7 @@ impl Executor {
             contact_radius: config.model.object_radius + config.model.fingertip_radius,
             written: [start; WRITTEN],
             written_next: 0,
+            prev_reflected: start,
             events: EventQueue::default(),
             report: TickReport {
                 tick: 0,
@@ -535,9 +538,12 @@ impl Executor {
         let mut correction = Vector3::zeros();
         // A measurement older than the setpoints kept counts as none.
         let measurement = measurement.filter(|m| (m.age as usize) < WRITTEN - 1);
-        // The setpoint it reflects (and the one before), to compare with.
+        // The setpoint it reflects, to compare with; the previous
+        // measurement is compared with the one it reflected (a measurement
+        // held or repeated reflects the same setpoint: no motion expected).
         let age = measurement.map_or(0, |m| m.age as usize);
-        let (cmd, prev_cmd) = (self.written(age), self.written(age + 1));
+        let cmd = self.written(age);
+        let prev_cmd = self.prev_reflected;
         if self.phase != Phase::SafeHold {
             match self.feedback.check(
                 measurement,
@@ -564,6 +570,7 @@ impl Executor {
         }
         if let Some(m) = measurement {
             self.prev_measurement = Some(*m);
+            self.prev_reflected = cmd;
             self.measured_at = self.tick;
         }
         self.prev_setpoint = self.setpoint;
@@ -594,6 +601,7 @@ impl Executor {
     fn reset_written(&mut self, state: HandState) {
         self.written = [state; WRITTEN];
         self.written_next = 0;
+        self.prev_reflected = state;
     }
 
     /// Moves the setpoint one period along the running step.

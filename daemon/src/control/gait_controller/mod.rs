@@ -32,7 +32,7 @@ use crate::plant::{Hand, PlantSample};
 use crate::realtime::clock::Nanos;
 use codes::reason_code;
 use gait::executor::TickReport;
-use gait::executor::{self, Command, Executor, PlanRequest, Reason};
+use gait::executor::{self, Command, Executor, FaultKind, PlanRequest, Reason};
 use gait::gaiting::GaitTracker;
 use gait::planner::{Plan, PlanError};
 use gait::sim::{KinematicHand, Measurement, Plant};
@@ -66,6 +66,11 @@ pub struct GaitController {
     sample: PlantSample,
     /// The plant's own fault code of the last `PlantFault` (for the event).
     plant_fault: PlantFault,
+    /// The setpoints describe where the external plant really is: its
+    /// state was taken (first measurement, or a reset after it was lost),
+    /// so commands may enable it. A plant that comes back after a loss may
+    /// be anywhere: it is not enabled again before a reset.
+    plant_enabled: bool,
     planning: PlanShuttle,
     ids: GoalIds,
     /// Recognises substitutions and rewinds in the finished steps.
@@ -135,6 +140,7 @@ impl GaitController {
             hand,
             sample: PlantSample::default(),
             plant_fault: PlantFault::None,
+            plant_enabled: false,
             planning: PlanShuttle::new(link),
             ids: GoalIds::new(),
             gaits: GaitTracker::new(),
@@ -197,11 +203,15 @@ impl GaitController {
                 if let Some((kind, code)) = r.fault {
                     self.plant_fault = code;
                     self.exec.plant_fault(kind, ExternalPlant::any_finger());
+                    if kind == FaultKind::PlantLost {
+                        self.plant_enabled = false;
+                    }
                 }
                 if r.fresh
                     && let Some(m) = &r.measurement
+                    && self.exec.start_from(m)
                 {
-                    self.exec.start_from(m);
+                    self.plant_enabled = true;
                 }
                 let m = r
                     .measurement
@@ -225,7 +235,7 @@ impl GaitController {
                     FingerPhase::Free => PlantFingerMode::Free,
                 });
                 let mut flags = 0;
-                if !self.exec.awaiting_plant() {
+                if self.plant_enabled {
                     flags |= command_flags::ENABLE;
                 }
                 if self.exec.phase() == executor::Phase::SafeHold {
@@ -284,7 +294,12 @@ impl Controller for GaitController {
                 if self.exec.phase() != executor::Phase::SafeHold {
                     return Verdict::Rejected(ReasonCode::NotFaulted);
                 }
-                self.exec.command(Command::Reset)
+                let a = self.exec.command(Command::Reset);
+                // The state is the measured one again: the plant may follow.
+                if a == executor::Answer::Accepted {
+                    self.plant_enabled = true;
+                }
+                a
             }
         };
         self.forward_events(ctx, self.exec.report().remaining_angle);
