@@ -276,3 +276,89 @@ fn a_plant_starting_in_an_invalid_state_is_refused_with_its_reason() {
     let s2 = c.wait_status(T).unwrap();
     assert_eq!(s2.commanded_object_q, s.commanded_object_q);
 }
+
+/// Lockstep is reproducible bit for bit: a goal queued before the plant
+/// starts is taken at the plant's first tick, its plan delivered at a fixed
+/// tick, and two runs write the same trace (every line after the header,
+/// which names the run).
+#[test]
+fn two_lockstep_runs_write_identical_traces() {
+    let run = |i: u32| -> (Vec<String>, Vec<(u32, u64)>) {
+        let traces = std::env::temp_dir().join(format!("gaitd-e2e-det-{}-{i}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&traces);
+        std::fs::create_dir_all(&traces).unwrap();
+        let d = daemon(
+            &format!("det{i}"),
+            "lockstep",
+            &format!("[daemon]\ntrace_dir = \"{}\"\n", traces.display()),
+        );
+        let mut c = d.client();
+        // Queued before the plant exists: handled at its first tick.
+        let goal = GoalSpec::turn([0.3, -0.2, 1.0], 2.0).unwrap();
+        let cmd = goal.to_command(c.client_id(), 1);
+        let request = c.send_command(cmd).unwrap();
+        let plant = TestPlant::sim(&d);
+        let a = c.wait_answer(request, LONG).unwrap();
+        assert_eq!(a.verdict(), Ok(Verdict::Accepted), "{}", plant.log());
+        let o = c.wait_outcome(1, LONG).unwrap();
+        assert_eq!(o.state, GoalState::Succeeded);
+        // The ticks of the goal's transitions (plant time: the same in
+        // both runs only if plans arrive at fixed ticks).
+        let ticks: Vec<(u32, u64)> = c
+            .events()
+            .unwrap()
+            .filter(|e| e.kind() == Ok(gaitd_client::EventKind::GoalTransition) && e.goal_id == 1)
+            .map(|e| (e.state, e.tick))
+            .collect();
+        let t0 = Instant::now();
+        let file = loop {
+            let found = std::fs::read_dir(&traces)
+                .unwrap()
+                .flatten()
+                .find(|e| e.file_name().to_string_lossy().ends_with(".jsonl"));
+            if let Some(f) = found {
+                break f.path();
+            }
+            assert!(t0.elapsed() < Duration::from_secs(10), "no trace written");
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let text = std::fs::read_to_string(&file).unwrap();
+        let _ = std::fs::remove_dir_all(&traces);
+        (text.lines().skip(1).map(str::to_owned).collect(), ticks)
+    };
+    let ((a, ticks_a), (b, ticks_b)) = (run(0), run(1));
+    println!("goal transitions (state, tick): {ticks_a:?}");
+    assert!(
+        ticks_a.len() >= 3,
+        "accepted, planning, executing, succeeded: {ticks_a:?}"
+    );
+    assert_eq!(ticks_a, ticks_b, "the goal's transitions at the same ticks");
+    assert!(a.len() > 1000, "a real motion: {} lines", a.len());
+    assert_eq!(a.len(), b.len(), "same number of ticks");
+    let first_diff = a.iter().zip(&b).position(|(x, y)| x != y);
+    assert_eq!(first_diff, None, "traces differ from line {first_diff:?}");
+}
+
+/// A plant that never comes: the daemon waits in safe hold (nothing moves)
+/// and the log says what to check once `plant.connect_timeout_ms` passed.
+#[test]
+fn a_plant_that_never_comes_is_reported() {
+    let d = daemon(
+        "pnone",
+        "realtime",
+        "connect_timeout_ms = 100\n[daemon]\nhousekeeping_period_ms = 100\n",
+    );
+    let mut c = d.client();
+    let s = c.wait_status(T).unwrap();
+    assert_eq!(FaultCode::try_from(s.fault), Ok(FaultCode::PlantWaiting));
+    assert_eq!(s.phase, Phase::SafeHold.code());
+    let t = c
+        .reorient(&GoalSpec::turn([0.0, 0.0, 1.0], 0.5).unwrap(), T)
+        .unwrap();
+    assert_eq!(t.verdict, Verdict::Rejected(ReasonCode::Faulted));
+    let t0 = Instant::now();
+    while !d.log().contains("no plant has sent a valid measurement") {
+        assert!(t0.elapsed() < Duration::from_secs(10), "{}", d.log());
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}

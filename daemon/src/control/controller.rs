@@ -188,8 +188,8 @@ pub trait Controller {
     /// Whether the hand is still (no motion in progress).
     fn at_rest(&self) -> bool;
 
-    /// What the loop received from an external plant for the coming tick
-    /// (called just before [`Controller::tick`]; the embedded hand needs
-    /// none).
-    fn feed_plant(&mut self, _sample: &crate::plant::PlantSample) {}
+    /// What the loop received from an external plant for the coming tick,
+    /// at `now`: called first in the tick, before its commands (the
+    /// embedded hand needs none).
+    fn feed_plant(&mut self, _sample: &crate::plant::PlantSample, _now: Nanos) {}
 }

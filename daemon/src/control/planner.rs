@@ -115,6 +115,11 @@ impl<Req: Send, P: Send, E: Send> PlannerLink<Req, P, E> {
         Ok(seq)
     }
 
+    /// Whether a reply waits to be polled (wait-free).
+    pub fn reply_ready(&self) -> bool {
+        !self.replies.is_empty()
+    }
+
     /// The next finished reply, if any.
     pub fn poll(&mut self) -> Option<Reply<P, E>> {
         self.replies.pop()

@@ -20,8 +20,8 @@ use iceoryx2::config::Config;
 use iceoryx2::identifiers::UniqueNodeId;
 use iceoryx2::node::NodeView;
 use iceoryx2::prelude::*;
-use shm_schema::ServiceNames;
 use shm_schema::ipc::HOUSEKEEPING_NODE_NAME;
+use shm_schema::{FaultCode, ServiceNames, Status};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -44,6 +44,9 @@ pub struct HousekeepingSetup {
     pub sd: Option<sd_notify::Notifier>,
     /// CPUs to pin this thread to.
     pub cpus: Vec<u32>,
+    /// With an external plant: how long it may take to send its first
+    /// valid measurement before that is warned about (`plant.connect_timeout_ms`).
+    pub plant_connect_timeout: Option<Duration>,
 }
 
 /// Handle of the running thread (stops it on `join` or drop).
@@ -76,6 +79,7 @@ fn run(s: HousekeepingSetup, stop: &AtomicBool) {
     let mut overrun_limit = RateLimit::new(Duration::from_secs(10));
     let mut ipc_limit = RateLimit::new(Duration::from_secs(10));
     let mut event_limit = RateLimit::new(Duration::from_secs(10));
+    let mut plant = PlantWatch::new(Instant::now());
     let (mut last_overruns, mut last_ipc, mut last_dropped, mut last_clients) = (0, 0, 0, 0);
     while !stop.load(Ordering::Acquire) {
         let now = Instant::now();
@@ -137,11 +141,16 @@ fn run(s: HousekeepingSetup, stop: &AtomicBool) {
             last_dropped = dropped;
         }
 
-        if let (Some(sd), Some(sub)) = (&s.sd, &status) {
-            let mut latest = None;
+        let mut latest = None;
+        if let Some(sub) = &status {
             while let Ok(Some(sample)) = sub.receive() {
                 latest = Some(*sample.payload());
             }
+        }
+        if let Some(st) = &latest {
+            plant.observe(st, now, s.plant_connect_timeout);
+        }
+        if let Some(sd) = &s.sd {
             if let Some(st) = latest {
                 let t = &st.timing;
                 let _ = sd.status(&format!(
@@ -156,6 +165,54 @@ fn run(s: HousekeepingSetup, stop: &AtomicBool) {
             }
         }
         std::thread::park_timeout(s.period);
+    }
+}
+
+/// The external plant as the status shows it, for the log (the loop
+/// never logs): a plant that does not connect in time, and every change of
+/// a plant fault.
+struct PlantWatch {
+    since: Instant,
+    warned_waiting: bool,
+    last_fault: u32,
+}
+
+impl PlantWatch {
+    fn new(now: Instant) -> Self {
+        Self {
+            since: now,
+            warned_waiting: false,
+            last_fault: FaultCode::None.code(),
+        }
+    }
+
+    fn observe(&mut self, st: &Status, now: Instant, connect_timeout: Option<Duration>) {
+        let Some(timeout) = connect_timeout else {
+            return;
+        };
+        let waiting = st.fault == FaultCode::PlantWaiting.code();
+        if waiting && !self.warned_waiting && now.duration_since(self.since) > timeout {
+            self.warned_waiting = true;
+            warn!(
+                waited = ?timeout,
+                "no plant has sent a valid measurement yet: is it running with this \
+                 daemon's [ipc] settings (gaitctl plant sim|mujoco --config <this file>)?"
+            );
+        }
+        if st.fault != self.last_fault {
+            let name = FaultCode::try_from(st.fault).map_or("unknown", FaultCode::name);
+            match FaultCode::try_from(st.fault) {
+                Ok(FaultCode::None) if !waiting => info!("plant: fault cleared"),
+                Ok(FaultCode::PlantWaiting) => {}
+                _ => warn!(fault = name, "plant: safe hold after a fault"),
+            }
+            if st.fault == FaultCode::None.code()
+                && self.last_fault == FaultCode::PlantWaiting.code()
+            {
+                info!("plant: first valid measurement taken; the hand starts from it");
+            }
+            self.last_fault = st.fault;
+        }
     }
 }
 

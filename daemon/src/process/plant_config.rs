@@ -43,8 +43,9 @@ pub struct PlantSection {
     /// Consecutive ticks without a fresh measurement tolerated, holding the
     /// last one, before the fault `PlantLost` (see [`DEFAULT_MAX_MISSED`]).
     pub max_missed: u32,
-    /// How long start-up and `reset` wait for the plant's first valid
-    /// measurement before reporting that it is missing \[ms\].
+    /// How long the plant may take to send its first valid measurement
+    /// before the log warns that none came (the daemon keeps waiting, in
+    /// safe hold with `PlantWaiting`; nothing moves) \[ms\].
     pub connect_timeout_ms: u32,
     /// Lockstep: wall-clock time the loop waits for the next measurement
     /// before the fault `PlantLost` (it then keeps waiting for the plant to

@@ -209,6 +209,10 @@ pub fn start_background(
         // Housekeeping's STATUS= texts are best effort.
         sd: sd_notify::Notifier::from_env().ok().flatten(),
         cpus: cfg.rt.background_cpus.clone(),
+        plant_connect_timeout: cfg
+            .plant
+            .external()
+            .then(|| Duration::from_millis(cfg.plant.connect_timeout_ms.into())),
     })
     .map_err(StartupError::Housekeeping)?;
     let gait_planner = gait::planner::Planner::new(&cfg.hand()).map_err(StartupError::Planner)?;

@@ -354,7 +354,7 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
 
     /// A lockstep tick at plant time `now` with `sample`.
     fn step_with(&mut self, now: Nanos, sample: &PlantSample) {
-        self.controller.feed_plant(sample);
+        self.controller.feed_plant(sample, now);
         self.step(Wake {
             deadline: now,
             now,
@@ -379,8 +379,9 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         if self.lockstep.is_none()
             && let Some(p) = self.plant.as_mut()
         {
-            let sample = p.drain(self.clock.now());
-            self.controller.feed_plant(&sample);
+            let now = self.clock.now();
+            let sample = p.drain(now);
+            self.controller.feed_plant(&sample, now);
         }
         let wall_start = self.clock.now();
         self.tick += 1;

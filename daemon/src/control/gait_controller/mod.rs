@@ -62,8 +62,11 @@ impl Planner for GaitPlanner {
 pub struct GaitController {
     exec: Executor,
     hand: Hand,
-    /// What the loop received from an external plant for this tick.
-    sample: PlantSample,
+    /// This tick's reading of the external plant, taken in
+    /// [`Controller::feed_plant`] (before the tick's commands, so that a
+    /// goal arriving with the plant's first measurement finds the hand
+    /// started).
+    reading: Option<(Option<Measurement>, bool)>,
     /// The plant's own fault code of the last `PlantFault` (for the event).
     plant_fault: PlantFault,
     /// The setpoints describe where the external plant really is: its
@@ -121,7 +124,11 @@ impl GaitController {
         link: PlannerLink<PlanRequest, Plan, PlanError>,
         plant: ExternalPlant,
     ) -> Result<Self, gait::ConfigError> {
+        let lockstep = plant.lockstep();
         let mut c = Self::with_hand(config, dt, link, Hand::External(plant))?;
+        if lockstep {
+            c.planning.deliver_deterministically();
+        }
         c.exec.await_plant();
         // (The waiting fault is the status's, not an event.)
         while c.exec.pop_event().is_some() {}
@@ -138,7 +145,7 @@ impl GaitController {
         Ok(Self {
             exec: Executor::new(config, dt, start)?,
             hand,
-            sample: PlantSample::default(),
+            reading: None,
             plant_fault: PlantFault::None,
             plant_enabled: false,
             planning: PlanShuttle::new(link),
@@ -195,11 +202,11 @@ impl GaitController {
     /// plant's (fresh or held) with its faults handed to the executor and,
     /// while waiting for the plant, the start from its first valid state.
     /// Returns it and whether it is fresh (not held).
-    fn read_plant(&mut self, now: Nanos) -> (Option<Measurement>, bool) {
+    fn read_plant(&mut self, sample: &PlantSample, now: Nanos) -> (Option<Measurement>, bool) {
         match &mut self.hand {
             Hand::Embedded(h) => (h.read(), true),
             Hand::External(x) => {
-                let r = x.read(&self.sample, now);
+                let r = x.read(sample, now);
                 if let Some((kind, code)) = r.fault {
                     self.plant_fault = code;
                     self.exec.plant_fault(kind, ExternalPlant::any_finger());
@@ -311,23 +318,26 @@ impl Controller for GaitController {
     }
 
     fn tick(&mut self, ctx: &mut TickContext<'_>, out: &mut ControlOutput) {
-        self.planning.pump(&mut self.exec);
-        let (m, fresh) = self.read_plant(ctx.now);
+        self.planning.pump(&mut self.exec, true);
+        let (m, fresh) = match self.reading.take() {
+            Some(r) => r,
+            None => self.read_plant(&PlantSample::default(), ctx.now),
+        };
         if let Some(m) = m
             && fresh
         {
             self.measured = Some((m, ctx.tick));
         }
         let r = *self.exec.tick(m.as_ref());
-        self.planning.pump(&mut self.exec);
+        self.planning.pump(&mut self.exec, false);
         self.forward_events(ctx, r.remaining_angle);
         self.record_trace(&r);
         self.output(&r, out);
         self.write_plant(&r, out);
     }
 
-    fn feed_plant(&mut self, sample: &PlantSample) {
-        self.sample = *sample;
+    fn feed_plant(&mut self, sample: &PlantSample, now: Nanos) {
+        self.reading = Some(self.read_plant(sample, now));
     }
 
     fn begin_safe_hold(&mut self, ctx: &mut TickContext<'_>) {

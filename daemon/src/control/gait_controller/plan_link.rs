@@ -22,7 +22,16 @@ pub struct PlanShuttle {
     retiring: [Option<Box<Plan>>; RETIRE_SLOTS],
     /// Plans leaked because the retire ring and `retiring` were full.
     leaked: u64,
+    /// Requests submitted and not yet answered.
+    in_flight: u32,
+    /// Lockstep: wait for every plan at the tick after its request, so a
+    /// run is reproducible bit for bit (the plant waits for us anyway).
+    deterministic: bool,
 }
+
+/// How long a lockstep tick waits for a plan before going on without it
+/// (the plan then arrives at a later tick, as in real time).
+const PLAN_WAIT: std::time::Duration = std::time::Duration::from_secs(10);
 
 impl std::fmt::Debug for PlanShuttle {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -40,7 +49,15 @@ impl PlanShuttle {
             requests: [(0, 0); REQUEST_SLOTS],
             retiring: [const { None }; RETIRE_SLOTS],
             leaked: 0,
+            in_flight: 0,
+            deterministic: false,
         }
+    }
+
+    /// From now on every plan is delivered at the tick after its request
+    /// (lockstep; see [`PlanShuttle::pump`]).
+    pub fn deliver_deterministically(&mut self) {
+        self.deterministic = true;
     }
 
     /// Plans leaked so far (expected 0: see [`PlanShuttle::retire`]).
@@ -67,20 +84,32 @@ impl PlanShuttle {
     }
 
     /// Retries waiting retirements, submits the executor's plan request
-    /// and delivers every finished plan to it.
-    pub fn pump(&mut self, exec: &mut Executor) {
+    /// and delivers every finished plan to it. `at_tick_start`: in
+    /// lockstep, the first pump of a tick waits (bounded) for the plans
+    /// requested in the tick before, so they arrive at a fixed tick.
+    pub fn pump(&mut self, exec: &mut Executor, at_tick_start: bool) {
         for k in 0..RETIRE_SLOTS {
             let p = self.retiring[k].take();
             self.retire(p);
         }
         if let Some(req) = exec.take_plan_request() {
             match self.link.submit(req) {
-                Ok(seq) => self.requests[(seq as usize) % REQUEST_SLOTS] = (seq, req.goal),
+                Ok(seq) => {
+                    self.requests[(seq as usize) % REQUEST_SLOTS] = (seq, req.goal);
+                    self.in_flight += 1;
+                }
                 // The planner is swamped: the goal fails rather than waits.
                 Err(_) => exec.plan_unavailable(req.goal),
             }
         }
+        if self.deterministic && at_tick_start && self.in_flight > 0 {
+            let t0 = std::time::Instant::now();
+            while !self.link.reply_ready() && t0.elapsed() < PLAN_WAIT {
+                std::thread::sleep(std::time::Duration::from_micros(20));
+            }
+        }
         while let Some(reply) = self.link.poll() {
+            self.in_flight = self.in_flight.saturating_sub(1);
             let (seq, goal) = self.requests[(reply.seq as usize) % REQUEST_SLOTS];
             if seq != reply.seq {
                 // Its slot was reused: the goal is long gone.
