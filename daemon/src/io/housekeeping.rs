@@ -150,19 +150,17 @@ fn run(s: HousekeepingSetup, stop: &AtomicBool) {
         if let Some(st) = &latest {
             plant.observe(st, now, s.plant_connect_timeout);
         }
-        if let Some(sd) = &s.sd {
-            if let Some(st) = latest {
-                let t = &st.timing;
-                let _ = sd.status(&format!(
-                    "tick {} | compute p99 {:.1} us max {:.1} us | jitter p99 {:.1} us | missed {} | clients {}",
-                    st.tick,
-                    t.compute_p99_ns as f64 / 1e3,
-                    t.compute_max_ns as f64 / 1e3,
-                    t.jitter_p99_ns as f64 / 1e3,
-                    t.overruns,
-                    st.clients
-                ));
-            }
+        if let (Some(sd), Some(st)) = (&s.sd, latest) {
+            let t = &st.timing;
+            let _ = sd.status(&format!(
+                "tick {} | compute p99 {:.1} us max {:.1} us | jitter p99 {:.1} us | missed {} | clients {}",
+                st.tick,
+                t.compute_p99_ns as f64 / 1e3,
+                t.compute_max_ns as f64 / 1e3,
+                t.jitter_p99_ns as f64 / 1e3,
+                t.overruns,
+                st.clients
+            ));
         }
         std::thread::park_timeout(s.period);
     }
