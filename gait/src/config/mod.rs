@@ -268,9 +268,23 @@ pub struct FeedbackConfig {
     /// motion in one tick (while commanded to move) is stuck; 0 disables
     /// the check.
     pub stall_ratio: f64,
-    /// Gain of the object orientation error fed back into the commanded
-    /// object angular velocity [1/s].
+    /// Gain of the object orientation error (measured against planned)
+    /// fed back into the fingertip setpoints: the commanded grasp is turned
+    /// about the object centre by a correction that integrates the error at
+    /// this rate, so a hand that lags or creeps still brings the object to
+    /// the plan (SPEC §6.3) [1/s]; 0 disables it.
     pub orientation_gain: f64,
+    /// Largest correction of the commanded grasp \[deg\]: it uses up
+    /// workspace margin, so it stays well inside `model.workspace_margin_deg`.
+    pub max_correction_deg: f64,
+    /// A grasping contact measured as not touching (its contact flag, or a
+    /// measured normal force below `min_contact_force`) this many ticks in
+    /// a row is lost: a fault (a plant's flags lag a placement or lift by a
+    /// few ticks).
+    pub contact_grace_ticks: u32,
+    /// Measured normal force below which a contact counts as not touching
+    /// (plants that measure forces) \[N\].
+    pub min_contact_force: f64,
 }
 
 impl Default for FeedbackConfig {
@@ -283,6 +297,9 @@ impl Default for FeedbackConfig {
             limit_guard: 0.5,
             stall_ratio: 0.1,
             orientation_gain: 10.0,
+            max_correction_deg: 0.5,
+            contact_grace_ticks: 50,
+            min_contact_force: 0.05,
         }
     }
 }

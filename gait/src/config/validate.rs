@@ -404,6 +404,27 @@ impl FeedbackConfig {
             1000.0,
             "in [0, 1000] 1/s",
         )?;
+        in_closed(
+            "feedback.max_correction_deg",
+            fb.max_correction_deg,
+            0.0,
+            10.0,
+            "in [0°, 10°]",
+        )?;
+        if !(1..=100_000).contains(&fb.contact_grace_ticks) {
+            return Err(ConfigError::OutOfRange {
+                key: "feedback.contact_grace_ticks",
+                value: f64::from(fb.contact_grace_ticks),
+                expected: "in [1, 100000] ticks",
+            });
+        }
+        in_closed(
+            "feedback.min_contact_force",
+            fb.min_contact_force,
+            0.0,
+            1000.0,
+            "in [0, 1000] N",
+        )?;
         Ok(())
     }
 }

@@ -21,7 +21,6 @@ pub struct Feedback {
     finger_tol: f64,
     contact_tol: f64,
     stall_ratio: f64,
-    gain: f64,
     object_radius: f64,
 }
 
@@ -36,17 +35,19 @@ impl Feedback {
             finger_tol: c.finger_tolerance,
             contact_tol: c.contact_tolerance,
             stall_ratio: c.stall_ratio,
-            gain: c.orientation_gain,
             object_radius,
         }
     }
 
-    /// Checks `m` against the commanded state `cmd` (and the one before it,
-    /// `prev_cmd`, with the previous measurement `prev_m` for the stall
-    /// check). `offset` is a known object-frame offset of the true object
-    /// from the commanded one (true ≈ `cmd.object · offset`; identity
-    /// unless a drift is being recovered from). Returns the angular-velocity
-    /// correction for the object, or the fault.
+    /// Checks `m` against the planned state `cmd` it reflects (and the one
+    /// the previous measurement `prev_m` reflected, `prev_cmd`, for the
+    /// stall check). The fingertips were commanded turned by `correction`
+    /// about the object centre ([`super::correction`]): they are expected
+    /// there; the object is expected at the plan. `offset` is a known
+    /// object-frame offset of the true object from the planned one (true ≈
+    /// `cmd.object · offset`; identity unless a drift is being recovered
+    /// from). Returns the object's error from the plan as a rotation vector
+    /// (hand frame, measured → planned), or the fault.
     pub fn check(
         &self,
         m: Option<&Measurement>,
@@ -54,6 +55,7 @@ impl Feedback {
         prev_cmd: &HandState,
         prev_m: Option<&Measurement>,
         offset: &UnitQuaternion<f64>,
+        correction: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>, (FaultKind, u8)> {
         let Some(m) = m else {
             return Err((FaultKind::MissingMeasurement, NO_FINGER));
@@ -75,7 +77,7 @@ impl Feedback {
         }
         for (k, f) in cmd.fingers.iter().enumerate() {
             let mf = &m.fingers[k];
-            if (mf.center - f.center).norm() > self.finger_tol {
+            if (mf.center - correction * f.center).norm() > self.finger_tol {
                 return Err((FaultKind::FingerTracking, k as u8));
             }
             if self.stall_ratio > 0.0
@@ -92,6 +94,6 @@ impl Feedback {
         if err.norm() > self.object_tol {
             return Err((FaultKind::ObjectTracking, NO_FINGER));
         }
-        Ok(err * self.gain)
+        Ok(err)
     }
 }

@@ -26,6 +26,7 @@
 //! plan it is given and hands back the one it replaces, so that no plan is
 //! ever freed on the control thread.
 
+pub mod correction;
 pub mod feedback;
 mod goals;
 pub mod grip;
@@ -284,8 +285,20 @@ pub struct Executor {
     written: [HandState; WRITTEN],
     /// Where the next written setpoint goes in `written`.
     written_next: usize,
+    /// The corrections the setpoints in `written` were commanded with.
+    written_correction: [UnitQuaternion<f64>; WRITTEN],
     /// The setpoint state the last measurement reflected.
     prev_reflected: HandState,
+    /// The correction of the commanded grasp ([`correction`]).
+    correction: correction::Correction,
+    /// The control period \[s\].
+    dt: f64,
+    /// Ticks in a row each grasping contact was measured not touching.
+    contact_missing: [u32; 3],
+    /// Ticks after which a grasping contact measured not touching is lost.
+    contact_grace: u32,
+    /// Normal force below which a measured contact does not touch \[N\].
+    min_contact_force: f64,
     events: EventQueue,
     report: TickReport,
     tick: u64,
@@ -397,7 +410,16 @@ impl Executor {
             contact_radius: config.model.object_radius + config.model.fingertip_radius,
             written: [start; WRITTEN],
             written_next: 0,
+            written_correction: [UnitQuaternion::identity(); WRITTEN],
             prev_reflected: start,
+            correction: correction::Correction::new(
+                config.feedback.orientation_gain,
+                config.feedback.max_correction_deg.to_radians(),
+            ),
+            dt,
+            contact_missing: [0; 3],
+            contact_grace: config.feedback.contact_grace_ticks,
+            min_contact_force: config.feedback.min_contact_force,
             events: EventQueue::default(),
             report: TickReport {
                 tick: 0,
@@ -535,7 +557,7 @@ impl Executor {
     /// arrived). Allocation-free.
     pub fn tick(&mut self, measurement: Option<&Measurement>) -> &TickReport {
         self.tick += 1;
-        let mut correction = Vector3::zeros();
+        let mut error = Vector3::zeros();
         // A measurement older than the setpoints kept counts as none.
         let measurement = measurement.filter(|m| (m.age as usize) < WRITTEN - 1);
         // The setpoint it reflects, to compare with; the previous
@@ -551,9 +573,10 @@ impl Executor {
                 &prev_cmd,
                 self.prev_measurement.as_ref(),
                 &self.drift.map_or(UnitQuaternion::identity(), |d| d.offset),
+                &self.written_correction(age),
             ) {
-                Ok(c) => {
-                    correction = c;
+                Ok(err) => {
+                    error = err;
                     // (Ok means a measurement arrived.)
                     let moving = self.phase == Phase::Moving;
                     if let Some(m) = measurement
@@ -568,15 +591,26 @@ impl Executor {
                 }
             }
         }
+        let new_measurement = measurement.is_some_and(|m| {
+            self.prev_measurement
+                .is_none_or(|p| p.object != m.object || p.fingers != m.fingers)
+        });
         if let Some(m) = measurement {
+            self.check_contacts(&cmd, m);
             self.prev_measurement = Some(*m);
             self.prev_reflected = cmd;
             self.measured_at = self.tick;
         }
+        // Only a hand under control corrects (not in safe hold), and only
+        // on a new measurement (one held or repeated adds nothing).
+        if self.phase != Phase::SafeHold && new_measurement {
+            self.correction.update(&error, self.dt);
+        } else {
+            self.correction.freeze();
+        }
         self.prev_setpoint = self.setpoint;
         self.advance();
         self.setpoint.estimate_epoch = self.epoch;
-        self.setpoint.object_rate += correction;
         self.remember_written();
         self.check_invariants();
         self.fill_report();
@@ -590,18 +624,47 @@ impl Executor {
         self.written[i]
     }
 
-    /// Records the setpoint about to be written.
+    /// The correction of the setpoint written `age` ticks before the last.
+    fn written_correction(&self, age: usize) -> UnitQuaternion<f64> {
+        let i = (self.written_next + 2 * WRITTEN - 1 - age.min(WRITTEN - 1)) % WRITTEN;
+        self.written_correction[i]
+    }
+
+    /// Records the setpoint about to be written (and its correction).
     fn remember_written(&mut self) {
         self.written[self.written_next] = self.setpoint.state;
+        self.written_correction[self.written_next] = self.correction.rotation();
         self.written_next = (self.written_next + 1) % WRITTEN;
+    }
+
+    /// A grasping contact the plant measures as not touching (its flag, or
+    /// a measured force below `feedback.min_contact_force`) for
+    /// `feedback.contact_grace_ticks` ticks in a row is lost: a fault.
+    fn check_contacts(&mut self, cmd: &HandState, m: &Measurement) {
+        for k in 0..cmd.fingers.len() {
+            let f = &m.fingers[k];
+            let touching = f.contact && f.normal_force.is_none_or(|n| n >= self.min_contact_force);
+            if cmd.fingers[k].mode != crate::FingerMode::Grasping || touching {
+                self.contact_missing[k] = 0;
+                continue;
+            }
+            self.contact_missing[k] += 1;
+            if self.contact_missing[k] >= self.contact_grace {
+                self.contact_missing[k] = 0;
+                let cause = Cause::new(FaultKind::ContactLost, Source::Measurement);
+                self.handle(cause, k as u8, Some(m));
+            }
+        }
     }
 
     /// Forgets the setpoints written before `state` (a re-based estimate:
     /// the older ones belong to the old estimate).
     fn reset_written(&mut self, state: HandState) {
         self.written = [state; WRITTEN];
+        self.written_correction = [UnitQuaternion::identity(); WRITTEN];
         self.written_next = 0;
         self.prev_reflected = state;
+        self.correction.clear();
     }
 
     /// Moves the setpoint one period along the running step.
@@ -737,7 +800,8 @@ impl Executor {
         let r = &mut self.report;
         r.remaining_angle = remaining;
         r.tick = self.tick;
-        r.setpoint = self.setpoint;
+        // What is written to the plant: the plan, turned by the correction.
+        r.setpoint = self.correction.apply(&self.setpoint);
         r.phase = self.phase;
         r.step_kind = match self.phase {
             Phase::Moving | Phase::Stopping => self

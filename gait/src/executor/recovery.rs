@@ -94,8 +94,11 @@ impl Executor {
             .map_or((FaultKind::ContactDrift, NO_FINGER), |d| {
                 (d.cause, d.finger)
             });
+        // The fingertips stay where they were commanded (with the
+        // correction folded in, which the re-base then clears).
+        let commanded = self.correction.apply(&self.setpoint).state;
         let state = self.prev_measurement.map(|m| {
-            let mut s = self.setpoint.state;
+            let mut s = commanded;
             s.object = m.object;
             s
         });
