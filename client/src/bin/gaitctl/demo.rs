@@ -20,6 +20,19 @@ pub struct Args {
     /// Always start an embedded daemon, even if one is running.
     #[arg(long)]
     embedded: bool,
+    /// Run the hand out of process: start a daemon with `[plant] kind =
+    /// "shm"` (lockstep) and this plant beside it (`sim`: the kinematic
+    /// hand; `mujoco`: the MuJoCo physics hand). Default: the daemon's
+    /// embedded kinematic hand.
+    #[arg(long, value_enum)]
+    plant: Option<crate::plant::Kind>,
+    /// With `--plant`: the object has weight (the config's `[load]`);
+    /// without it daemon and plant both run with zero gravity.
+    #[arg(long, requires = "plant")]
+    gravity: bool,
+    /// Python interpreter for `--plant mujoco` [env: GAITD_PYTHON; default python3].
+    #[arg(long)]
+    python: Option<String>,
     /// gaitd binary for the embedded daemon (default: next to gaitctl).
     #[arg(long, value_name = "PATH")]
     gaitd: Option<PathBuf>,
@@ -30,15 +43,35 @@ pub struct Args {
     live: LiveArg,
 }
 
-/// A daemon started for the demo, in its own IPC namespace.
+/// A daemon started for the demo, in its own IPC namespace (and its
+/// external plant, if any).
 struct Embedded {
     child: Child,
+    plant: Option<Child>,
     dir: PathBuf,
     opts: ConnectOptions,
 }
 
+/// The config of a daemon whose hand is the external plant `plant`.
+fn plant_config(plant: crate::plant::Kind, gravity: bool) -> String {
+    let mut c = String::from("[plant]\nkind = \"shm\"\ntiming = \"lockstep\"\n");
+    if !gravity {
+        c.push_str("[load]\ngravity = [0.0, 0.0, 0.0]\n");
+    }
+    if plant == crate::plant::Kind::Mujoco {
+        // Soft contacts: the object and the fingertips track the command
+        // to a fraction of a millimetre, not to the micrometre.
+        c.push_str(PHYSICS_FEEDBACK);
+    }
+    c
+}
+
+/// `[feedback]` for a physics plant (deploy/gaitd.toml explains each key).
+pub const PHYSICS_FEEDBACK: &str = "[feedback]\nobject_tolerance_deg = 2.0\nfinger_tolerance = 0.005\n\
+     contact_tolerance = 0.004\nlimit_guard = 0.0\nstall_ratio = 0.0\n";
+
 impl Embedded {
-    fn start(bin: PathBuf) -> Result<Self, String> {
+    fn start(bin: PathBuf, extra: &str) -> Result<Self, String> {
         let pid = std::process::id();
         let dir = std::env::temp_dir().join(format!("gaitd-demo-{pid}"));
         let _ = std::fs::remove_dir_all(&dir);
@@ -48,7 +81,7 @@ impl Embedded {
         let file_prefix = format!("gdemo{pid}_");
         let cfg = format!(
             "[ipc]\nservice_prefix = \"{prefix}\"\nroot_path = \"{}/\"\nfile_prefix = \"{file_prefix}\"\n\
-             [rt]\nlock_memory = false\nfifo_priority = 0\n",
+             [rt]\nlock_memory = false\nfifo_priority = 0\n{extra}",
             root.display()
         );
         let cfg_path = dir.join("gaitd.toml");
@@ -68,12 +101,63 @@ impl Embedded {
         opts.ipc.service_prefix = Some(prefix);
         opts.ipc.root_path = Some(format!("{}/", root.display()));
         opts.ipc.file_prefix = Some(file_prefix);
-        Ok(Self { child, dir, opts })
+        Ok(Self {
+            child,
+            plant: None,
+            dir,
+            opts,
+        })
+    }
+
+    /// Starts `gaitctl plant <kind> --config <the daemon's config>`.
+    fn start_plant(
+        &mut self,
+        kind: crate::plant::Kind,
+        python: Option<&str>,
+    ) -> Result<(), String> {
+        let me = std::env::current_exe().map_err(|e| e.to_string())?;
+        let log = std::fs::File::create(self.dir.join("plant.log")).map_err(|e| e.to_string())?;
+        let mut cmd = std::process::Command::new(me);
+        cmd.arg("plant")
+            .arg(match kind {
+                crate::plant::Kind::Sim => "sim",
+                crate::plant::Kind::Mujoco => "mujoco",
+            })
+            .arg("--config")
+            .arg(self.dir.join("gaitd.toml"));
+        if let Some(p) = python {
+            cmd.arg("--python").arg(p);
+        }
+        let child = cmd
+            .stdout(std::process::Stdio::null())
+            .stderr(log)
+            .spawn()
+            .map_err(|e| format!("cannot start the plant: {e}"))?;
+        self.plant = Some(child);
+        Ok(())
+    }
+
+    /// What the plant printed.
+    fn plant_log(&self) -> String {
+        std::fs::read_to_string(self.dir.join("plant.log")).unwrap_or_default()
     }
 }
 
 impl Drop for Embedded {
     fn drop(&mut self) {
+        if let Some(mut p) = self.plant.take() {
+            // SAFETY: sends SIGTERM to our own child (it prints its summary).
+            unsafe { libc::kill(p.id() as i32, libc::SIGTERM) };
+            let t0 = Instant::now();
+            while t0.elapsed() < Duration::from_secs(3) {
+                if let Ok(Some(_)) = p.try_wait() {
+                    break;
+                }
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            let _ = p.kill();
+            let _ = p.wait();
+        }
         // SAFETY: sends SIGTERM to our own child.
         unsafe { libc::kill(self.child.id() as i32, libc::SIGTERM) };
         let t0 = Instant::now();
@@ -226,7 +310,7 @@ fn run_goal(
 /// Runs `gaitctl demo`.
 pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
     let mut embedded = None;
-    let mut client = if a.embedded {
+    let mut client = if a.embedded || a.plant.is_some() {
         None
     } else {
         let mut quick = conn.clone();
@@ -240,24 +324,40 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
                 .and_then(|p| p.parent().map(|d| d.join("gaitd")))
                 .unwrap_or_else(|| PathBuf::from("gaitd"))
         });
-        println!(
-            "no gaitd running: starting an embedded one ({})",
-            bin.display()
-        );
-        let e = Embedded::start(bin)?;
+        let extra = a
+            .plant
+            .map_or(String::new(), |p| plant_config(p, a.gravity));
+        match a.plant {
+            None => println!(
+                "no gaitd running: starting an embedded one ({})",
+                bin.display()
+            ),
+            Some(p) => println!(
+                "starting gaitd ({}) with an external {p:?} plant in lockstep, gravity {}",
+                bin.display(),
+                if a.gravity { "on" } else { "off" }
+            ),
+        }
+        let mut e = Embedded::start(bin, &extra)?;
         let c = Client::connect(e.opts.clone()).map_err(|err| {
             let log = std::fs::read_to_string(e.dir.join("gaitd.log")).unwrap_or_default();
             format!("the embedded gaitd did not come up: {err}\n{log}")
         })?;
+        if let Some(p) = a.plant {
+            e.start_plant(p, a.python.as_deref())?;
+        }
         client = Some(c);
         embedded = Some(e);
     } else {
         println!("using the running gaitd");
     }
     let mut c = client.expect("connected");
-    let s0 = c
-        .wait_status(Duration::from_secs(5))
-        .map_err(|e| e.to_string())?;
+    let s0 = match &embedded {
+        Some(e) if a.plant.is_some() => wait_for_plant(&mut c, e)?,
+        _ => c
+            .wait_status(Duration::from_secs(5))
+            .map_err(|e| e.to_string())?,
+    };
     println!(
         "paper scenario (paper §4, Fig. 4): R = 0.5, r = 0.1, θ = 20°, workspace cones 60°\n\
          start: object q = {:.3?}; fingers f1 f2 f3 on the equator 120° apart (no two-finger\n\
@@ -312,12 +412,46 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
         s.timing.compute_max_ns as f64 / 1e3,
         s.timing.overruns,
     );
+    // The plant's own report (steps, real-time factor).
+    let plant_report = embedded.as_ref().map(Embedded::plant_log);
     // The client's node goes first, then the daemon and its directory.
     drop(c);
     drop(embedded);
-    Ok(if ok && err < 1e-6 {
+    if let Some(r) = plant_report.filter(|r| !r.is_empty()) {
+        println!("plant: {}", r.trim_end().replace('\n', "\n       "));
+    }
+    // Within what the plant can do: exactly for a kinematic hand, to the
+    // accuracy of soft contacts for a physics one.
+    let tolerance = match a.plant {
+        Some(crate::plant::Kind::Mujoco) => 0.5f64.to_radians(),
+        _ => 1e-6,
+    };
+    Ok(if ok && err < tolerance {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
     })
+}
+
+/// Waits until the daemon took the plant's first state (the hand holds,
+/// no fault); a clear error if the plant does not come.
+fn wait_for_plant(c: &mut Client, e: &Embedded) -> Result<Status, String> {
+    let t0 = Instant::now();
+    loop {
+        let s = c
+            .wait_status(Duration::from_secs(5))
+            .map_err(|err| err.to_string())?;
+        if s.fault == shm_schema::FaultCode::None.code() {
+            println!("the plant is up: the daemon starts from its measured state");
+            return Ok(s);
+        }
+        if t0.elapsed() > Duration::from_secs(60) {
+            return Err(format!(
+                "the plant did not start (daemon fault {}):\n{}",
+                code(s.fault(), s.fault),
+                e.plant_log()
+            ));
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
 }
