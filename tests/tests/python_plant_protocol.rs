@@ -13,6 +13,7 @@
 
 mod python_support;
 
+use gaitd_tests::repo_root;
 use python_support::{Namespace, json_output, script};
 
 #[test]
@@ -44,5 +45,21 @@ fn the_plant_base_class_speaks_the_protocol() {
         "failed:\n{}\nlogs: {}",
         failed.join("\n"),
         v["logs"]
+    );
+}
+#[test]
+fn the_package_readme_shows_the_example_plant_as_it_is() {
+    let example =
+        std::fs::read_to_string(repo_root().join("client/python/examples/kinematic_hand.py"))
+            .unwrap();
+    let readme = std::fs::read_to_string(repo_root().join("client/python/README.md")).unwrap();
+    assert!(
+        example.lines().count() <= 50,
+        "the example plant is {} lines",
+        example.lines().count()
+    );
+    assert!(
+        readme.contains(&example),
+        "client/python/README.md does not show examples/kinematic_hand.py as it is"
     );
 }
