@@ -1,0 +1,123 @@
+"""The parts of the daemon's configuration file (``gaitd.toml``) a plant needs.
+
+Why read the daemon's own file: a plant must simulate the hand the daemon
+controls — same radii, friction, finger azimuths, load, period and IPC
+namespace. Reading the one file both use removes a class of mismatches.
+Defaults are those of ``deploy/gaitd.toml`` (the daemon validates the file;
+this reader only takes what it needs and ignores the other keys).
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+from collections.abc import Mapping
+
+from . import ipc
+
+
+@dataclass(frozen=True)
+class Model:
+    """``[model]``: the sphere, the fingertips, friction and the finger bases."""
+
+    object_radius: float = 0.5
+    fingertip_radius: float = 0.1
+    friction_angle_deg: float = 20.0
+    torsion_ratio: float = 0.1
+    finger_azimuth_deg: tuple[float, float, float] = (0.0, 120.0, 240.0)
+    contact_tolerance: float = 1e-4
+
+    @property
+    def mu(self) -> float:
+        """Friction coefficient μ = tan θ."""
+        return math.tan(math.radians(self.friction_angle_deg))
+
+    @property
+    def torsion(self) -> float:
+        """Soft-finger torsion coefficient μ_t = ratio · r · μ [m] (spin torque ≤ μ_t · f_n)."""
+        return self.torsion_ratio * self.fingertip_radius * self.mu
+
+
+@dataclass(frozen=True)
+class Load:
+    """``[load]``: the object's weight and the grip bounds."""
+
+    object_mass: float = 0.1
+    gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
+    min_grip: float = 1.0
+    max_grip: float = 100.0
+
+
+@dataclass(frozen=True)
+class PlantSection:
+    """``[plant]`` (issue 14): which plant and its timing; unknown to older daemons."""
+
+    kind: str = "embedded"
+    timing: str = "lockstep"
+    lockstep_timeout_ms: float = 1000.0
+
+
+@dataclass(frozen=True)
+class DaemonConfig:
+    """What a plant reads from the daemon's configuration."""
+
+    model: Model = field(default_factory=Model)
+    load: Load = field(default_factory=Load)
+    tick_hz: float = 1000.0
+    plant: PlantSection = field(default_factory=PlantSection)
+    ipc: Mapping[str, Any] = field(default_factory=dict)
+    path: str | None = None
+
+    @property
+    def period(self) -> float:
+        """Control period [s]."""
+        return 1.0 / self.tick_hz
+
+    @property
+    def period_ns(self) -> int:
+        """Control period [ns], rounded as the daemon rounds it (half away from zero)."""
+        return math.floor(1e9 / self.tick_hz + 0.5)
+
+    def ipc_settings(self) -> ipc.IpcSettings:
+        """The daemon's IPC namespace, resolved as the daemon resolves it."""
+        return ipc.resolve_section(self.ipc)
+
+
+def _take(section: Mapping[str, Any], cls: type, name: str) -> Any:
+    kwargs = {}
+    for f in cls.__dataclass_fields__.values():
+        if f.name in section:
+            v = section[f.name]
+            if isinstance(v, list):
+                v = tuple(float(x) for x in v)
+            kwargs[f.name] = v
+    try:
+        return cls(**kwargs)
+    except TypeError as e:  # pragma: no cover - dataclass signature errors
+        raise ValueError(f"[{name}]: {e}") from e
+
+
+def parse(doc: Mapping[str, Any], path: str | None = None) -> DaemonConfig:
+    """A :class:`DaemonConfig` from a parsed TOML document."""
+    model = _take(doc.get("model", {}), Model, "model")
+    if len(model.finger_azimuth_deg) != 3:
+        raise ValueError("[model] finger_azimuth_deg needs three angles")
+    load = _take(doc.get("load", {}), Load, "load")
+    if len(load.gravity) != 3:
+        raise ValueError("[load] gravity needs three components")
+    tick_hz = float(doc.get("control", {}).get("tick_hz", 1000.0))
+    if not (100.0 <= tick_hz <= 10000.0):
+        raise ValueError(f"[control] tick_hz = {tick_hz}: must be in 100–10000 Hz")
+    plant = _take(doc.get("plant", {}), PlantSection, "plant")
+    return DaemonConfig(model, load, tick_hz, plant, dict(doc.get("ipc", {})), path)
+
+
+def load(path: str | Path | None) -> DaemonConfig:
+    """Reads ``path`` (None: every default)."""
+    if path is None:
+        return DaemonConfig()
+    with open(path, "rb") as fh:
+        return parse(tomllib.load(fh), str(path))

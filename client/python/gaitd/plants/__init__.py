@@ -1,0 +1,1 @@
+"""Plants that ship with the package: the MuJoCo physics hand (``mujoco_plant``, extra ``[mujoco]``)."""
