@@ -406,13 +406,16 @@ impl Client {
         Ok(self.last_status)
     }
 
-    /// Waits for a status newer than the one seen last.
+    /// Waits for a status newer than the one seen last: a later tick, or
+    /// the same one published again (a lockstep daemon waiting for its
+    /// plant repeats its last status as a heartbeat).
     pub fn wait_status(&mut self, timeout: Duration) -> Result<Status> {
         let deadline = Instant::now() + timeout;
         self.pump()?;
-        let seen = self.last_status.map(|s| (s.instance, s.tick));
+        let key = |s: &Status| (s.instance, s.tick, s.publish_time_ns);
+        let seen = self.last_status.as_ref().map(key);
         self.wait_until(deadline, "a new status", timeout, |c| {
-            Ok(c.last_status.filter(|s| Some((s.instance, s.tick)) != seen))
+            Ok(c.last_status.filter(|s| Some(key(s)) != seen))
         })
     }
 

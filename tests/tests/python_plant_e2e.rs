@@ -155,7 +155,6 @@ fn random_goals(n: usize, mut seed: u64) -> Vec<[f64; 4]> {
 }
 
 #[test]
-#[ignore = "needs the daemon's shm plant (issue 14)"]
 fn gaitd_drives_the_mujoco_plant_in_lockstep_paper_then_random_goals() {
     let mut d = shm_daemon("py-mujoco", PHYSICS_FEEDBACK);
     let report = d.dir.join("plant-report.json");
@@ -216,7 +215,6 @@ fn gaitd_drives_the_mujoco_plant_in_lockstep_paper_then_random_goals() {
 }
 
 #[test]
-#[ignore = "needs the daemon's shm plant (issue 14)"]
 fn the_example_plant_drives_gaitd_to_a_goal() {
     let mut d = shm_daemon("py-example", "");
     let mut cmd = python();

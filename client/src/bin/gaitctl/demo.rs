@@ -143,13 +143,15 @@ impl Embedded {
     }
 }
 
-impl Drop for Embedded {
-    fn drop(&mut self) {
+impl Embedded {
+    /// Stops the plant (SIGTERM: it prints its summary) and returns what
+    /// it printed.
+    fn stop_plant(&mut self) -> String {
         if let Some(mut p) = self.plant.take() {
-            // SAFETY: sends SIGTERM to our own child (it prints its summary).
+            // SAFETY: sends SIGTERM to our own child.
             unsafe { libc::kill(p.id() as i32, libc::SIGTERM) };
             let t0 = Instant::now();
-            while t0.elapsed() < Duration::from_secs(3) {
+            while t0.elapsed() < Duration::from_secs(5) {
                 if let Ok(Some(_)) = p.try_wait() {
                     break;
                 }
@@ -158,6 +160,13 @@ impl Drop for Embedded {
             let _ = p.kill();
             let _ = p.wait();
         }
+        self.plant_log()
+    }
+}
+
+impl Drop for Embedded {
+    fn drop(&mut self) {
+        self.stop_plant();
         // SAFETY: sends SIGTERM to our own child.
         unsafe { libc::kill(self.child.id() as i32, libc::SIGTERM) };
         let t0 = Instant::now();
@@ -413,7 +422,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
         s.timing.overruns,
     );
     // The plant's own report (steps, real-time factor).
-    let plant_report = embedded.as_ref().map(Embedded::plant_log);
+    let plant_report = embedded.as_mut().map(Embedded::stop_plant);
     // The client's node goes first, then the daemon and its directory.
     drop(c);
     drop(embedded);

@@ -103,16 +103,20 @@ fn mujoco(conn: &ConnArgs, a: &Args, timing: Timing) -> Result<(), String> {
             Timing::Realtime => "realtime",
         });
     if let Some(s) = a.seconds {
-        cmd.arg("--seconds").arg(s.to_string());
+        let view = PlantView::load(&a.config)?;
+        cmd.arg("--max-steps")
+            .arg(((s * view.tick_hz).round() as u64).to_string());
     }
-    for (flag, v) in [
-        ("--prefix", &conn.prefix),
-        ("--ipc-root", &conn.ipc_root),
-        ("--ipc-file-prefix", &conn.ipc_file_prefix),
-        ("--ipc-config", &conn.ipc_config),
+    // The command line's connection settings reach it as the variables
+    // every client honours (the config file's [ipc] keys come first).
+    for (var, v) in [
+        ("GAITD_PREFIX", &conn.prefix),
+        ("GAITD_IPC_ROOT", &conn.ipc_root),
+        ("GAITD_IPC_FILE_PREFIX", &conn.ipc_file_prefix),
+        ("GAITD_IPC_CONFIG", &conn.ipc_config),
     ] {
         if let Some(v) = v {
-            cmd.arg(flag).arg(v);
+            cmd.env(var, v);
         }
     }
     let status = cmd.status().map_err(|e| {
