@@ -246,6 +246,8 @@ code_enum! {
         FingerBlocked = 31,
         /// The goal's target is not a finite orientation or turn the planner can use.
         InvalidGoalTarget = 32,
+        /// Reset refused: the measured state breaks an invariant (SPEC §1.3); bring the hand back to a valid grasp first.
+        MeasuredStateInvalid = 33,
     }
 }
 

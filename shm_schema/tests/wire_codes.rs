@@ -125,6 +125,7 @@ fn reason_codes() {
             (NoTwoFingerGrasp, 30),
             (FingerBlocked, 31),
             (InvalidGoalTarget, 32),
+            (MeasuredStateInvalid, 33),
         ],
     );
 }

@@ -40,14 +40,28 @@ const PHYSICS_FEEDBACK: &str = "[feedback]\nobject_tolerance_deg = 0.5\n\
 /// The daemon's config for a plant over shared memory in lockstep,
 /// weightless object (as the MuJoCo oracle replays plans).
 fn shm_daemon(tag: &str, extra: &str) -> TestDaemon {
+    shm_daemon_loaded(tag, "[load]\ngravity = [0.0, 0.0, 0.0]\n", extra)
+}
+
+/// As [`shm_daemon`], with `load` as the `[load]` section ("" = the
+/// defaults: 0.1 kg under gravity).
+fn shm_daemon_loaded(tag: &str, load: &str, extra: &str) -> TestDaemon {
     let mut d = TestDaemon::new(
         tag,
-        &format!(
-            "[load]\ngravity = [0.0, 0.0, 0.0]\n[plant]\nkind = \"shm\"\ntiming = \"lockstep\"\n{extra}"
-        ),
+        &format!("{load}[plant]\nkind = \"shm\"\ntiming = \"lockstep\"\n{extra}"),
     );
     d.spawn();
     d
+}
+
+/// The MuJoCo plant for `d`, reporting to `report`.
+fn mujoco_plant(d: &TestDaemon, report: &std::path::Path) -> PlantProcess {
+    let mut cmd = python();
+    cmd.args(["-m", "gaitd.plants.mujoco", "--config"])
+        .arg(d.config_path())
+        .args(["--timing", "lockstep", "--report"])
+        .arg(report);
+    PlantProcess::spawn(cmd, d.dir.join("plant.log"))
 }
 
 /// Connects once the daemon ticks (in lockstep it ticks only with the
@@ -158,12 +172,7 @@ fn random_goals(n: usize, mut seed: u64) -> Vec<[f64; 4]> {
 fn gaitd_drives_the_mujoco_plant_in_lockstep_paper_then_random_goals() {
     let mut d = shm_daemon("py-mujoco", PHYSICS_FEEDBACK);
     let report = d.dir.join("plant-report.json");
-    let mut cmd = python();
-    cmd.args(["-m", "gaitd.plants.mujoco", "--config"])
-        .arg(d.config_path())
-        .args(["--timing", "lockstep", "--report"])
-        .arg(&report);
-    let mut plant = PlantProcess::spawn(cmd, d.dir.join("plant.log"));
+    let mut plant = mujoco_plant(&d, &report);
     let t0 = Instant::now();
     let mut c = connect_when_measured(&mut d, &plant);
     let start = c.wait_status(T).unwrap().measured_object_q;
@@ -247,5 +256,167 @@ fn the_example_plant_drives_gaitd_to_a_goal() {
         status.is_some_and(|s| s.success()),
         "plant exit {status:?}:\n{}",
         plant.log()
+    );
+}
+
+/// Lockstep with physics is reproducible bit for bit: a goal queued before
+/// the MuJoCo plant starts is taken at its first tick; two runs write the
+/// same trace and end the goal at the same tick.
+#[test]
+fn two_lockstep_runs_with_the_mujoco_plant_are_identical() {
+    let run = |i: u32| -> (Vec<String>, Vec<(u32, u64)>) {
+        let traces = std::env::temp_dir().join(format!("gaitd-py-det-{}-{i}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&traces);
+        std::fs::create_dir_all(&traces).unwrap();
+        let mut d = shm_daemon(
+            &format!("py-det{i}"),
+            &format!(
+                "{PHYSICS_FEEDBACK}[daemon]\ntrace_dir = \"{}\"\n",
+                traces.display()
+            ),
+        );
+        let t0 = Instant::now();
+        let mut c = loop {
+            match Client::connect(d.options()) {
+                Ok(c) => break c,
+                Err(e) => {
+                    assert!(
+                        t0.elapsed() < Duration::from_secs(30),
+                        "connect: {e}\n{}",
+                        d.log()
+                    );
+                    std::thread::sleep(Duration::from_millis(100));
+                }
+            }
+        };
+        assert!(d.running());
+        // Queued before the plant exists: handled at its first tick.
+        let goal = GoalSpec::turn([0.2, 1.0, 0.3], 1.5).unwrap();
+        let request = c.send_command(goal.to_command(c.client_id(), 1)).unwrap();
+        let report = d.dir.join("plant-report.json");
+        let mut plant = mujoco_plant(&d, &report);
+        let a = c.wait_answer(request, GOAL).unwrap();
+        assert_eq!(a.verdict(), Ok(Verdict::Accepted), "{}", plant.log());
+        let o = c.wait_outcome(1, GOAL).unwrap();
+        assert_eq!(
+            o.state,
+            GoalState::Succeeded,
+            "{}\n{}",
+            d.log(),
+            plant.log()
+        );
+        let ticks: Vec<(u32, u64)> = c
+            .events()
+            .unwrap()
+            .filter(|e| e.kind() == Ok(gaitd_client::EventKind::GoalTransition) && e.goal_id == 1)
+            .map(|e| (e.state, e.tick))
+            .collect();
+        let t0 = Instant::now();
+        let file = loop {
+            let found = std::fs::read_dir(&traces)
+                .unwrap()
+                .flatten()
+                .find(|e| e.file_name().to_string_lossy().ends_with(".jsonl"));
+            if let Some(f) = found {
+                break f.path();
+            }
+            assert!(t0.elapsed() < Duration::from_secs(10), "no trace");
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let text = std::fs::read_to_string(file).unwrap();
+        plant.stop(Duration::from_secs(10));
+        let _ = std::fs::remove_dir_all(&traces);
+        (text.lines().skip(1).map(str::to_owned).collect(), ticks)
+    };
+    let ((a, ta), (b, tb)) = (run(0), run(1));
+    println!(
+        "MuJoCo lockstep: {} trace lines, transitions {ta:?}",
+        a.len()
+    );
+    assert!(a.len() > 1000, "a real motion");
+    assert_eq!(ta, tb, "the same transition ticks");
+    assert_eq!(a.len(), b.len(), "the same number of ticks");
+    let first = a.iter().zip(&b).position(|(x, y)| x != y);
+    assert_eq!(first, None, "traces differ from line {first:?}");
+}
+
+/// With gravity on (the default 0.1 kg) the same goals run on the MuJoCo
+/// hand; how many succeed, how far off they end and whether the object
+/// drops is printed — the starting figure for the issue on holding
+/// against gravity, not a pass/fail criterion. Checked: every goal ends
+/// (no hang) and the daemon keeps running.
+#[test]
+fn the_same_goals_with_gravity_on_are_counted() {
+    let mut d = shm_daemon_loaded("py-gravity", "", PHYSICS_FEEDBACK);
+    let report = d.dir.join("plant-report.json");
+    let mut plant = mujoco_plant(&d, &report);
+    let mut c = connect_when_measured(&mut d, &plant);
+    let start = c.wait_status(T).unwrap().measured_object_q;
+    let mut goals: Vec<(GoalSpec, [f64; 4], String)> = [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]
+        .into_iter()
+        .map(|axis| {
+            (
+                GoalSpec::turn(axis, std::f64::consts::TAU).unwrap(),
+                start,
+                format!("full turn about {axis:?}"),
+            )
+        })
+        .collect();
+    for (i, q) in random_goals(20, 0x6A17_D0C5).into_iter().enumerate() {
+        goals.push((GoalSpec::absolute(q), q, format!("random goal {i}")));
+    }
+    let (mut ok, mut errors, mut faults) = (0, Vec::new(), Vec::new());
+    for (goal, expect, what) in &goals {
+        let s = c.wait_status(T).unwrap();
+        if s.fault != 0 {
+            // After a fault (a slip, a swing, a drop): once at rest, reset
+            // from the measured state (refused if that state is invalid).
+            faults.push(shm_schema::FaultCode::try_from(s.fault).map_or("?", |f| f.name()));
+            let t0 = Instant::now();
+            while c.reset(T).ok() != Some(Verdict::Accepted)
+                && t0.elapsed() < Duration::from_secs(5)
+            {
+                std::thread::sleep(Duration::from_millis(100));
+            }
+        }
+        let Ok(t) = c.reorient(goal, T) else { continue };
+        if t.verdict != Verdict::Accepted {
+            println!("gravity, {what}: refused ({:?})", t.verdict);
+            errors.push(f64::NAN);
+            continue;
+        }
+        let o = c
+            .wait_outcome(t.goal_id, GOAL)
+            .unwrap_or_else(|e| panic!("{what}: {e}"));
+        let s = settled(&mut c);
+        let err = angle(s.measured_object_q, *expect).to_degrees();
+        let reached = o.state == GoalState::Succeeded && err < MEASURED_TOL_DEG;
+        ok += usize::from(reached);
+        errors.push(err);
+        println!(
+            "gravity, {what}: {:?} ({:?}), measured error {err:.3}°",
+            o.state, o.reason
+        );
+    }
+    assert!(d.running(), "gaitd survived:\n{}", d.log());
+    let status = plant.stop(Duration::from_secs(20));
+    let rep: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap_or_default())
+            .unwrap_or_default();
+    errors.sort_by(f64::total_cmp);
+    let median = errors.get(errors.len() / 2).copied().unwrap_or(f64::NAN);
+    let refused = errors.iter().filter(|e| e.is_nan()).count();
+    println!("gravity on: {refused} goals refused (a fault that a reset could not clear)");
+    let worst = errors
+        .iter()
+        .copied()
+        .filter(|e| e.is_finite())
+        .fold(0.0, f64::max);
+    println!(
+        "gravity on, 0.1 kg: {ok}/{} goals reached within {MEASURED_TOL_DEG}° as measured; median error \
+         {median:.3}°, worst {worst:.3}°; faults before a goal {faults:?}; object centre moved up to {} m \
+         (a drop moves it by the radius); plant exit {status:?}",
+        goals.len(),
+        rep["max_object_drift_m"]
     );
 }

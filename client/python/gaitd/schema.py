@@ -383,6 +383,7 @@ class ReasonCode(enum.IntEnum):
     NoTwoFingerGrasp = 30
     FingerBlocked = 31
     InvalidGoalTarget = 32
+    MeasuredStateInvalid = 33
 
 
 class Phase(enum.IntEnum):

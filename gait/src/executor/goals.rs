@@ -217,7 +217,7 @@ impl Executor {
                 self.events.push(Event::FaultCleared);
                 Answer::Accepted
             }
-            _ => Answer::Rejected(Reason::FaultActive),
+            _ => Answer::Rejected(Reason::MeasuredStateInvalid),
         }
     }
 

@@ -76,6 +76,9 @@ pub enum Reason {
     NewerGoal,
     /// The goal id was used before.
     DuplicateId,
+    /// A reset found the measured state breaking an invariant: the hand
+    /// must be brought back to a valid grasp first.
+    MeasuredStateInvalid,
 }
 
 /// What the plant or the checks reported (SPEC §6.3, §6.4).

@@ -44,6 +44,7 @@ pub fn reason_code(r: Reason) -> ReasonCode {
         Reason::HoldCommand => ReasonCode::HoldRequested,
         Reason::NewerGoal => ReasonCode::PreemptedByGoal,
         Reason::DuplicateId => ReasonCode::DuplicateGoalId,
+        Reason::MeasuredStateInvalid => ReasonCode::MeasuredStateInvalid,
     }
 }
 
