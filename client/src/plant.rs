@@ -352,6 +352,11 @@ impl PlantHost {
         Ok(())
     }
 
+    /// The newest command received since the last call, without waiting.
+    pub fn try_command(&mut self) -> Result<Option<PlantCommand>> {
+        self.newest()
+    }
+
     /// The newest command received, waiting up to `timeout` for one.
     pub fn next_command(&mut self, timeout: Duration) -> Result<Option<PlantCommand>> {
         if let Some(c) = self.newest()? {

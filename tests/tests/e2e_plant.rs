@@ -118,7 +118,13 @@ fn the_paper_scenario_and_goals_on_an_out_of_process_kinematic_plant() {
 
 #[test]
 fn a_goal_in_real_time_on_an_out_of_process_kinematic_plant() {
-    let d = daemon("prt", "realtime", "");
+    // A loaded machine (the test suite runs in parallel) delays a real-time
+    // plant by many periods now and then: a generous tolerance.
+    let d = daemon(
+        "prt",
+        "realtime",
+        "max_missed = 200\nstale_after_ms = 500\n",
+    );
     let plant = TestPlant::sim(&d);
     let mut c = d.client();
     wait_started(&mut c, &d, &plant);
@@ -134,8 +140,12 @@ fn a_goal_in_real_time_on_an_out_of_process_kinematic_plant() {
 /// make goals possible again.
 #[test]
 fn a_killed_plant_is_a_fault_and_a_restarted_one_resumes_after_reset() {
-    let max_missed = 10;
-    let d = daemon("pkill", "realtime", &format!("max_missed = {max_missed}\n"));
+    let max_missed = 100;
+    let d = daemon(
+        "pkill",
+        "realtime",
+        &format!("max_missed = {max_missed}\nstale_after_ms = 1000\n"),
+    );
     let mut plant = TestPlant::sim(&d);
     let mut c = d.client();
     wait_started(&mut c, &d, &plant);

@@ -185,6 +185,11 @@ impl ExternalPlant {
         };
         let m =
             wire::measurement(raw, age).map_err(|_| (FaultKind::PlantInvalid, PlantFault::None))?;
+        if age > self.max_missed {
+            // It reflects a command older than the tolerance: the plant
+            // lags too far behind to be controlled.
+            return Err((FaultKind::PlantLost, PlantFault::None));
+        }
         self.echoed = ours;
         self.last_seq = raw.seq;
         self.last_time = raw.time_ns;

@@ -41,7 +41,8 @@ pub struct PlantSection {
     /// missing \[ms\].
     pub stale_after_ms: u32,
     /// Consecutive ticks without a fresh measurement tolerated, holding the
-    /// last one, before the fault `PlantLost` (see [`DEFAULT_MAX_MISSED`]).
+    /// last one, before the fault `PlantLost` (see [`DEFAULT_MAX_MISSED`]);
+    /// also the most commands a measurement may lag behind. At most 200.
     pub max_missed: u32,
     /// How long the plant may take to send its first valid measurement
     /// before the log warns that none came (the daemon keeps waiting, in
@@ -112,8 +113,8 @@ impl PlantSection {
             "plant.max_missed",
             self.max_missed,
             0,
-            10_000,
-            "in [0, 10000] ticks",
+            200,
+            "in [0, 200] ticks",
         )?;
         range(
             "plant.connect_timeout_ms",
@@ -170,7 +171,7 @@ mod tests {
                 "[plant]\nkind = \"shm\"\nstale_after_ms = 0",
                 "plant.stale_after_ms",
             ),
-            ("[plant]\nmax_missed = 100000", "plant.max_missed"),
+            ("[plant]\nmax_missed = 201", "plant.max_missed"),
             (
                 "[plant]\nconnect_timeout_ms = 0",
                 "plant.connect_timeout_ms",

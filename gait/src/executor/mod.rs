@@ -327,9 +327,9 @@ fn rest(state: HandState) -> Setpoint {
     }
 }
 
-/// Setpoints remembered for comparing late measurements: 16 ticks (16 ms
-/// at 1 kHz), well beyond a plant link's tolerated delay.
-const WRITTEN: usize = 16;
+/// Setpoints remembered for comparing late measurements: 256 ticks, beyond
+/// the delay a plant link tolerates (`plant.max_missed` is at most 200).
+pub const WRITTEN: usize = 256;
 
 /// The fault a broken invariant is, and the finger it concerns.
 fn invariant_fault(v: crate::hand::Violation) -> (FaultKind, u8) {

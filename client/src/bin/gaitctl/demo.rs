@@ -45,11 +45,11 @@ pub struct Args {
 
 /// A daemon started for the demo, in its own IPC namespace (and its
 /// external plant, if any).
-struct Embedded {
+pub(crate) struct Embedded {
     child: Child,
     plant: Option<Child>,
     dir: PathBuf,
-    opts: ConnectOptions,
+    pub(crate) opts: ConnectOptions,
 }
 
 /// The config of a daemon whose hand is the external plant `plant`.
@@ -71,7 +71,7 @@ pub const PHYSICS_FEEDBACK: &str = "[feedback]\nobject_tolerance_deg = 2.0\nfing
      contact_tolerance = 0.004\nlimit_guard = 0.0\nstall_ratio = 0.0\n";
 
 impl Embedded {
-    fn start(bin: PathBuf, extra: &str) -> Result<Self, String> {
+    pub(crate) fn start(bin: PathBuf, extra: &str) -> Result<Self, String> {
         let pid = std::process::id();
         let dir = std::env::temp_dir().join(format!("gaitd-demo-{pid}"));
         let _ = std::fs::remove_dir_all(&dir);
@@ -138,7 +138,7 @@ impl Embedded {
     }
 
     /// What the plant printed.
-    fn plant_log(&self) -> String {
+    pub(crate) fn plant_log(&self) -> String {
         std::fs::read_to_string(self.dir.join("plant.log")).unwrap_or_default()
     }
 }

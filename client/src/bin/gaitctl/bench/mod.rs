@@ -11,9 +11,12 @@
 //! - `load` (with `--load-seconds`): missed periods idle vs under load;
 //! - [`reference`]: a bare iceoryx2 one-way latency in the same run, the
 //!   reference of the status latency;
-//! - [`report`]: the JSON result and the table, with the daemon's RSS.
+//! - [`report`]: the JSON result and the table, with the daemon's RSS;
+//! - [`plant`] (with `--plant-steps`, instead of the above): the plant
+//!   interface's lockstep latency, against a daemon gaitctl starts.
 
 mod latency;
+mod plant;
 mod reference;
 mod report;
 mod tick;
@@ -44,6 +47,11 @@ pub struct Args {
     /// Print only the JSON.
     #[arg(long)]
     json: bool,
+    /// Instead of the latency benchmarks: the plant interface. gaitctl
+    /// starts a daemon with an external plant in lockstep and is that
+    /// plant for this many steps (see `bench::plant`).
+    #[arg(long, value_name = "STEPS")]
+    plant_steps: Option<usize>,
     /// Instead of the latency benchmarks: a soak run of this many seconds
     /// (a stream of goals, daemon RSS sampled; see `soak`).
     #[arg(long, value_name = "SECONDS")]
@@ -138,6 +146,10 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     // which narrows what the process may use.)
     let online_cpus = unsafe { libc::sysconf(libc::_SC_NPROCESSORS_ONLN) };
     pin(a.cpu)?;
+    if let Some(steps) = a.plant_steps {
+        plant::run(steps, a.pings, a.json)?;
+        return Ok(ExitCode::SUCCESS);
+    }
     let mut c = conn.connect()?;
     if let Some(seconds) = a.soak {
         let warmup = a.warmup.unwrap_or((seconds / 10.0).min(120.0));

@@ -5,7 +5,7 @@
 //! the MuJoCo physics hand of the Python package (`client/python`).
 
 mod config;
-mod sim;
+pub mod sim;
 
 use crate::common::ConnArgs;
 use config::PlantView;
