@@ -5,7 +5,7 @@
 //! the grasp held while no (valid) command comes.
 //!
 //! ```no_run
-//! use gaitd_client::plant::{PlantHost, PlantModel, Timing};
+//! use gaitd_client::plant::{PlantHost, PlantModel, Pacing};
 //! use gaitd_client::ConnectOptions;
 //! use gaitd_client::shm_schema::{PlantCommand, PlantMeasurement};
 //! # struct MyHand;
@@ -16,7 +16,7 @@
 //! # }
 //! let mut host = PlantHost::open(&ConnectOptions::new())?;
 //! let stop = std::sync::atomic::AtomicBool::new(false);
-//! let report = host.run(&mut MyHand, Timing::Lockstep, 1_000_000, &stop)?;
+//! let report = host.run(&mut MyHand, Pacing::Lockstep, 1_000_000, &stop)?;
 //! println!("{} steps", report.steps);
 //! # Ok::<(), gaitd_client::Error>(())
 //! ```
@@ -50,7 +50,7 @@ pub trait PlantModel {
 
 /// How the plant is paced (PLANT-GUIDE.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Timing {
+pub enum Pacing {
     /// Measurement k, then wait for the command answering k, then step.
     Lockstep,
     /// Step on the wall clock every period, with the newest command.
@@ -283,7 +283,7 @@ impl PlantHost {
     pub fn run(
         &mut self,
         model: &mut dyn PlantModel,
-        timing: Timing,
+        timing: Pacing,
         period_ns: u64,
         stop: &AtomicBool,
     ) -> Result<RunReport> {
@@ -294,7 +294,7 @@ impl PlantHost {
         let mut next = Instant::now() + Duration::from_nanos(period);
         while !stop.load(Ordering::Acquire) {
             match timing {
-                Timing::Lockstep => {
+                Pacing::Lockstep => {
                     // Wait for the command answering our last measurement;
                     // meanwhile republish it now and then (the daemon may
                     // have restarted) and keep the grasp.
@@ -312,7 +312,7 @@ impl PlantHost {
                     self.take(model, &c, &mut r);
                     period = if c.period_ns > 0 { c.period_ns } else { period };
                 }
-                Timing::Realtime => {
+                Pacing::Realtime => {
                     let now = Instant::now();
                     if now < next {
                         std::thread::sleep(next - now);

@@ -8,7 +8,7 @@
 #[path = "support/ipc_rig.rs"]
 mod ipc_rig;
 
-use gait::executor::Phase as ExecPhase;
+use gait::executor::Mode as ExecPhase;
 use gait::hand::Bound;
 use gait::sim::InjectedFault;
 use ipc_rig::{Namespace, gait_loop};

@@ -21,7 +21,7 @@ mod hold;
 mod ipc_rig;
 
 use gaitd::control::controller::{ControlCommand, ControlOutput, Controller, TickContext};
-use gaitd::control::planner::{self, Planner, PlannerLink};
+use gaitd::control::planner::{self, BackgroundPlanner, PlannerLink};
 use gaitd::realtime::clock::MockClock;
 use gaitd::realtime::runtime::Runtime;
 use hold::HoldController;
@@ -165,7 +165,7 @@ struct TestPlan {
 }
 
 struct VecPlanner;
-impl Planner for VecPlanner {
+impl BackgroundPlanner for VecPlanner {
     type Request = u64;
     type Plan = TestPlan;
     type Error = ReasonCode;
@@ -414,7 +414,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
             };
             g.client.send(cmd);
         }
-        let slip = t % 4000 == 2000 && g.rt.controller().phase() == gait::executor::Phase::Moving;
+        let slip = t % 4000 == 2000 && g.rt.controller().phase() == gait::executor::Mode::Moving;
         if slip {
             g.rt.controller_mut().embedded_mut().unwrap().inject(Some(
                 gait::sim::InjectedFault::Slip {
@@ -449,7 +449,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
         }
         // While a plan is being made, let the planner thread run (ticks go
         // on meanwhile, as in the daemon).
-        if g.rt.controller().phase() == gait::executor::Phase::Planning {
+        if g.rt.controller().phase() == gait::executor::Mode::Planning {
             std::thread::sleep(std::time::Duration::from_micros(50));
         } else {
             active += 1;
@@ -563,7 +563,7 @@ fn the_loop_does_not_allocate_with_an_external_plant() {
                 _ => {}
             }
         }
-        if g.rt.controller().phase() == gait::executor::Phase::Planning {
+        if g.rt.controller().phase() == gait::executor::Mode::Planning {
             std::thread::sleep(std::time::Duration::from_micros(50));
         } else {
             active += 1;

@@ -10,14 +10,14 @@ mod ipc_rig;
 
 use gait::executor::PlanRequest;
 use gait::planner::{Plan, PlanError};
-use gaitd::control::planner::Planner;
+use gaitd::control::planner::BackgroundPlanner;
 use ipc_rig::{Namespace, gait_loop_with};
 use shm_schema::{Command, EventKind, GoalFrame, GoalState, NO_FINGER, ReasonCode};
 
 /// A planner that always fails with one reason.
 struct Failing(PlanError);
 
-impl Planner for Failing {
+impl BackgroundPlanner for Failing {
     type Request = PlanRequest;
     type Plan = Plan;
     type Error = PlanError;

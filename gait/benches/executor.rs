@@ -12,7 +12,7 @@ mod planning;
 
 use std::time::Instant;
 
-use gait::executor::{Command, Executor, GoalTarget, Phase};
+use gait::executor::{Executor, ExecutorCommand, GoalTarget, Mode};
 use gait::planner::Planner;
 use gait::sim::{KinematicHand, Plant};
 use gait::{HandConfig, HandState};
@@ -59,7 +59,7 @@ fn main() {
     let mut exec_s = Vec::new();
     let mut gaits = Vec::new();
     for id in 1..=goals {
-        exec.command(Command::Goal {
+        exec.command(ExecutorCommand::Goal {
             id,
             target: GoalTarget::Orientation(planning::haar(&mut rng)),
             limits: None,
@@ -77,7 +77,7 @@ fn main() {
                 drop(exec.deliver_plan(req.goal, plan));
             }
             ticks += 1;
-            if rep.phase == Phase::Holding && ticks > 2 {
+            if rep.phase == Mode::Holding && ticks > 2 {
                 gaits.push(f64::from(rep.gaits.0));
                 break;
             }

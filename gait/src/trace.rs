@@ -19,7 +19,7 @@ use core::fmt::Write;
 use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::HandConfig;
-use crate::executor::{Phase, TickReport};
+use crate::executor::{Mode, TickReport};
 use crate::planner::StepKind;
 use crate::state::FingerMode;
 
@@ -91,18 +91,18 @@ pub fn header(out: &mut String, config: &HandConfig, dt: f64, extra: &str) {
 }
 
 /// Name of what the hand is doing, for the `phase` key.
-pub fn phase_name(phase: Phase, step: Option<StepKind>) -> &'static str {
+pub fn phase_name(phase: Mode, step: Option<StepKind>) -> &'static str {
     match (phase, step) {
-        (Phase::Moving, Some(StepKind::Roll)) => "roll",
-        (Phase::Moving, Some(StepKind::Rotate)) => "rotate",
-        (Phase::Moving, Some(StepKind::Transfer)) => "transfer",
-        (Phase::Moving, Some(StepKind::Place)) => "place",
-        (Phase::Moving, Some(StepKind::Lift)) => "lift",
-        (Phase::Moving, None) => "moving",
-        (Phase::Stopping, _) => "stopping",
-        (Phase::Planning, _) => "planning",
-        (Phase::Holding, _) => "hold",
-        (Phase::SafeHold, _) => "safe_hold",
+        (Mode::Moving, Some(StepKind::Roll)) => "roll",
+        (Mode::Moving, Some(StepKind::Rotate)) => "rotate",
+        (Mode::Moving, Some(StepKind::Transfer)) => "transfer",
+        (Mode::Moving, Some(StepKind::Place)) => "place",
+        (Mode::Moving, Some(StepKind::Lift)) => "lift",
+        (Mode::Moving, None) => "moving",
+        (Mode::Stopping, _) => "stopping",
+        (Mode::Planning, _) => "planning",
+        (Mode::Holding, _) => "hold",
+        (Mode::SafeHold, _) => "safe_hold",
     }
 }
 

@@ -9,7 +9,7 @@ mod planning;
 
 use std::cell::Cell;
 
-use gait::executor::{Command, Event, Executor, GoalTarget};
+use gait::executor::{Executor, ExecutorCommand, ExecutorEvent, GoalTarget};
 use gait::planner::{Planner, StepKind};
 use gait::sim::{InjectedFault, KinematicHand, Plant};
 use gait::{HandConfig, HandState};
@@ -60,7 +60,7 @@ fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool;
         drifts += counted(|| {
             let mut n = 0;
             while let Some(e) = exec.pop_event() {
-                n += matches!(e, Event::Drift { .. }) as u64;
+                n += matches!(e, ExecutorEvent::Drift { .. }) as u64;
             }
             n
         });
@@ -72,12 +72,12 @@ fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool;
         if t == next_event {
             next_event += rng.random_range(200..2000);
             let cmd = match rng.random_range(0..16) {
-                0 => Command::Cancel,
-                1 => Command::Hold,
+                0 => ExecutorCommand::Cancel,
+                1 => ExecutorCommand::Hold,
                 2 => {
                     plant.inject(Some(InjectedFault::Missing));
                     clear_fault_at = Some(t + 20);
-                    Command::Hold
+                    ExecutorCommand::Hold
                 }
                 3 | 4 => {
                     // A slip of one tick: stop, re-base, replan.
@@ -100,7 +100,7 @@ fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool;
                 }
                 _ => {
                     id += 1;
-                    Command::Goal {
+                    ExecutorCommand::Goal {
                         id,
                         target: GoalTarget::Orientation(planning::haar(&mut rng)),
                         limits: None,
@@ -113,8 +113,8 @@ fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool;
             plant.inject(None);
             clear_fault_at = None;
         }
-        if exec.phase() == gait::executor::Phase::SafeHold && plant.fault().is_none() {
-            counted(|| exec.command(Command::Reset));
+        if exec.phase() == gait::executor::Mode::SafeHold && plant.fault().is_none() {
+            counted(|| exec.command(ExecutorCommand::Reset));
         }
     }
     (seen, id, drifts)

@@ -7,7 +7,7 @@
 
 use gait::HandConfig;
 use gait::HandState;
-use gait::executor::{Command, Event, Executor, GoalState, GoalTarget, Phase};
+use gait::executor::{Executor, ExecutorCommand, ExecutorEvent, GoalStage, GoalTarget, Mode};
 use gait::planner::Planner;
 use gait::sim::{MeasuredFinger, Measurement};
 use nalgebra::{UnitQuaternion, Vector3};
@@ -37,7 +37,7 @@ fn run(gain: f64, lag: UnitQuaternion<f64>, goal: UnitQuaternion<f64>) -> (f64, 
     let start = HandState::paper_start(&cfg);
     let planner = Planner::new(&cfg).unwrap();
     let mut exec = Executor::new(&cfg, 1e-3, start).unwrap();
-    exec.command(Command::Goal {
+    exec.command(ExecutorCommand::Goal {
         id: 1,
         target: GoalTarget::Orientation(goal),
         limits: None,
@@ -55,16 +55,16 @@ fn run(gain: f64, lag: UnitQuaternion<f64>, goal: UnitQuaternion<f64>) -> (f64, 
         }
         while let Some(e) = exec.pop_event() {
             match e {
-                Event::Goal { state, .. } if state.is_terminal() => outcome = Some(state),
-                Event::Fault { kind, .. } => panic!("fault {kind:?}"),
+                ExecutorEvent::Goal { state, .. } if state.is_terminal() => outcome = Some(state),
+                ExecutorEvent::Fault { kind, .. } => panic!("fault {kind:?}"),
                 _ => {}
             }
         }
-        if outcome.is_some() && exec.phase() == Phase::Holding {
+        if outcome.is_some() && exec.phase() == Mode::Holding {
             break;
         }
     }
-    assert_eq!(outcome, Some(GoalState::Succeeded));
+    assert_eq!(outcome, Some(GoalStage::Succeeded));
     // Hold on a while: the correction settles.
     for _ in 0..2000 {
         let m = measure(&written, &lag);

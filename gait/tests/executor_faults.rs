@@ -5,7 +5,7 @@
 
 mod planning;
 
-use gait::executor::{Command, FaultKind, GoalState, GoalTarget, Phase};
+use gait::executor::{ExecutorCommand, FaultKind, GoalStage, GoalTarget, Mode};
 use gait::sim::InjectedFault;
 use gait::{HandConfig, HandState};
 use nalgebra::Vector3;
@@ -27,7 +27,7 @@ fn inject(fault: InjectedFault, lead: u64, seed: u64) -> (u64, Option<(FaultKind
     let cfg = HandConfig::default();
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    rig.command(Command::Goal {
+    rig.command(ExecutorCommand::Goal {
         id: 1,
         target: GoalTarget::Orientation(planning::haar(&mut rng)),
         limits: None,
@@ -37,12 +37,12 @@ fn inject(fault: InjectedFault, lead: u64, seed: u64) -> (u64, Option<(FaultKind
     }
     assert_eq!(
         rig.exec.phase(),
-        Phase::Moving,
+        Mode::Moving,
         "the fault hits a moving hand"
     );
     rig.plant.inject(Some(fault));
     let mut n = 0;
-    while rig.exec.phase() != Phase::SafeHold && n < 100 {
+    while rig.exec.phase() != Mode::SafeHold && n < 100 {
         rig.tick();
         n += 1;
         assert!(finite(&rig));
@@ -86,15 +86,15 @@ fn every_fault_ends_in_safe_hold_within_two_ticks() {
                 k == kind || matches!(fault, InjectedFault::Noise { .. }),
                 "{fault:?}: {k:?}"
             );
-            assert_eq!(rig.stats.goals.last(), Some(&(1, GoalState::Aborted)));
+            assert_eq!(rig.stats.goals.last(), Some(&(1, GoalStage::Aborted)));
             // No reset while still braking (it would stop the motion dead).
             let sp = rig.exec.setpoint();
             if sp.object_rate.norm() + sp.finger_velocity.iter().map(|v| v.norm()).sum::<f64>()
                 > 0.0
             {
                 assert_eq!(
-                    rig.command(Command::Reset),
-                    gait::executor::Answer::Rejected(gait::executor::Reason::FaultActive),
+                    rig.command(ExecutorCommand::Reset),
+                    gait::executor::ExecutorAnswer::Rejected(gait::executor::Reason::FaultActive),
                     "{fault:?} at {lead}: reset while braking"
                 );
             }
@@ -106,7 +106,7 @@ fn every_fault_ends_in_safe_hold_within_two_ticks() {
             assert!(v.iter().all(|v| v.norm() == 0.0), "at rest in safe hold");
             // New goals are refused until a reset.
             assert_eq!(
-                rig.command(Command::Goal {
+                rig.command(ExecutorCommand::Goal {
                     id: 2,
                     target: GoalTarget::Rotation {
                         axis: Vector3::z(),
@@ -114,7 +114,7 @@ fn every_fault_ends_in_safe_hold_within_two_ticks() {
                     },
                     limits: None
                 }),
-                gait::executor::Answer::Rejected(gait::executor::Reason::FaultActive)
+                gait::executor::ExecutorAnswer::Rejected(gait::executor::Reason::FaultActive)
             );
         }
     }
@@ -126,7 +126,7 @@ fn a_stuck_finger_is_caught_while_it_should_move() {
     let cfg = HandConfig::default();
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
     let mut rng = ChaCha8Rng::seed_from_u64(9);
-    rig.command(Command::Goal {
+    rig.command(ExecutorCommand::Goal {
         id: 1,
         target: GoalTarget::Orientation(planning::haar(&mut rng)),
         limits: None,
@@ -140,7 +140,7 @@ fn a_stuck_finger_is_caught_while_it_should_move() {
     };
     rig.plant.inject(Some(InjectedFault::Stuck { finger }));
     let mut n = 0;
-    while rig.exec.phase() != Phase::SafeHold {
+    while rig.exec.phase() != Mode::SafeHold {
         rig.tick();
         n += 1;
         assert!(n <= 2, "stuck finger detected within two ticks");
@@ -161,17 +161,17 @@ fn reset_after_the_fault_clears_resumes_goals() {
     // Not from the measurement kept from before they stopped: only once
     // a new one arrived.
     assert_eq!(
-        rig.command(Command::Reset),
-        gait::executor::Answer::Rejected(gait::executor::Reason::FaultActive)
+        rig.command(ExecutorCommand::Reset),
+        gait::executor::ExecutorAnswer::Rejected(gait::executor::Reason::FaultActive)
     );
     rig.tick();
     assert_eq!(
-        rig.command(Command::Reset),
-        gait::executor::Answer::Accepted
+        rig.command(ExecutorCommand::Reset),
+        gait::executor::ExecutorAnswer::Accepted
     );
-    assert_eq!(rig.exec.phase(), Phase::Holding);
+    assert_eq!(rig.exec.phase(), Mode::Holding);
     let before = rig.exec.setpoint().state.object;
-    rig.command(Command::Goal {
+    rig.command(ExecutorCommand::Goal {
         id: 7,
         target: GoalTarget::Rotation {
             axis: Vector3::y(),
@@ -180,7 +180,7 @@ fn reset_after_the_fault_clears_resumes_goals() {
         limits: None,
     });
     rig.run_until_idle(100_000);
-    assert_eq!(rig.stats.goals.last(), Some(&(7, GoalState::Succeeded)));
+    assert_eq!(rig.stats.goals.last(), Some(&(7, GoalStage::Succeeded)));
     let turned = before.angle_to(&rig.exec.setpoint().state.object);
     assert!((turned - 1.0).abs() < 1e-6);
 }

@@ -3,7 +3,7 @@
 
 mod planning;
 
-use gait::executor::{Command, GoalState, GoalTarget};
+use gait::executor::{ExecutorCommand, GoalStage, GoalTarget};
 use gait::{HandConfig, HandState};
 use nalgebra::Vector3;
 use planning::run::Rig;
@@ -39,19 +39,19 @@ fn paper_scenario_full_turns_about_z_and_x() {
             angle: std::f64::consts::TAU,
         };
         assert_eq!(
-            rig.command(Command::Goal {
+            rig.command(ExecutorCommand::Goal {
                 id,
                 target,
                 limits: None
             }),
-            gait::executor::Answer::Accepted
+            gait::executor::ExecutorAnswer::Accepted
         );
         let ticks = rig.run_until_idle(200_000);
         let after = rig.plant.state().object;
         let err = before.angle_to(&after);
         println!("turn {id}: {ticks} ticks, final error {err:.2e} rad");
         assert!(err < 1e-6, "full turn ends where it started: {err}");
-        assert_eq!(rig.stats.goals.last(), Some(&(id, GoalState::Succeeded)));
+        assert_eq!(rig.stats.goals.last(), Some(&(id, GoalStage::Succeeded)));
     }
     assert_clean(&rig, "paper scenario");
 }
@@ -63,7 +63,7 @@ fn random_goals_from_the_paper_start() {
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
     for id in 1..=30u64 {
         let goal = planning::haar(&mut rng);
-        rig.command(Command::Goal {
+        rig.command(ExecutorCommand::Goal {
             id,
             target: GoalTarget::Orientation(goal),
             limits: None,
@@ -71,7 +71,7 @@ fn random_goals_from_the_paper_start() {
         rig.run_until_idle(100_000);
         let err = rig.plant.state().object.angle_to(&goal);
         assert!(err < 1e-6, "goal {id}: error {err}");
-        assert_eq!(rig.stats.goals.last(), Some(&(id, GoalState::Succeeded)));
+        assert_eq!(rig.stats.goals.last(), Some(&(id, GoalStage::Succeeded)));
     }
     println!("{} ticks", rig.stats.ticks);
     assert_clean(&rig, "random goals");
@@ -94,7 +94,7 @@ fn planned_step_durations_match_execution() {
         for step in &plan.steps {
             runner.start(step, &cfg.limits);
             let mut ticks = 0u32;
-            while runner.advance().unwrap() != otg::Status::Finished {
+            while runner.advance().unwrap() != otg::Progress::Finished {
                 ticks += 1;
             }
             let executed = f64::from(ticks) * 1e-3;

@@ -8,7 +8,7 @@
 mod planning;
 
 use gait::executor::guard::GUARD_TICKS;
-use gait::executor::{Command, FaultKind, GoalState, GoalTarget, Phase, TickReport};
+use gait::executor::{ExecutorCommand, FaultKind, GoalStage, GoalTarget, Mode, TickReport};
 use gait::{FingerMode, HandConfig, HandState};
 use nalgebra::{UnitQuaternion, Vector3};
 use planning::run::Rig;
@@ -27,7 +27,7 @@ fn loose(limit_guard: f64) -> HandConfig {
 /// `slack` [rad] of its cone's margin boundary while the object turns;
 /// returns that finger.
 fn run_to_the_edge(rig: &mut Rig, slack: f64) -> usize {
-    rig.command(Command::Goal {
+    rig.command(ExecutorCommand::Goal {
         id: 1,
         target: GoalTarget::Rotation {
             axis: Vector3::z(),
@@ -37,7 +37,7 @@ fn run_to_the_edge(rig: &mut Rig, slack: f64) -> usize {
     });
     for _ in 0..20_000 {
         let r = rig.tick();
-        if r.phase != Phase::Moving {
+        if r.phase != Mode::Moving {
             continue;
         }
         let s = r.setpoint.state;
@@ -69,7 +69,7 @@ fn mismeasure(rig: &mut Rig, k: usize, angle: f64, ticks: u8) -> TickReport {
 fn assert_reached(rig: &mut Rig, what: &str) {
     rig.run_until_idle(100_000);
     let s = &rig.stats;
-    assert_eq!(s.goals, vec![(1, GoalState::Succeeded)], "{what}");
+    assert_eq!(s.goals, vec![(1, GoalStage::Succeeded)], "{what}");
     assert!(s.violations.is_empty(), "{what}: {:?}", &s.violations[..1]);
     assert!(s.discontinuities.is_empty(), "{what}");
     assert_eq!(s.faults, 0, "{what}");
@@ -85,7 +85,7 @@ fn a_measured_contact_near_its_workspace_limit_stops_and_replans() {
     // left to the edge (the guard keeps half).
     let r = mismeasure(&mut rig, k, 0.8f64.to_radians(), GUARD_TICKS);
     assert_eq!(rig.stats.near_limits, vec![(FaultKind::Workspace, k as u8)]);
-    assert_eq!(r.phase, Phase::Stopping, "the motion brakes");
+    assert_eq!(r.phase, Mode::Stopping, "the motion brakes");
     assert_reached(&mut rig, "after the stop");
     let goal = UnitQuaternion::from_scaled_axis(Vector3::z()) * start.object;
     let err = rig.plant.state().object.angle_to(&goal);
@@ -103,7 +103,7 @@ fn no_stop_with_the_guard_off_or_an_error_away_from_the_edge() {
         let mut rig = Rig::new(loose(guard), HandState::paper_start(&loose(guard)), 1e-3);
         let k = run_to_the_edge(&mut rig, 0.2f64.to_radians());
         let r = mismeasure(&mut rig, k, angle.to_radians(), ticks);
-        assert_eq!(r.phase, Phase::Moving, "{what}");
+        assert_eq!(r.phase, Mode::Moving, "{what}");
         assert!(rig.stats.near_limits.is_empty(), "{what}");
         assert_reached(&mut rig, what);
     }
@@ -120,7 +120,7 @@ fn the_guard_keeps_its_fraction_of_the_margin() {
         let k = run_to_the_edge(&mut rig, 0.05f64.to_radians());
         let r = mismeasure(&mut rig, k, angle.to_radians(), GUARD_TICKS);
         assert_eq!(rig.stats.near_limits.len(), usize::from(stops), "{angle}°");
-        assert_eq!(r.phase == Phase::Stopping, stops, "{angle}°");
+        assert_eq!(r.phase == Mode::Stopping, stops, "{angle}°");
         assert_reached(&mut rig, "keep a quarter");
     }
 }
@@ -136,11 +136,11 @@ fn a_persistent_error_ends_in_safe_hold_once_the_replans_are_spent() {
     let k = run_to_the_edge(&mut rig, 0.2f64.to_radians());
     for _ in 0..50_000 {
         let r = mismeasure(&mut rig, k, 0.8f64.to_radians(), 1);
-        if r.phase == Phase::SafeHold {
+        if r.phase == Mode::SafeHold {
             break;
         }
     }
-    assert_eq!(rig.exec.phase(), Phase::SafeHold);
+    assert_eq!(rig.exec.phase(), Mode::SafeHold);
     assert_eq!(rig.stats.near_limits.len(), 1, "one replan, then the fault");
     assert_eq!(
         rig.exec.report().fault.map(|f| f.0),

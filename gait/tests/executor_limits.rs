@@ -9,7 +9,7 @@
 mod planning;
 
 use gait::config::{LimitsConfig, MotionLimit};
-use gait::executor::{Command, Event, GoalState, GoalTarget, Phase, Reason};
+use gait::executor::{ExecutorCommand, ExecutorEvent, GoalStage, GoalTarget, Mode, Reason};
 use gait::{HandConfig, HandState};
 use nalgebra::{UnitQuaternion, Vector3};
 use planning::run::Rig;
@@ -35,7 +35,7 @@ fn run(limits: Option<LimitsConfig>) -> (f64, f64, f64) {
     let cfg = HandConfig::default();
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
     let goal = UnitQuaternion::from_scaled_axis(Vector3::new(0.3, -0.2, 1.0).normalize() * 0.7);
-    rig.command(Command::Goal {
+    rig.command(ExecutorCommand::Goal {
         id: 1,
         target: GoalTarget::Orientation(goal),
         limits,
@@ -43,7 +43,7 @@ fn run(limits: Option<LimitsConfig>) -> (f64, f64, f64) {
     let (mut eta, mut moving_ticks, mut planned) = (None, 0u64, 0.0);
     for _ in 0..5_000_000u64 {
         let r = rig.tick();
-        if r.phase == Phase::Moving {
+        if r.phase == Mode::Moving {
             moving_ticks += 1;
             eta.get_or_insert(r.eta);
         }
@@ -56,7 +56,7 @@ fn run(limits: Option<LimitsConfig>) -> (f64, f64, f64) {
             break;
         }
     }
-    assert_eq!(rig.stats.goals.last(), Some(&(1, GoalState::Succeeded)));
+    assert_eq!(rig.stats.goals.last(), Some(&(1, GoalStage::Succeeded)));
     assert_eq!(
         rig.stats.faults, 0,
         "no fault (a Trajectory fault was the bug)"
@@ -114,17 +114,17 @@ fn non_positive_limits_are_refused_with_their_own_reason() {
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
     let mut bad = cfg.limits;
     bad.rolling.jerk = 0.0;
-    let answer = rig.command(Command::Goal {
+    let answer = rig.command(ExecutorCommand::Goal {
         id: 1,
         target: GoalTarget::Orientation(UnitQuaternion::identity()),
         limits: Some(bad),
     });
     assert_eq!(
         answer,
-        gait::executor::Answer::Rejected(Reason::InvalidLimits)
+        gait::executor::ExecutorAnswer::Rejected(Reason::InvalidLimits)
     );
     assert!(rig.exec.take_plan_request().is_none());
     while let Some(e) = rig.exec.pop_event() {
-        assert!(!matches!(e, Event::Goal { .. }), "{e:?}");
+        assert!(!matches!(e, ExecutorEvent::Goal { .. }), "{e:?}");
     }
 }

@@ -5,7 +5,7 @@
 
 use gait::HandConfig;
 use gait::HandState;
-use gait::executor::{Command, Event, Executor, FaultKind, GoalTarget, Phase};
+use gait::executor::{Executor, ExecutorCommand, ExecutorEvent, FaultKind, GoalTarget, Mode};
 use gait::planner::Planner;
 use gait::sim::{MeasuredFinger, Measurement};
 use nalgebra::{UnitQuaternion, Vector3};
@@ -27,7 +27,7 @@ fn measure(s: &HandState, age: u32) -> Measurement {
 fn faults(exec: &mut Executor) -> Vec<FaultKind> {
     let mut out = Vec::new();
     while let Some(e) = exec.pop_event() {
-        if let Event::Fault { kind, .. } = e {
+        if let ExecutorEvent::Fault { kind, .. } = e {
             out.push(kind);
         }
     }
@@ -41,7 +41,7 @@ fn it_starts_from_the_measured_state_or_refuses_it() {
     let mut exec = Executor::new(&cfg, 1e-3, paper).unwrap();
     exec.await_plant();
     assert!(exec.awaiting_plant());
-    assert_eq!(exec.phase(), Phase::SafeHold);
+    assert_eq!(exec.phase(), Mode::SafeHold);
     assert_eq!(faults(&mut exec), [FaultKind::PlantWaiting]);
     // The plant is elsewhere: the object turned 0.3 rad about z with the
     // grasp (every contact kept).
@@ -53,7 +53,7 @@ fn it_starts_from_the_measured_state_or_refuses_it() {
         f.orientation = turn * f.orientation;
     }
     assert!(exec.start_from(&measure(&there, 0)));
-    assert_eq!(exec.phase(), Phase::Holding);
+    assert_eq!(exec.phase(), Mode::Holding);
     assert!(exec.setpoint().state.object.angle_to(&there.object) < 1e-15);
     assert!(faults(&mut exec).is_empty());
     // A plant whose first state has only two contacts 120° apart: not
@@ -66,7 +66,7 @@ fn it_starts_from_the_measured_state_or_refuses_it() {
     bad.fingers[0].center *= 0.65 / 0.6;
     assert!(!exec.start_from(&measure(&bad, 0)));
     assert_eq!(faults(&mut exec), [FaultKind::ForceClosure]);
-    assert_eq!(exec.phase(), Phase::SafeHold);
+    assert_eq!(exec.phase(), Mode::SafeHold);
     let r = *exec.tick(Some(&measure(&bad, 0)));
     assert_eq!(r.fault.map(|f| f.0), Some(FaultKind::ForceClosure));
     assert_eq!(r.setpoint.state, paper, "nothing moved");
@@ -81,7 +81,7 @@ fn a_late_measurement_is_compared_with_the_setpoint_it_answers() {
     let start = HandState::paper_start(&cfg);
     let planner = Planner::new(&cfg).unwrap();
     let mut exec = Executor::new(&cfg, 1e-3, start).unwrap();
-    exec.command(Command::Goal {
+    exec.command(ExecutorCommand::Goal {
         id: 1,
         target: GoalTarget::Rotation {
             axis: Vector3::z(),
@@ -96,7 +96,7 @@ fn a_late_measurement_is_compared_with_the_setpoint_it_answers() {
         let old = history[history.len() - 1 - lag];
         let r = *exec.tick(Some(&measure(&old, lag as u32)));
         let last = r.setpoint.state;
-        if r.phase == Phase::Moving {
+        if r.phase == Mode::Moving {
             moving_ticks += 1;
             for k in 0..3 {
                 worst = worst.max((old.fingers[k].center - last.fingers[k].center).norm());
@@ -107,7 +107,7 @@ fn a_late_measurement_is_compared_with_the_setpoint_it_answers() {
             drop(exec.deliver_plan(req.goal, req.plan(&planner).map(Box::new)));
         }
         assert!(faults(&mut exec).is_empty(), "a fault");
-        if r.phase == Phase::Holding && moving_ticks > 0 {
+        if r.phase == Mode::Holding && moving_ticks > 0 {
             break;
         }
     }
@@ -136,7 +136,7 @@ fn a_grasping_contact_lost_is_a_fault_after_the_grace() {
             assert_eq!(f, [FaultKind::ContactLost], "after {grace} ticks");
         }
     }
-    assert_eq!(exec.phase(), Phase::SafeHold);
+    assert_eq!(exec.phase(), Mode::SafeHold);
     // A measured force below the floor is no contact either.
     let mut exec = Executor::new(&cfg, 1e-3, start).unwrap();
     let mut m = measure(&start, 0);

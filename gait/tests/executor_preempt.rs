@@ -4,7 +4,7 @@
 
 mod planning;
 
-use gait::executor::{Command, GoalState, GoalTarget, Phase};
+use gait::executor::{ExecutorCommand, GoalStage, GoalTarget, Mode};
 use gait::planner::StepKind;
 use gait::{HandConfig, HandState};
 use planning::run::Rig;
@@ -28,10 +28,10 @@ fn interruptions_keep_the_stream_continuous_and_valid() {
         }
         let r = *rig.exec.report();
         let what = match (r.phase, r.step_kind) {
-            (Phase::Moving | Phase::Stopping, Some(StepKind::Roll)) => "roll",
-            (Phase::Moving | Phase::Stopping, Some(StepKind::Place | StepKind::Lift)) => "gait",
-            (Phase::Moving | Phase::Stopping, Some(StepKind::Transfer)) => "transfer",
-            (Phase::Moving | Phase::Stopping, Some(StepKind::Rotate)) => "rotate",
+            (Mode::Moving | Mode::Stopping, Some(StepKind::Roll)) => "roll",
+            (Mode::Moving | Mode::Stopping, Some(StepKind::Place | StepKind::Lift)) => "gait",
+            (Mode::Moving | Mode::Stopping, Some(StepKind::Transfer)) => "transfer",
+            (Mode::Moving | Mode::Stopping, Some(StepKind::Rotate)) => "rotate",
             _ => "rest",
         };
         *interrupted.entry(what).or_default() += 1;
@@ -42,15 +42,15 @@ fn interruptions_keep_the_stream_continuous_and_valid() {
         };
         match choice {
             0 => {
-                rig.command(Command::Cancel);
+                rig.command(ExecutorCommand::Cancel);
             }
             1 => {
-                rig.command(Command::Hold);
+                rig.command(ExecutorCommand::Hold);
             }
             _ => {
                 id += 1;
                 let goal = planning::haar(&mut rng);
-                rig.command(Command::Goal {
+                rig.command(ExecutorCommand::Goal {
                     id,
                     target: GoalTarget::Orientation(goal),
                     limits: None,
@@ -62,7 +62,7 @@ fn interruptions_keep_the_stream_continuous_and_valid() {
     // The last word: one more goal, run to the end.
     id += 1;
     let goal = planning::haar(&mut rng);
-    rig.command(Command::Goal {
+    rig.command(ExecutorCommand::Goal {
         id,
         target: GoalTarget::Orientation(goal),
         limits: None,
@@ -90,7 +90,7 @@ fn interruptions_keep_the_stream_continuous_and_valid() {
     assert_eq!(s.faults, 0);
     assert!(s.unmoved_steps.is_empty(), "{:?}", s.unmoved_steps);
     assert!(err < 1e-6, "last goal error {err}");
-    assert_eq!(s.goals.last(), Some(&(last_id, GoalState::Succeeded)));
+    assert_eq!(s.goals.last(), Some(&(last_id, GoalStage::Succeeded)));
     for kind in ["gait", "rotate", "transfer"] {
         assert!(
             interrupted.get(kind).copied().unwrap_or(0) > 0,
@@ -104,7 +104,7 @@ fn a_goal_preempts_the_initial_roll() {
     let cfg = HandConfig::default();
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
     let mut rng = ChaCha8Rng::seed_from_u64(5);
-    rig.command(Command::Goal {
+    rig.command(ExecutorCommand::Goal {
         id: 1,
         target: GoalTarget::Orientation(planning::haar(&mut rng)),
         limits: None,
@@ -121,7 +121,7 @@ fn a_goal_preempts_the_initial_roll() {
     }
     assert_eq!(rig.exec.report().step_kind, Some(StepKind::Roll));
     let goal = planning::haar(&mut rng);
-    rig.command(Command::Goal {
+    rig.command(ExecutorCommand::Goal {
         id: 2,
         target: GoalTarget::Orientation(goal),
         limits: None,
@@ -140,7 +140,7 @@ fn a_goal_preempts_the_initial_roll() {
     );
     assert_eq!(
         s.goals,
-        vec![(1, GoalState::Preempted), (2, GoalState::Succeeded)]
+        vec![(1, GoalStage::Preempted), (2, GoalStage::Succeeded)]
     );
     assert!(rig.plant.state().object.angle_to(&goal) < 1e-6);
 }
@@ -154,7 +154,7 @@ fn a_stop_near_the_end_of_a_step_does_not_announce_the_next_one() {
     // would publish a Lift or Roll that never happens).
     let cfg = HandConfig::default();
     let start = HandState::paper_start(&cfg);
-    let goal = Command::Goal {
+    let goal = ExecutorCommand::Goal {
         id: 1,
         target: GoalTarget::Rotation {
             axis: nalgebra::Vector3::z(),
@@ -183,7 +183,7 @@ fn a_stop_near_the_end_of_a_step_does_not_announce_the_next_one() {
             rig.tick();
         }
         assert_eq!(rig.exec.report().step_kind, Some(StepKind::Rotate));
-        rig.command(Command::Hold);
+        rig.command(ExecutorCommand::Hold);
         rig.run_until_idle(10_000);
         assert!(
             rig.stats.unmoved_steps.is_empty(),
@@ -193,7 +193,7 @@ fn a_stop_near_the_end_of_a_step_does_not_announce_the_next_one() {
         assert!(rig.stats.violations.is_empty() && rig.stats.discontinuities.is_empty());
         assert_eq!(
             rig.exec.phase(),
-            Phase::Holding,
+            Mode::Holding,
             "hold {lead} ticks before the end"
         );
     }

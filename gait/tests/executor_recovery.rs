@@ -5,7 +5,7 @@
 
 mod planning;
 
-use gait::executor::{Command, Executor, FaultKind, GoalState, GoalTarget, Phase};
+use gait::executor::{Executor, ExecutorCommand, FaultKind, GoalStage, GoalTarget, Mode};
 use gait::planner::Planner;
 use gait::sim::{InjectedFault, KinematicHand, Plant};
 use gait::{HandConfig, HandState};
@@ -27,7 +27,7 @@ fn slip_once(rig: &mut Rig, axis: Vector3<f64>, rate: f64) {
 /// Ticks until the executor is moving (or `max` ticks).
 fn run_until_moving(rig: &mut Rig, max: u64) {
     for _ in 0..max {
-        if rig.tick().phase == Phase::Moving {
+        if rig.tick().phase == Mode::Moving {
             return;
         }
     }
@@ -58,7 +58,7 @@ fn a_slip_mid_goal_is_replanned_and_the_true_object_reaches_the_goal() {
         let rate = if seed % 2 == 0 { 2.0 } else { 20.0 };
         for lead in [400, 1500] {
             let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
-            rig.command(Command::Goal {
+            rig.command(ExecutorCommand::Goal {
                 id: 1,
                 target: GoalTarget::Orientation(goal),
                 limits: None,
@@ -66,15 +66,15 @@ fn a_slip_mid_goal_is_replanned_and_the_true_object_reaches_the_goal() {
             for _ in 0..lead {
                 rig.tick();
             }
-            if rig.exec.phase() != Phase::Moving {
+            if rig.exec.phase() != Mode::Moving {
                 continue; // a short plan already done: nothing to interrupt
             }
             slip_once(&mut rig, axis, rate);
             // The drift is seen at the next tick and the motion brakes.
-            assert_eq!(rig.tick().phase, Phase::Stopping, "seed {seed} lead {lead}");
+            assert_eq!(rig.tick().phase, Mode::Stopping, "seed {seed} lead {lead}");
             rig.run_until_idle(200_000);
             let what = format!("seed {seed} lead {lead} rate {rate}");
-            assert_eq!(rig.stats.goals, vec![(1, GoalState::Succeeded)], "{what}");
+            assert_eq!(rig.stats.goals, vec![(1, GoalStage::Succeeded)], "{what}");
             assert_eq!(rig.stats.drifts, 1, "{what}");
             assert_clean(&rig, &what);
             let err = rig.plant.state().object.angle_to(&goal);
@@ -102,7 +102,7 @@ fn a_turn_goal_keeps_its_full_turns_and_direction_after_a_slip() {
     for sign in [1.0, -1.0] {
         let mut rig = Rig::new(cfg, start, 1e-3);
         let want = sign * 2.0 * std::f64::consts::TAU;
-        rig.command(Command::Goal {
+        rig.command(ExecutorCommand::Goal {
             id: 1,
             target: GoalTarget::Rotation {
                 axis: z,
@@ -128,10 +128,10 @@ fn a_turn_goal_keeps_its_full_turns_and_direction_after_a_slip() {
         for _ in 0..4000 {
             tick(&mut rig, false);
         }
-        assert_eq!(rig.exec.phase(), Phase::Moving);
+        assert_eq!(rig.exec.phase(), Mode::Moving);
         tick(&mut rig, true);
-        while !matches!(tick(&mut rig, false), Phase::Holding | Phase::SafeHold) {}
-        assert_eq!(rig.stats.goals, vec![(1, GoalState::Succeeded)], "{sign}");
+        while !matches!(tick(&mut rig, false), Mode::Holding | Mode::SafeHold) {}
+        assert_eq!(rig.stats.goals, vec![(1, GoalStage::Succeeded)], "{sign}");
         assert_eq!(rig.stats.drifts, 1);
         assert_clean(&rig, "turn");
         let err = rig.plant.state().object.angle_to(&start.object);
@@ -159,7 +159,7 @@ fn a_slip_while_planning_re_bases_before_the_plan_is_used() {
         r
     };
     let turn = -std::f64::consts::TAU - 1.0;
-    exec.command(Command::Goal {
+    exec.command(ExecutorCommand::Goal {
         id: 1,
         target: GoalTarget::Rotation {
             axis: Vector3::x(),
@@ -176,7 +176,7 @@ fn a_slip_while_planning_re_bases_before_the_plan_is_used() {
     step(&mut exec, &mut plant);
     plant.inject(None);
     step(&mut exec, &mut plant); // the drift is seen here
-    assert_eq!(exec.phase(), Phase::Planning);
+    assert_eq!(exec.phase(), Mode::Planning);
     let stale = first.target.plan(&planner, &first.start).map(Box::new);
     let returned = exec.deliver_plan(1, stale);
     assert!(returned.is_some(), "the stale plan is handed back, unused");
@@ -196,11 +196,11 @@ fn a_slip_while_planning_re_bases_before_the_plan_is_used() {
     let plan = again.target.plan(&planner, &again.start).map(Box::new);
     assert!(exec.deliver_plan(1, plan).is_none());
     for _ in 0..100_000 {
-        if step(&mut exec, &mut plant).phase == Phase::Holding {
+        if step(&mut exec, &mut plant).phase == Mode::Holding {
             break;
         }
     }
-    assert_eq!(exec.report().goal.map(|g| g.1), Some(GoalState::Succeeded));
+    assert_eq!(exec.report().goal.map(|g| g.1), Some(GoalStage::Succeeded));
     assert!(plant.state().object.angle_to(&asked) <= 1e-6);
 }
 
@@ -209,7 +209,7 @@ fn drifts_beyond_the_replan_budget_end_in_safe_hold() {
     let cfg = HandConfig::default();
     let budget = cfg.feedback.max_replans;
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
-    rig.command(Command::Goal {
+    rig.command(ExecutorCommand::Goal {
         id: 1,
         target: GoalTarget::Rotation {
             axis: Vector3::new(0.3, 1.0, 0.2),
@@ -226,16 +226,16 @@ fn drifts_beyond_the_replan_budget_end_in_safe_hold() {
         rig.tick();
         let phase = rig.exec.phase();
         if n < budget {
-            assert_eq!(phase, Phase::Stopping, "drift {n} is replanned");
+            assert_eq!(phase, Mode::Stopping, "drift {n} is replanned");
         } else {
-            assert_eq!(phase, Phase::SafeHold, "drift {n} is one too many");
+            assert_eq!(phase, Mode::SafeHold, "drift {n} is one too many");
         }
     }
     assert_eq!(
         rig.exec.report().fault.map(|f| f.0),
         Some(FaultKind::ContactDrift)
     );
-    assert_eq!(rig.stats.goals, vec![(1, GoalState::Aborted)]);
+    assert_eq!(rig.stats.goals, vec![(1, GoalStage::Aborted)]);
     assert_eq!(rig.stats.drifts, budget as u64);
 }
 
@@ -251,11 +251,11 @@ fn a_slip_at_rest_re_bases_the_estimate_and_the_next_goal_is_exact() {
         rig.tick();
     }
     assert_eq!(rig.stats.drifts, 1);
-    assert_eq!(rig.exec.phase(), Phase::Holding, "no fault");
+    assert_eq!(rig.exec.phase(), Mode::Holding, "no fault");
     let slipped = rig.plant.state().object;
     let belief = rig.exec.setpoint().state.object;
     assert!(belief.angle_to(&slipped) < 1e-12, "estimate re-based");
-    rig.command(Command::Goal {
+    rig.command(ExecutorCommand::Goal {
         id: 2,
         target: GoalTarget::Rotation {
             axis: Vector3::y(),
@@ -264,7 +264,7 @@ fn a_slip_at_rest_re_bases_the_estimate_and_the_next_goal_is_exact() {
         limits: None,
     });
     rig.run_until_idle(100_000);
-    assert_eq!(rig.stats.goals, vec![(2, GoalState::Succeeded)]);
+    assert_eq!(rig.stats.goals, vec![(2, GoalStage::Succeeded)]);
     assert_clean(&rig, "after a slip at rest");
     let want = UnitQuaternion::from_scaled_axis(Vector3::y()) * slipped;
     let err = rig.plant.state().object.angle_to(&want);
@@ -276,7 +276,7 @@ fn with_no_replans_allowed_drift_is_a_fault() {
     let mut cfg = HandConfig::default();
     cfg.feedback.max_replans = 0;
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
-    rig.command(Command::Goal {
+    rig.command(ExecutorCommand::Goal {
         id: 1,
         target: GoalTarget::Rotation {
             axis: Vector3::z(),
@@ -287,7 +287,7 @@ fn with_no_replans_allowed_drift_is_a_fault() {
     run_until_moving(&mut rig, 1000);
     slip_once(&mut rig, Vector3::x(), 2.0);
     rig.tick();
-    assert_eq!(rig.exec.phase(), Phase::SafeHold);
+    assert_eq!(rig.exec.phase(), Mode::SafeHold);
     assert_eq!(rig.stats.drifts, 0);
-    assert_eq!(rig.stats.goals, vec![(1, GoalState::Aborted)]);
+    assert_eq!(rig.stats.goals, vec![(1, GoalStage::Aborted)]);
 }

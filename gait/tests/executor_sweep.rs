@@ -12,7 +12,7 @@
 
 mod planning;
 
-use gait::executor::{Command, GoalState, GoalTarget};
+use gait::executor::{ExecutorCommand, GoalStage, GoalTarget};
 use gait::{HandConfig, HandState};
 use planning::run::Rig;
 use rand::SeedableRng;
@@ -39,7 +39,7 @@ fn sweep(seed: u64, random_start: bool) {
         };
         let goal = planning::haar(&mut rng);
         let mut rig = Rig::new(cfg, start, 1e-3);
-        rig.command(Command::Goal {
+        rig.command(ExecutorCommand::Goal {
             id: 1,
             target: GoalTarget::Orientation(goal),
             limits: None,
@@ -49,7 +49,7 @@ fn sweep(seed: u64, random_start: bool) {
         let err = rig.plant.state().object.angle_to(&goal);
         // Every tick is checked whatever the outcome; a goal that did not
         // succeed is listed (and fails the test at the end).
-        if s.goals.last() != Some(&(1, GoalState::Succeeded)) {
+        if s.goals.last() != Some(&(1, GoalStage::Succeeded)) {
             failed.push((i, s.goals.last().copied()));
         }
         assert!(

@@ -35,7 +35,7 @@ pub enum Field {
 
 /// What is wrong with a field.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Problem {
+pub enum InputDefect {
     /// NaN or infinite.
     NotFinite,
     /// A limit with the wrong sign, zero, or non-finite; a negative duration.
@@ -56,7 +56,7 @@ pub enum OtgError {
         /// The offending field.
         field: Field,
         /// What is wrong with it.
-        problem: Problem,
+        problem: InputDefect,
     },
     /// No time-optimal profile was found for a DoF (Step 1).
     ExecutionTimeCalculation {
@@ -93,13 +93,13 @@ impl fmt::Display for Field {
     }
 }
 
-impl fmt::Display for Problem {
+impl fmt::Display for InputDefect {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
-            Problem::NotFinite => "is not finite",
-            Problem::OutOfRange => "is out of range",
-            Problem::ExceedsLimit => "exceeds its limit",
-            Problem::InevitablyExceeds => "inevitably leads past the velocity limit",
+            InputDefect::NotFinite => "is not finite",
+            InputDefect::OutOfRange => "is out of range",
+            InputDefect::ExceedsLimit => "exceeds its limit",
+            InputDefect::InevitablyExceeds => "inevitably leads past the velocity limit",
         })
     }
 }

@@ -1,7 +1,7 @@
 //! Input of the trajectory generator and its validation (SPEC.md §5).
 
 use crate::brake::v_at_a_zero;
-use crate::error::{Field, OtgError, Problem};
+use crate::error::{Field, InputDefect, OtgError};
 
 /// What the target prescribes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -118,7 +118,7 @@ impl<const N: usize> Input<N> {
     /// current state must be inside the limits too (without it, a current
     /// state outside is allowed: a brake pre-trajectory recovers it).
     pub fn validate(&self, current_within_limits: bool) -> Result<(), OtgError> {
-        let bad = |dof: usize, field: Field, problem: Problem| {
+        let bad = |dof: usize, field: Field, problem: InputDefect| {
             Err(OtgError::InvalidInput {
                 dof: dof as u16,
                 field,
@@ -128,7 +128,7 @@ impl<const N: usize> Input<N> {
         if let Some(t) = self.minimum_duration
             && !(t.is_finite() && t >= 0.0)
         {
-            return bad(0, Field::MinimumDuration, Problem::OutOfRange);
+            return bad(0, Field::MinimumDuration, InputDefect::OutOfRange);
         }
         let position = self.control_interface == ControlInterface::Position;
         for i in 0..N {
@@ -139,13 +139,13 @@ impl<const N: usize> Input<N> {
             let positive = |x: f64| x.is_finite() && x > 0.0;
             let negative = |x: f64| x.is_finite() && x < 0.0;
             if !positive(j) {
-                return bad(i, Field::MaxJerk, Problem::OutOfRange);
+                return bad(i, Field::MaxJerk, InputDefect::OutOfRange);
             }
             if !positive(amax) {
-                return bad(i, Field::MaxAcceleration, Problem::OutOfRange);
+                return bad(i, Field::MaxAcceleration, InputDefect::OutOfRange);
             }
             if !negative(amin) {
-                return bad(i, Field::MinAcceleration, Problem::OutOfRange);
+                return bad(i, Field::MinAcceleration, InputDefect::OutOfRange);
             }
             let (a0, af, v0, vf) = (
                 self.current_acceleration[i],
@@ -161,46 +161,50 @@ impl<const N: usize> Input<N> {
                 (self.current_position[i], Field::CurrentPosition),
             ] {
                 if !x.is_finite() {
-                    return bad(i, f, Problem::NotFinite);
+                    return bad(i, f, InputDefect::NotFinite);
                 }
             }
             if current_within_limits && !(amin..=amax).contains(&a0) {
-                return bad(i, Field::CurrentAcceleration, Problem::ExceedsLimit);
+                return bad(i, Field::CurrentAcceleration, InputDefect::ExceedsLimit);
             }
             if !(amin..=amax).contains(&af) {
-                return bad(i, Field::TargetAcceleration, Problem::ExceedsLimit);
+                return bad(i, Field::TargetAcceleration, InputDefect::ExceedsLimit);
             }
             if !position {
                 continue;
             }
             if !self.target_position[i].is_finite() {
-                return bad(i, Field::TargetPosition, Problem::NotFinite);
+                return bad(i, Field::TargetPosition, InputDefect::NotFinite);
             }
             let (vmax, vmin) = (self.max_velocity[i], self.v_min(i));
             if !positive(vmax) {
-                return bad(i, Field::MaxVelocity, Problem::OutOfRange);
+                return bad(i, Field::MaxVelocity, InputDefect::OutOfRange);
             }
             if !negative(vmin) {
-                return bad(i, Field::MinVelocity, Problem::OutOfRange);
+                return bad(i, Field::MinVelocity, InputDefect::OutOfRange);
             }
             if current_within_limits {
                 if !(vmin..=vmax).contains(&v0) {
-                    return bad(i, Field::CurrentVelocity, Problem::ExceedsLimit);
+                    return bad(i, Field::CurrentVelocity, InputDefect::ExceedsLimit);
                 }
                 if (a0 > 0.0 && v_at_a_zero(v0, a0, j) > vmax)
                     || (a0 < 0.0 && v_at_a_zero(v0, a0, -j) < vmin)
                 {
-                    return bad(i, Field::CurrentAcceleration, Problem::InevitablyExceeds);
+                    return bad(
+                        i,
+                        Field::CurrentAcceleration,
+                        InputDefect::InevitablyExceeds,
+                    );
                 }
             }
             if !(vmin..=vmax).contains(&vf) {
-                return bad(i, Field::TargetVelocity, Problem::ExceedsLimit);
+                return bad(i, Field::TargetVelocity, InputDefect::ExceedsLimit);
             }
             // The target must be reachable from inside the velocity limits.
             if (af < 0.0 && v_at_a_zero(vf, af, j) > vmax)
                 || (af > 0.0 && v_at_a_zero(vf, af, -j) < vmin)
             {
-                return bad(i, Field::TargetAcceleration, Problem::InevitablyExceeds);
+                return bad(i, Field::TargetAcceleration, InputDefect::InevitablyExceeds);
             }
         }
         Ok(())

@@ -6,12 +6,12 @@
 //! Kröger, RSS 2021).
 //!
 //! ```
-//! use otg::{Input, Otg, Output, Status};
+//! use otg::{Input, Otg, Output, Progress};
 //! let mut otg = Otg::<2>::new(0.001).unwrap();
 //! let mut inp = Input::new([1.0, 1.0], [4.0, 4.0], [40.0, 40.0]);
 //! inp.target_position = [0.5, -0.2];
 //! let mut out = Output::default();
-//! while otg.update(&inp, &mut out).unwrap() == Status::Working {
+//! while otg.update(&inp, &mut out).unwrap() == Progress::Working {
 //!     out.pass_to_input(&mut inp);
 //! }
 //! assert!((out.new_position[0] - 0.5).abs() < 1e-8);
@@ -41,9 +41,9 @@ mod velocity;
 pub use block::{Block, Interval};
 pub use brake::Brake;
 pub use calculator::{Calculator, DofLimits, MAX_DURATION};
-pub use error::{Field, OtgError, Problem};
+pub use error::{Field, InputDefect, OtgError};
 pub use helpers::{min_duration, rest_to_rest_duration};
 pub use input::{ControlInterface, DurationDiscretization, Input, Synchronization};
-pub use otg::{Otg, Output, Status};
+pub use otg::{Otg, Output, Progress};
 pub use profile::{ControlSigns, Direction, Profile, ReachedLimits, integrate};
 pub use trajectory::{State, Trajectory};

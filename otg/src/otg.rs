@@ -2,13 +2,13 @@
 //! trajectory every control cycle (SPEC.md §5, §6.1). No allocation.
 
 use crate::calculator::Calculator;
-use crate::error::{Field, OtgError, Problem};
+use crate::error::{Field, InputDefect, OtgError};
 use crate::input::Input;
 use crate::trajectory::Trajectory;
 
 /// Progress of a trajectory after an [`Otg::update`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Status {
+pub enum Progress {
     /// The trajectory is running.
     Working,
     /// The target has been reached (the sample time passed the duration).
@@ -73,7 +73,7 @@ impl<const N: usize> Otg<N> {
             return Err(OtgError::InvalidInput {
                 dof: 0,
                 field: Field::DeltaTime,
-                problem: Problem::OutOfRange,
+                problem: InputDefect::OutOfRange,
             });
         }
         Ok(Self {
@@ -107,7 +107,11 @@ impl<const N: usize> Otg<N> {
     /// One control cycle: recalculates if `input` differs from the last
     /// one, then samples the trajectory one cycle further. On an error the
     /// output is left unchanged (the caller keeps its last setpoint).
-    pub fn update(&mut self, input: &Input<N>, output: &mut Output<N>) -> Result<Status, OtgError> {
+    pub fn update(
+        &mut self,
+        input: &Input<N>,
+        output: &mut Output<N>,
+    ) -> Result<Progress, OtgError> {
         output.new_calculation = false;
         if self.current.as_ref() != Some(input) {
             self.calculate(input, &mut output.trajectory)?;
@@ -125,9 +129,9 @@ impl<const N: usize> Otg<N> {
             output.pass_to_input(cur);
         }
         Ok(if output.time > output.trajectory.duration {
-            Status::Finished
+            Progress::Finished
         } else {
-            Status::Working
+            Progress::Working
         })
     }
 }

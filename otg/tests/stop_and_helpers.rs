@@ -2,7 +2,7 @@
 //! any state, and the planner's cheap duration helpers.
 
 use otg::{
-    ControlInterface, DofLimits, Input, Otg, Output, Status, Trajectory, min_duration,
+    ControlInterface, DofLimits, Input, Otg, Output, Progress, Trajectory, min_duration,
     rest_to_rest_duration,
 };
 use rand::{Rng, SeedableRng};
@@ -54,7 +54,7 @@ fn velocity_stop_from_any_state() {
         // The control loop reaches rest and reports Finished.
         let mut out = Output::<7>::default();
         let mut cycles = 0;
-        while otg.update(&inp, &mut out).unwrap() == Status::Working {
+        while otg.update(&inp, &mut out).unwrap() == Progress::Working {
             out.pass_to_input(&mut inp);
             cycles += 1;
             assert!(cycles < 10_000_000, "case {case}: no end");

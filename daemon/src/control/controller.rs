@@ -14,7 +14,7 @@
 //! [`Controller::tick`] exactly once.
 
 use crate::realtime::clock::Nanos;
-use crate::realtime::events::EventQueue;
+use crate::realtime::events::TickEvents;
 use gait::HandState;
 use gait::config::LimitsConfig;
 use gait::sim::Measurement;
@@ -23,9 +23,11 @@ use shm_schema::{
     FaultCode, FingerPhase, GoalState, GraspState, Phase, PlantCommand, ReasonCode, Verdict,
 };
 
-/// How a goal's target is meant (decoded from the schema's `GoalFrame`).
+/// A goal's target as the client asked for it (decoded from the schema's
+/// `GoalFrame`); the controller resolves it into the executor's
+/// `gait::executor::GoalTarget` (a relative target against the object).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum GoalTarget {
+pub enum ClientTarget {
     /// The object orientation q_o to reach (object → hand frame).
     Absolute(UnitQuaternion<f64>),
     /// A rotation (hand frame) applied to the orientation at acceptance:
@@ -49,7 +51,7 @@ pub struct Goal {
     /// Goal id, unique for this client.
     pub goal_id: u64,
     /// Target, renormalised.
-    pub target: GoalTarget,
+    pub target: ClientTarget,
     /// Effective motion limits: the configured ones with the goal's
     /// overrides applied (each override ≤ the configured limit).
     pub limits: LimitsConfig,
@@ -87,7 +89,7 @@ pub struct TickContext<'a> {
     /// Tick counter.
     pub tick: u64,
     /// Events to publish at the end of this tick.
-    pub events: &'a mut EventQueue,
+    pub events: &'a mut TickEvents,
 }
 
 /// The current goal, for the status.
@@ -131,7 +133,7 @@ impl Default for GoalReport {
 
 /// Per-finger data the hand state alone does not give.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FingerReport {
+pub struct FingerOutput {
     /// Finger state.
     pub phase: FingerPhase,
     /// Angle to the workspace cone boundary, > 0 inside \[rad\].
@@ -158,7 +160,7 @@ pub struct ControlOutput {
     /// Current goal and progress.
     pub goal: GoalReport,
     /// Per-finger extras.
-    pub fingers: [FingerReport; gait::FINGERS],
+    pub fingers: [FingerOutput; gait::FINGERS],
     /// Force closure of the grasping fingers.
     pub grasp: GraspState,
     /// Force-closure margin \[rad\] (0 when unknown).

@@ -1,7 +1,7 @@
 //! The one place where wire types (`shm_schema`) and maths types (`gait`,
 //! nalgebra) meet (STYLE: "the conversions live in one module there").
 
-use crate::control::controller::{ControlCommand, ControlOutput, Goal, GoalTarget};
+use crate::control::controller::{ClientTarget, ControlCommand, ControlOutput, Goal};
 use gait::config::{LimitsConfig, MotionLimit};
 use gait::{FingerMode, HandState};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
@@ -52,9 +52,9 @@ pub fn control_command(
             let [w, x, y, z] = g.target;
             let q = || UnitQuaternion::from_quaternion(Quaternion::new(w, x, y, z));
             let target = match g.frame {
-                GoalFrame::Absolute => GoalTarget::Absolute(q()),
-                GoalFrame::Relative => GoalTarget::Relative(q()),
-                GoalFrame::AxisAngle => GoalTarget::Rotation {
+                GoalFrame::Absolute => ClientTarget::Absolute(q()),
+                GoalFrame::Relative => ClientTarget::Relative(q()),
+                GoalFrame::AxisAngle => ClientTarget::Rotation {
                     axis: Vector3::new(x, y, z).normalize(),
                     angle: w,
                 },
@@ -160,7 +160,7 @@ mod tests {
     use super::*;
     use crate::control::controller::Controller;
     use crate::hold::HoldController;
-    use crate::realtime::events::EventQueue;
+    use crate::realtime::events::TickEvents;
     use gait::HandConfig;
     use shm_schema::{Command, DaemonState};
 
@@ -192,7 +192,7 @@ mod tests {
         let c = Command::goal(1, 1, GoalFrame::Relative, [1.0005, 0.0, 0.0, 0.0]);
         match control_command(&c.validate().unwrap(), &LimitsConfig::default()).unwrap() {
             ControlCommand::Goal(Goal {
-                target: GoalTarget::Relative(q),
+                target: ClientTarget::Relative(q),
                 ..
             }) => assert!((q.quaternion().norm() - 1.0).abs() < 1e-15),
             other => panic!("{other:?}"),
@@ -203,7 +203,7 @@ mod tests {
     fn status_of_the_paper_start_passes_its_own_checks() {
         let cfg = HandConfig::default();
         let mut ctl = HoldController::new(&cfg);
-        let mut events = EventQueue::new();
+        let mut events = TickEvents::new();
         let mut ctx = crate::control::controller::TickContext {
             now: 0,
             tick: 0,
@@ -216,7 +216,7 @@ mod tests {
             phase: shm_schema::Phase::Hold,
             fault: shm_schema::FaultCode::None,
             goal: Default::default(),
-            fingers: [crate::control::controller::FingerReport {
+            fingers: [crate::control::controller::FingerOutput {
                 phase: shm_schema::FingerPhase::Free,
                 workspace_margin: 0.0,
                 normal_force: 0.0,

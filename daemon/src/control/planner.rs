@@ -26,7 +26,7 @@ use std::thread::Thread;
 use std::time::Duration;
 
 /// Computes plans off the real-time thread.
-pub trait Planner: Send + 'static {
+pub trait BackgroundPlanner: Send + 'static {
     /// What the loop asks for (plain data, e.g. start state + goal).
     type Request: Send + 'static;
     /// The plan handed to the loop (may own heap memory).
@@ -140,14 +140,18 @@ pub type PlannerThread = crate::io::worker::StoppableThread;
 
 /// What [`spawn`] returns: the loop's link and the thread's handle.
 pub type Spawned<Pl> = (
-    PlannerLink<<Pl as Planner>::Request, <Pl as Planner>::Plan, <Pl as Planner>::Error>,
+    PlannerLink<
+        <Pl as BackgroundPlanner>::Request,
+        <Pl as BackgroundPlanner>::Plan,
+        <Pl as BackgroundPlanner>::Error,
+    >,
     PlannerThread,
 );
 
 /// Starts `planner` on a thread named `gaitd-planner`; `queue` bounds the
 /// requests (and replies) in flight. `on_start` runs first on the new
 /// thread (CPU affinity).
-pub fn spawn<Pl: Planner>(
+pub fn spawn<Pl: BackgroundPlanner>(
     mut planner: Pl,
     queue: usize,
     on_start: impl FnOnce() + Send + 'static,
@@ -219,7 +223,7 @@ mod tests {
             }
         }
     }
-    impl Planner for Squares {
+    impl BackgroundPlanner for Squares {
         type Request = u64;
         type Plan = Plan;
         type Error = ReasonCode;

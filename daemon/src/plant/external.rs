@@ -26,9 +26,6 @@ use gait::sim::Measurement;
 use nalgebra::Vector3;
 use shm_schema::{PlantCommand, PlantFault, PlantFingerMode, PlantMeasurement, plant_state};
 
-/// "No finger in particular" for plant faults.
-const ANY_FINGER: u8 = u8::MAX;
-
 /// What a tick gets from the plant.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Read {
@@ -228,11 +225,6 @@ impl ExternalPlant {
         };
         object_command(sp, &mut c);
         c
-    }
-
-    /// "No finger in particular", for plant faults.
-    pub const fn any_finger() -> u8 {
-        ANY_FINGER
     }
 }
 

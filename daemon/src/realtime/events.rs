@@ -9,19 +9,19 @@ pub const EVENTS_PER_TICK: usize = 32;
 
 /// The events of one tick.
 #[derive(Debug, Clone)]
-pub struct EventQueue {
+pub struct TickEvents {
     items: [Event; EVENTS_PER_TICK],
     len: usize,
     dropped: u64,
 }
 
-impl Default for EventQueue {
+impl Default for TickEvents {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl EventQueue {
+impl TickEvents {
     /// An empty queue.
     pub fn new() -> Self {
         Self {
@@ -186,7 +186,7 @@ mod tests {
 
     #[test]
     fn overflow_is_counted() {
-        let mut q = EventQueue::new();
+        let mut q = TickEvents::new();
         for i in 0..EVENTS_PER_TICK + 3 {
             q.gait(EventKind::Place, (i % 3) as u8, 1, 2);
         }
@@ -201,7 +201,7 @@ mod tests {
     /// those about no finger in particular (the executor's 255).
     #[test]
     fn events_without_a_finger_pass_the_clients_check() {
-        let mut q = EventQueue::new();
+        let mut q = TickEvents::new();
         q.near_limit(FaultCode::ForceClosureLost, 255, 1, 7, 9);
         q.drift(255, 1, 7, 9);
         q.near_limit(FaultCode::WorkspaceViolation, 2, 1, 7, 9);

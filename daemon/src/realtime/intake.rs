@@ -215,7 +215,7 @@ impl Intake {
 mod tests {
     use super::*;
     use crate::hold::HoldController;
-    use crate::realtime::events::EventQueue;
+    use crate::realtime::events::TickEvents;
     use gait::HandConfig;
     use shm_schema::{EventKind, GoalFrame, LimitKind, LimitOrder};
 
@@ -226,7 +226,7 @@ mod tests {
         let cfg = HandConfig::default();
         let mut ctl = HoldController::new(&cfg);
         let mut intake = Intake::new(16, cfg.limits);
-        let mut events = EventQueue::new();
+        let mut events = TickEvents::new();
         let mut ctx = TickContext {
             now: 0,
             tick: 1,

@@ -25,7 +25,7 @@
 //! which publishes them, and drops the ports.
 
 use crate::control::controller::{
-    ControlOutput, Controller, FingerReport, GoalReport, TickContext,
+    ControlOutput, Controller, FingerOutput, GoalReport, TickContext,
 };
 use crate::control::convert::fill_status;
 use crate::io::ipc::Ipc;
@@ -35,7 +35,7 @@ use crate::plant::ports::PlantInput;
 use crate::process::config::DaemonConfig;
 use crate::process::sd_notify;
 use crate::realtime::clock::{Clock, Nanos};
-use crate::realtime::events::EventQueue;
+use crate::realtime::events::TickEvents;
 use crate::realtime::intake::Intake;
 use crate::realtime::stats::LoopStats;
 use crate::realtime::ticker::{Ticker, Wake};
@@ -138,7 +138,7 @@ pub struct Runtime<C: Controller, K: Clock> {
     outbox: Outbox,
     intake: Intake,
     stats: LoopStats,
-    events: EventQueue,
+    events: TickEvents,
     out: ControlOutput,
     status: Status,
     settings: LoopSettings,
@@ -165,7 +165,7 @@ impl ControlOutput {
             phase: Phase::Hold,
             fault: FaultCode::None,
             goal: GoalReport::default(),
-            fingers: [FingerReport {
+            fingers: [FingerOutput {
                 phase: FingerPhase::Grasping,
                 workspace_margin: 0.0,
                 normal_force: 0.0,
@@ -199,7 +199,7 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             outbox,
             intake: Intake::new(cfg.daemon.goal_id_memory as usize, cfg.limits),
             stats: LoopStats::new(settings.period),
-            events: EventQueue::new(),
+            events: TickEvents::new(),
             out: ControlOutput::initial(HandState::paper_start(&cfg.hand())),
             status: Status::default(),
             settings,

@@ -14,7 +14,7 @@
 
 use gait::{FINGERS, FingerMode, HandConfig, HandState};
 use gaitd::control::controller::{
-    ControlCommand, ControlOutput, Controller, FingerReport, GoalReport, TickContext,
+    ControlCommand, ControlOutput, Controller, FingerOutput, GoalReport, TickContext,
 };
 use nalgebra::Vector3;
 use shm_schema::{EventKind, FaultCode, FingerPhase, GraspState, Phase, ReasonCode, Verdict};
@@ -39,7 +39,7 @@ impl HoldController {
     /// Holds [`HandState::paper_start`] for `config`.
     pub fn new(config: &HandConfig) -> Self {
         let hand = HandState::paper_start(config);
-        let fingers: [FingerReport; FINGERS] = std::array::from_fn(|k| FingerReport {
+        let fingers: [FingerOutput; FINGERS] = std::array::from_fn(|k| FingerOutput {
             phase: match hand.fingers[k].mode {
                 FingerMode::Grasping => FingerPhase::Grasping,
                 FingerMode::Free => FingerPhase::Free,
@@ -96,15 +96,15 @@ impl Controller for HoldController {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use gaitd::control::controller::{Goal, GoalTarget};
-    use gaitd::realtime::events::EventQueue;
+    use gaitd::control::controller::{ClientTarget, Goal};
+    use gaitd::realtime::events::TickEvents;
     use nalgebra::UnitQuaternion;
 
     #[test]
     fn holds_the_paper_start_and_refuses_goals() {
         let cfg = HandConfig::default();
         let mut c = HoldController::new(&cfg);
-        let mut events = EventQueue::new();
+        let mut events = TickEvents::new();
         let mut ctx = TickContext {
             now: 0,
             tick: 1,
@@ -113,7 +113,7 @@ mod tests {
         let goal = ControlCommand::Goal(Goal {
             client_id: 1,
             goal_id: 1,
-            target: GoalTarget::Absolute(UnitQuaternion::identity()),
+            target: ClientTarget::Absolute(UnitQuaternion::identity()),
             limits: cfg.limits,
         });
         assert_eq!(

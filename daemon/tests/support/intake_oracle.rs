@@ -14,10 +14,10 @@
 
 use gait::config::LimitsConfig;
 use gaitd::control::controller::{
-    ControlCommand, ControlOutput, Controller, GoalTarget, TickContext,
+    ClientTarget, ControlCommand, ControlOutput, Controller, TickContext,
 };
 use gaitd::process::config::DaemonConfig;
-use gaitd::realtime::events::EventQueue;
+use gaitd::realtime::events::TickEvents;
 use gaitd::realtime::intake::Intake;
 use shm_schema::{Answer, Command, CommandKind, GoalFrame, ReasonCode, Verdict};
 use std::collections::VecDeque;
@@ -313,7 +313,7 @@ impl Probe {
             ControlCommand::Goal(g) => {
                 assert_eq!((g.client_id, g.goal_id), (c.client_id, c.goal_id));
                 match g.target {
-                    GoalTarget::Absolute(q) | GoalTarget::Relative(q) => {
+                    ClientTarget::Absolute(q) | ClientTarget::Relative(q) => {
                         let v = q.quaternion().coords;
                         assert!(v.iter().all(|x| x.is_finite()), "{c:?}");
                         assert!((v.norm() - 1.0).abs() < 1e-12, "{c:?}");
@@ -322,13 +322,13 @@ impl Probe {
                         assert!((q.w - w).abs() < 1e-12 && (q.i - x).abs() < 1e-12, "{c:?}");
                         assert!((q.j - y).abs() < 1e-12 && (q.k - z).abs() < 1e-12, "{c:?}");
                         let want = if c.frame == GoalFrame::Absolute.code() {
-                            matches!(g.target, GoalTarget::Absolute(_))
+                            matches!(g.target, ClientTarget::Absolute(_))
                         } else {
-                            matches!(g.target, GoalTarget::Relative(_))
+                            matches!(g.target, ClientTarget::Relative(_))
                         };
                         assert!(want, "frame kept: {c:?}");
                     }
-                    GoalTarget::Rotation { axis, angle } => {
+                    ClientTarget::Rotation { axis, angle } => {
                         assert_eq!(c.frame, GoalFrame::AxisAngle.code());
                         assert!(axis.iter().all(|x| x.is_finite()), "{c:?}");
                         assert!((axis.norm() - 1.0).abs() < 1e-12, "{c:?}");
@@ -387,7 +387,7 @@ pub struct Rig {
     pub oracle: Oracle,
     /// The controller behind the intake.
     pub probe: Probe,
-    events: EventQueue,
+    events: TickEvents,
     /// Rejections per reason code.
     pub seen: [u64; 64],
     /// Accepted commands.
@@ -407,7 +407,7 @@ impl Rig {
                 sent: Command::ZERO,
                 received: 0,
             },
-            events: EventQueue::new(),
+            events: TickEvents::new(),
             seen: [0; 64],
             accepted: 0,
         }

@@ -286,7 +286,7 @@ pub fn gait_loop_with<P>(
     setup: impl FnOnce(&mut gaitd::control::gait_controller::GaitController),
 ) -> GaitLoop
 where
-    P: gaitd::control::planner::Planner<
+    P: gaitd::control::planner::BackgroundPlanner<
             Request = gait::executor::PlanRequest,
             Plan = gait::planner::Plan,
             Error = gait::planner::PlanError,
@@ -357,7 +357,7 @@ impl GaitLoop {
     /// runs on meanwhile, as the daemon's ticks do). Returns whether the
     /// controller is planning.
     pub fn yield_to_planner(&self) -> bool {
-        let planning = self.rt.controller().phase() == gait::executor::Phase::Planning;
+        let planning = self.rt.controller().phase() == gait::executor::Mode::Planning;
         if planning {
             std::thread::sleep(std::time::Duration::from_micros(50));
         }

@@ -11,8 +11,9 @@ use crate::config::FeedbackConfig;
 use crate::sim::Measurement;
 use crate::state::{FingerMode, HandState};
 
-/// Finger code for "no particular finger".
-pub const NO_FINGER: u8 = 255;
+/// The executor's finger field for "no finger in particular" (the wire's
+/// is `shm_schema::NO_FINGER`, a `u32`; the daemon maps one to the other).
+pub const NOT_A_FINGER: u8 = 255;
 
 /// Derived thresholds.
 #[derive(Debug, Clone, Copy)]
@@ -58,10 +59,10 @@ impl Feedback {
         correction: &UnitQuaternion<f64>,
     ) -> Result<Vector3<f64>, (FaultKind, u8)> {
         let Some(m) = m else {
-            return Err((FaultKind::MissingMeasurement, NO_FINGER));
+            return Err((FaultKind::MissingMeasurement, NOT_A_FINGER));
         };
         if !m.is_finite() {
-            return Err((FaultKind::BadMeasurement, NO_FINGER));
+            return Err((FaultKind::BadMeasurement, NOT_A_FINGER));
         }
         let expected = cmd.object * offset;
         // Slip: a grasping contact moved over the object surface.
@@ -92,7 +93,7 @@ impl Feedback {
         }
         let err = (expected * m.object.inverse()).scaled_axis();
         if err.norm() > self.object_tol {
-            return Err((FaultKind::ObjectTracking, NO_FINGER));
+            return Err((FaultKind::ObjectTracking, NOT_A_FINGER));
         }
         Ok(err)
     }

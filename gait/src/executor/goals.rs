@@ -5,14 +5,14 @@
 use super::*;
 
 impl Executor {
-    pub(super) fn goal_event(&mut self, id: u64, state: GoalState, reason: Reason) {
-        self.events.push(Event::Goal { id, state, reason });
+    pub(super) fn goal_event(&mut self, id: u64, state: GoalStage, reason: Reason) {
+        self.events.push(ExecutorEvent::Goal { id, state, reason });
         if state.is_terminal() {
             self.last_goal = Some((id, state, reason));
         }
     }
 
-    pub(super) fn set_goal_state(&mut self, state: GoalState) {
+    pub(super) fn set_goal_state(&mut self, state: GoalStage) {
         if let Some(g) = self.goal.as_mut() {
             g.state = state;
             let id = g.id;
@@ -21,7 +21,7 @@ impl Executor {
     }
 
     /// Ends the active goal.
-    pub(super) fn end_goal(&mut self, state: GoalState, reason: Reason) {
+    pub(super) fn end_goal(&mut self, state: GoalStage, reason: Reason) {
         if let Some(g) = self.goal.take() {
             self.goal_event(g.id, state, reason);
         }
@@ -42,23 +42,23 @@ impl Executor {
     }
 
     /// Takes a command (SPEC §6.4). Never blocks, never allocates.
-    pub fn command(&mut self, cmd: Command) -> Answer {
+    pub fn command(&mut self, cmd: ExecutorCommand) -> ExecutorAnswer {
         match cmd {
-            Command::Goal { id, target, limits } => self.new_goal(id, target, limits),
-            Command::Cancel => {
+            ExecutorCommand::Goal { id, target, limits } => self.new_goal(id, target, limits),
+            ExecutorCommand::Cancel => {
                 if self.goal.is_none() && self.pending.is_none() {
-                    return Answer::Rejected(Reason::None);
+                    return ExecutorAnswer::Rejected(Reason::None);
                 }
                 self.request_stop(AfterStop::Hold(Reason::CancelCommand));
-                Answer::Accepted
+                ExecutorAnswer::Accepted
             }
-            Command::Hold => {
-                if self.phase != Phase::SafeHold {
+            ExecutorCommand::Hold => {
+                if self.phase != Mode::SafeHold {
                     self.request_stop(AfterStop::Hold(Reason::HoldCommand));
                 }
-                Answer::Accepted
+                ExecutorAnswer::Accepted
             }
-            Command::Reset => self.reset(),
+            ExecutorCommand::Reset => self.reset(),
         }
     }
 
@@ -67,7 +67,7 @@ impl Executor {
         id: u64,
         target: GoalTarget,
         limits: Option<LimitsConfig>,
-    ) -> Answer {
+    ) -> ExecutorAnswer {
         let limits = limits.unwrap_or(self.limits);
         let positive = [limits.object, limits.fingertip, limits.rolling]
             .iter()
@@ -77,52 +77,52 @@ impl Executor {
                     .all(|x| x.is_finite() && *x > 0.0)
             });
         if !target.is_valid() {
-            return Answer::Rejected(Reason::InvalidTarget);
+            return ExecutorAnswer::Rejected(Reason::InvalidTarget);
         }
         if !positive {
-            return Answer::Rejected(Reason::InvalidLimits);
+            return ExecutorAnswer::Rejected(Reason::InvalidLimits);
         }
-        if self.phase == Phase::SafeHold {
-            return Answer::Rejected(Reason::FaultActive);
+        if self.phase == Mode::SafeHold {
+            return ExecutorAnswer::Rejected(Reason::FaultActive);
         }
         if !self.remember_id(id) {
-            return Answer::Rejected(Reason::DuplicateId);
+            return ExecutorAnswer::Rejected(Reason::DuplicateId);
         }
         let goal = ActiveGoal {
             id,
             target,
             end: target.resolve(&self.setpoint.state.object),
             limits,
-            state: GoalState::Accepted,
+            state: GoalStage::Accepted,
         };
-        self.goal_event(id, GoalState::Accepted, Reason::None);
+        self.goal_event(id, GoalStage::Accepted, Reason::None);
         self.replans = 0;
         if let Some(p) = self.pending.take() {
-            self.goal_event(p.id, GoalState::Preempted, Reason::NewerGoal);
+            self.goal_event(p.id, GoalStage::Preempted, Reason::NewerGoal);
         }
         match self.phase {
-            Phase::Holding | Phase::Planning => {
-                if self.phase == Phase::Planning {
+            Mode::Holding | Mode::Planning => {
+                if self.phase == Mode::Planning {
                     // The plan in the making is for the old goal: it is
                     // dropped as stale when it arrives.
-                    self.end_goal(GoalState::Preempted, Reason::NewerGoal);
+                    self.end_goal(GoalStage::Preempted, Reason::NewerGoal);
                 }
                 self.goal = Some(goal);
                 self.begin_planning();
             }
-            Phase::Moving | Phase::Stopping => {
-                self.end_goal(GoalState::Preempted, Reason::NewerGoal);
+            Mode::Moving | Mode::Stopping => {
+                self.end_goal(GoalStage::Preempted, Reason::NewerGoal);
                 self.pending = Some(goal);
                 self.request_stop(AfterStop::Replan);
             }
-            Phase::SafeHold => {}
+            Mode::SafeHold => {}
         }
-        Answer::Accepted
+        ExecutorAnswer::Accepted
     }
 
     pub(super) fn begin_planning(&mut self) {
-        self.phase = Phase::Planning;
-        self.set_goal_state(GoalState::Planning);
+        self.phase = Mode::Planning;
+        self.set_goal_state(GoalStage::Planning);
         let from = self.setpoint.state.object;
         if let Some(g) = self.goal.as_mut() {
             g.end = g.target.resolve(&from);
@@ -140,14 +140,14 @@ impl Executor {
     /// Brings the motion to rest, then does `then`.
     pub(super) fn request_stop(&mut self, then: AfterStop) {
         match self.phase {
-            Phase::Holding => self.finish_stop(then),
-            Phase::Planning => {
+            Mode::Holding => self.finish_stop(then),
+            Mode::Planning => {
                 // At rest already; a plan in the making becomes stale.
                 self.finish_stop(then)
             }
-            Phase::Moving | Phase::Stopping => {
+            Mode::Moving | Mode::Stopping => {
                 self.after_stop = then;
-                self.phase = Phase::Stopping;
+                self.phase = Mode::Stopping;
                 let finishing = self
                     .current_step()
                     .is_some_and(|s| matches!(s.kind, StepKind::Place | StepKind::Lift));
@@ -158,11 +158,11 @@ impl Executor {
                     // step simply runs to its (resting) end.
                     if self.runner.stop().is_err() {
                         let cause = Cause::new(FaultKind::Trajectory, Source::Trajectory);
-                        self.handle(cause, NO_FINGER, None);
+                        self.handle(cause, NOT_A_FINGER, None);
                     }
                 }
             }
-            Phase::SafeHold => {}
+            Mode::SafeHold => {}
         }
     }
 
@@ -180,44 +180,44 @@ impl Executor {
                     self.goal = Some(g);
                     self.begin_planning();
                 } else {
-                    self.phase = Phase::Holding;
+                    self.phase = Mode::Holding;
                 }
             }
             AfterStop::Hold(reason) => {
-                self.end_goal(GoalState::Canceled, reason);
+                self.end_goal(GoalStage::Canceled, reason);
                 if let Some(p) = self.pending.take() {
-                    self.goal_event(p.id, GoalState::Canceled, reason);
+                    self.goal_event(p.id, GoalStage::Canceled, reason);
                 }
-                self.phase = Phase::Holding;
+                self.phase = Mode::Holding;
             }
-            AfterStop::Fault => self.phase = Phase::SafeHold,
+            AfterStop::Fault => self.phase = Mode::SafeHold,
             AfterStop::Recover => self.replan_after_drift(Some(left)),
         }
         self.step = 0;
     }
 
-    pub(super) fn reset(&mut self) -> Answer {
-        if self.phase != Phase::SafeHold {
-            return Answer::Accepted;
+    pub(super) fn reset(&mut self) -> ExecutorAnswer {
+        if self.phase != Mode::SafeHold {
+            return ExecutorAnswer::Accepted;
         }
         // Only at rest, and from a measurement of the last tick (not one
         // from before measurements stopped).
         if self.braking || self.measured_at != self.tick {
-            return Answer::Rejected(Reason::FaultActive);
+            return ExecutorAnswer::Rejected(Reason::FaultActive);
         }
         let Some(state) = self.measured_state() else {
-            return Answer::Rejected(Reason::FaultActive);
+            return ExecutorAnswer::Rejected(Reason::FaultActive);
         };
         // Resume from the measured state if it is valid.
         match self.checker.check(&state) {
             Ok(r) if r.ok() => {
                 self.adopt(state);
                 self.fault = None;
-                self.phase = Phase::Holding;
-                self.events.push(Event::FaultCleared);
-                Answer::Accepted
+                self.phase = Mode::Holding;
+                self.events.push(ExecutorEvent::FaultCleared);
+                ExecutorAnswer::Accepted
             }
-            _ => Answer::Rejected(Reason::MeasuredStateInvalid),
+            _ => ExecutorAnswer::Rejected(Reason::MeasuredStateInvalid),
         }
     }
 
@@ -229,7 +229,7 @@ impl Executor {
         id: u64,
         result: Result<Box<Plan>, PlanError>,
     ) -> Option<Box<Plan>> {
-        let current = self.phase == Phase::Planning && self.goal.is_some_and(|g| g.id == id);
+        let current = self.phase == Mode::Planning && self.goal.is_some_and(|g| g.id == id);
         if current && self.drift.is_some() {
             // Drifted while planning: the plan starts from the old estimate.
             if self.rebase() {
@@ -240,8 +240,8 @@ impl Executor {
         match result {
             Err(e) => {
                 if current {
-                    self.end_goal(GoalState::Aborted, Reason::NoPlan(e));
-                    self.phase = Phase::Holding;
+                    self.end_goal(GoalStage::Aborted, Reason::NoPlan(e));
+                    self.phase = Mode::Holding;
                 }
                 None
             }
@@ -257,10 +257,10 @@ impl Executor {
     /// The planner could not take the request for goal `id` (its queue is
     /// full): the goal is aborted rather than left waiting.
     pub fn plan_unavailable(&mut self, id: u64) {
-        let current = self.phase == Phase::Planning && self.goal.is_some_and(|g| g.id == id);
+        let current = self.phase == Mode::Planning && self.goal.is_some_and(|g| g.id == id);
         if current {
-            self.end_goal(GoalState::Aborted, Reason::PlannerBusy);
-            self.phase = Phase::Holding;
+            self.end_goal(GoalStage::Aborted, Reason::PlannerBusy);
+            self.phase = Mode::Holding;
         }
     }
 
@@ -276,12 +276,12 @@ impl Executor {
         self.gaits_planned = gaits;
         self.step = 0;
         if empty {
-            self.end_goal(GoalState::Succeeded, Reason::None);
-            self.phase = Phase::Holding;
+            self.end_goal(GoalStage::Succeeded, Reason::None);
+            self.phase = Mode::Holding;
             return;
         }
-        self.phase = Phase::Moving;
-        self.set_goal_state(GoalState::Executing);
+        self.phase = Mode::Moving;
+        self.set_goal_state(GoalStage::Executing);
         self.time_after_step = duration;
         self.rotation_after_step = self
             .plan

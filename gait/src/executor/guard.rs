@@ -31,7 +31,7 @@ use crate::hand::{InvariantChecker, Unit};
 use crate::sim::Measurement;
 use crate::state::{FingerMode, HandState};
 
-use super::feedback::NO_FINGER;
+use super::feedback::NOT_A_FINGER;
 
 /// Consecutive ticks near a limit that stop the motion.
 pub const GUARD_TICKS: u8 = 3;
@@ -129,7 +129,7 @@ impl LimitGuard {
             && fc.check.unit == Unit::Radian
             && near(fc.check.slack, self.force_closure)
         {
-            return Some((FaultKind::ForceClosure, NO_FINGER));
+            return Some((FaultKind::ForceClosure, NOT_A_FINGER));
         }
         for (p, c) in r.collisions.iter().enumerate() {
             if near(c.slack, self.clearance) {

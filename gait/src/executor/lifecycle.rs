@@ -19,7 +19,7 @@ use crate::planner::PlanError;
 /// Where a goal is in its life.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[repr(u8)]
-pub enum GoalState {
+pub enum GoalStage {
     /// Received and valid; waiting for the motion to come to rest.
     Accepted = 1,
     /// A plan is being computed off the control thread.
@@ -38,7 +38,7 @@ pub enum GoalState {
     Rejected = 8,
 }
 
-impl GoalState {
+impl GoalStage {
     /// Whether the goal is over.
     pub fn is_terminal(self) -> bool {
         matches!(
@@ -125,13 +125,13 @@ pub enum FaultKind {
 
 /// What happened, for clients (SPEC §7.3 events).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Event {
+pub enum ExecutorEvent {
     /// A goal changed state.
     Goal {
         /// Goal id.
         id: u64,
         /// New state.
-        state: GoalState,
+        state: GoalStage,
         /// Reason (for terminal states).
         reason: Reason,
     },
@@ -202,15 +202,15 @@ pub const EVENT_CAPACITY: usize = 32;
 /// Fixed-capacity FIFO of events (no allocation). When full, the oldest
 /// event is dropped and counted.
 #[derive(Debug, Clone)]
-pub struct EventQueue {
-    buf: [Option<Event>; EVENT_CAPACITY],
+pub struct ExecutorEvents {
+    buf: [Option<ExecutorEvent>; EVENT_CAPACITY],
     head: usize,
     len: usize,
     /// Events dropped because the queue was full.
     pub dropped: u64,
 }
 
-impl Default for EventQueue {
+impl Default for ExecutorEvents {
     fn default() -> Self {
         Self {
             buf: [None; EVENT_CAPACITY],
@@ -221,9 +221,9 @@ impl Default for EventQueue {
     }
 }
 
-impl EventQueue {
+impl ExecutorEvents {
     /// Appends an event.
-    pub fn push(&mut self, e: Event) {
+    pub fn push(&mut self, e: ExecutorEvent) {
         if self.len == EVENT_CAPACITY {
             self.head = (self.head + 1) % EVENT_CAPACITY;
             self.len -= 1;
@@ -234,7 +234,7 @@ impl EventQueue {
     }
 
     /// Removes the oldest event.
-    pub fn pop(&mut self) -> Option<Event> {
+    pub fn pop(&mut self) -> Option<ExecutorEvent> {
         if self.len == 0 {
             return None;
         }
@@ -261,18 +261,18 @@ mod tests {
 
     #[test]
     fn queue_is_fifo_and_drops_oldest() {
-        let mut q = EventQueue::default();
+        let mut q = ExecutorEvents::default();
         for i in 0..(EVENT_CAPACITY as u64 + 3) {
-            q.push(Event::Goal {
+            q.push(ExecutorEvent::Goal {
                 id: i,
-                state: GoalState::Accepted,
+                state: GoalStage::Accepted,
                 reason: Reason::None,
             });
         }
         assert_eq!(q.dropped, 3);
         assert_eq!(q.len(), EVENT_CAPACITY);
         match q.pop() {
-            Some(Event::Goal { id, .. }) => assert_eq!(id, 3),
+            Some(ExecutorEvent::Goal { id, .. }) => assert_eq!(id, 3),
             e => panic!("{e:?}"),
         }
     }

@@ -2,7 +2,7 @@
 //! generator, produces setpoints, checks every invariant, runs the goal
 //! lifecycle and the gait state machine. Allocation-free per tick.
 //!
-//! # Gait state machine ([`Phase`])
+//! # Gait state machine ([`Mode`])
 //! ```text
 //!   Holding ──goal──> Planning ──plan──> Moving ──last step──> Holding
 //!      ^                 │  ^              │ goal/cancel/hold
@@ -46,8 +46,8 @@ use crate::hand::{InvariantChecker, InvariantReport, StateError};
 use crate::planner::{Motion, Plan, PlanError, Setpoint, Step, StepKind};
 use crate::sim::Measurement;
 use crate::state::HandState;
-use feedback::{Feedback, NO_FINGER};
-pub use lifecycle::{Event, EventQueue, FaultKind, GoalState, Reason};
+use feedback::{Feedback, NOT_A_FINGER};
+pub use lifecycle::{ExecutorEvent, ExecutorEvents, FaultKind, GoalStage, Reason};
 use policy::{Cause, Decision, FaultPolicy, Source};
 use runner::StepRunner;
 
@@ -105,7 +105,7 @@ impl GoalTarget {
 
 /// A command to the executor (SPEC §6.4, §7.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Command {
+pub enum ExecutorCommand {
     /// Reorient the object.
     Goal {
         /// Goal id, unique.
@@ -127,7 +127,7 @@ pub enum Command {
 
 /// The answer to a command.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Answer {
+pub enum ExecutorAnswer {
     /// Taken.
     Accepted,
     /// Refused, with the reason.
@@ -166,7 +166,7 @@ impl PlanRequest {
 /// The gait state machine's coarse state (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[repr(u8)]
-pub enum Phase {
+pub enum Mode {
     /// At rest, grasp held, no goal running.
     Holding = 0,
     /// At rest, waiting for a plan.
@@ -199,7 +199,7 @@ struct ActiveGoal {
     /// The orientation the goal ends at (resolved when planning starts).
     end: UnitQuaternion<f64>,
     limits: LimitsConfig,
-    state: GoalState,
+    state: GoalStage,
 }
 
 /// Everything a status message needs after a tick (SPEC §7.3).
@@ -210,11 +210,11 @@ pub struct TickReport {
     /// The setpoint just computed.
     pub setpoint: Setpoint,
     /// Coarse phase.
-    pub phase: Phase,
+    pub phase: Mode,
     /// Kind of the running step (if moving).
     pub step_kind: Option<StepKind>,
     /// Active or last goal: id, state, reason.
-    pub goal: Option<(u64, GoalState, Reason)>,
+    pub goal: Option<(u64, GoalStage, Reason)>,
     /// Angle between the object and the goal \[rad\].
     pub remaining_angle: f64,
     /// Gaits (Place/Lift steps) done and planned for the goal.
@@ -250,13 +250,13 @@ pub struct Executor {
     step_goal: u64,
     /// Planned durations left after the current step.
     time_after_step: f64,
-    phase: Phase,
+    phase: Mode,
     after_stop: AfterStop,
     /// A stop is wanted but the current step (a placement or lift) finishes
     /// first.
     stop_after_step: bool,
     goal: Option<ActiveGoal>,
-    last_goal: Option<(u64, GoalState, Reason)>,
+    last_goal: Option<(u64, GoalStage, Reason)>,
     pending: Option<ActiveGoal>,
     request: Option<PlanRequest>,
     recent_ids: [u64; 16],
@@ -299,7 +299,7 @@ pub struct Executor {
     contact_grace: u32,
     /// Normal force below which a measured contact does not touch \[N\].
     min_contact_force: f64,
-    events: EventQueue,
+    events: ExecutorEvents,
     report: TickReport,
     tick: u64,
     /// Invariants of the last checked setpoint state.
@@ -336,7 +336,7 @@ fn invariant_fault(v: crate::hand::Violation) -> (FaultKind, u8) {
     use crate::hand::{Invariant as I, Subject};
     let finger = match v.subject {
         Subject::Finger(k) | Subject::Pair(k, _) => k,
-        Subject::Grasp => NO_FINGER,
+        Subject::Grasp => NOT_A_FINGER,
     };
     let kind = match v.invariant {
         I::ForceClosure => FaultKind::ForceClosure,
@@ -358,7 +358,7 @@ fn step_rotation(step: &Step) -> f64 {
 
 /// Which finger a step concerns, for events (255: none in particular).
 fn step_finger(step: &Step) -> u8 {
-    step.finger().map_or(NO_FINGER, |f| f as u8)
+    step.finger().map_or(NOT_A_FINGER, |f| f as u8)
 }
 
 impl Executor {
@@ -387,7 +387,7 @@ impl Executor {
             step: 0,
             step_goal: 0,
             time_after_step: 0.0,
-            phase: Phase::Holding,
+            phase: Mode::Holding,
             after_stop: AfterStop::Hold(Reason::None),
             stop_after_step: false,
             goal: None,
@@ -420,11 +420,11 @@ impl Executor {
             contact_missing: [0; 3],
             contact_grace: config.feedback.contact_grace_ticks,
             min_contact_force: config.feedback.min_contact_force,
-            events: EventQueue::default(),
+            events: ExecutorEvents::default(),
             report: TickReport {
                 tick: 0,
                 setpoint: sp,
-                phase: Phase::Holding,
+                phase: Mode::Holding,
                 step_kind: None,
                 goal: None,
                 remaining_angle: 0.0,
@@ -449,7 +449,7 @@ impl Executor {
     }
 
     /// The coarse phase.
-    pub fn phase(&self) -> Phase {
+    pub fn phase(&self) -> Mode {
         self.phase
     }
 
@@ -474,7 +474,7 @@ impl Executor {
     }
 
     /// Next queued event.
-    pub fn pop_event(&mut self) -> Option<Event> {
+    pub fn pop_event(&mut self) -> Option<ExecutorEvent> {
         self.events.pop()
     }
 
@@ -504,7 +504,7 @@ impl Executor {
         self.time_after_step = (self.time_after_step - step.duration).max(0.0);
         self.rotation_after_step = (self.rotation_after_step - step_rotation(step)).max(0.0);
         self.step_goal = self.goal.map_or(0, |g| g.id);
-        let event = Event::Step {
+        let event = ExecutorEvent::Step {
             id: self.step_goal,
             index: self.step as u32,
             kind: step.kind,
@@ -537,13 +537,13 @@ impl Executor {
             return;
         }
         self.fault = Some((kind, finger));
-        self.events.push(Event::Fault { kind, finger });
-        self.end_goal(GoalState::Aborted, Reason::Fault);
+        self.events.push(ExecutorEvent::Fault { kind, finger });
+        self.end_goal(GoalStage::Aborted, Reason::Fault);
         if let Some(p) = self.pending.take() {
-            self.goal_event(p.id, GoalState::Aborted, Reason::Fault);
+            self.goal_event(p.id, GoalStage::Aborted, Reason::Fault);
         }
-        let moving = matches!(self.phase, Phase::Moving | Phase::Stopping);
-        self.phase = Phase::SafeHold;
+        let moving = matches!(self.phase, Mode::Moving | Mode::Stopping);
+        self.phase = Mode::SafeHold;
         self.after_stop = AfterStop::Fault;
         self.stop_after_step = false;
         // Brake along the current path; if that is impossible the step's own
@@ -566,7 +566,7 @@ impl Executor {
         let age = measurement.map_or(0, |m| m.age as usize);
         let cmd = self.written(age);
         let prev_cmd = self.prev_reflected;
-        if self.phase != Phase::SafeHold {
+        if self.phase != Mode::SafeHold {
             match self.feedback.check(
                 measurement,
                 &cmd,
@@ -578,7 +578,7 @@ impl Executor {
                 Ok(err) => {
                     error = err;
                     // (Ok means a measurement arrived.)
-                    let moving = self.phase == Phase::Moving;
+                    let moving = self.phase == Mode::Moving;
                     if let Some(m) = measurement
                         && let Some((kind, finger)) =
                             self.guard.observe(moving, &mut self.checker, &cmd, m)
@@ -603,7 +603,7 @@ impl Executor {
         }
         // Only a hand under control corrects (not in safe hold), and only
         // on a new measurement (one held or repeated adds nothing).
-        if self.phase != Phase::SafeHold && new_measurement {
+        if self.phase != Mode::SafeHold && new_measurement {
             self.correction.update(&error, self.dt);
         } else {
             self.correction.freeze();
@@ -670,9 +670,9 @@ impl Executor {
     /// Moves the setpoint one period along the running step.
     fn advance(&mut self) {
         let moving = match self.phase {
-            Phase::Moving | Phase::Stopping => true,
-            Phase::SafeHold => self.braking,
-            Phase::Holding | Phase::Planning => false,
+            Mode::Moving | Mode::Stopping => true,
+            Mode::SafeHold => self.braking,
+            Mode::Holding | Mode::Planning => false,
         };
         if !moving {
             self.setpoint = rest(self.setpoint.state);
@@ -683,7 +683,7 @@ impl Executor {
             Ok(s) => s,
             Err(_) => {
                 let cause = Cause::new(FaultKind::Trajectory, Source::Trajectory);
-                self.handle(cause, NO_FINGER, None);
+                self.handle(cause, NOT_A_FINGER, None);
                 self.braking = false;
                 self.setpoint = rest(self.setpoint.state);
                 return;
@@ -703,7 +703,7 @@ impl Executor {
         };
         let (setpoint, kind) = sp;
         self.setpoint = setpoint;
-        if status != otg::Status::Finished {
+        if status != otg::Progress::Finished {
             return;
         }
         // At rest: the end of the step, or of a stop.
@@ -715,7 +715,7 @@ impl Executor {
             self.setpoint.state = end;
         }
         self.setpoint = rest(self.setpoint.state);
-        if self.phase == Phase::SafeHold {
+        if self.phase == Mode::SafeHold {
             self.braking = false;
             return;
         }
@@ -723,8 +723,8 @@ impl Executor {
             if matches!(kind, StepKind::Place | StepKind::Lift) {
                 self.gaits_done += 1;
             }
-            let finger = self.current_step().map_or(NO_FINGER, step_finger);
-            self.events.push(Event::StepDone {
+            let finger = self.current_step().map_or(NOT_A_FINGER, step_finger);
+            self.events.push(ExecutorEvent::StepDone {
                 id: self.step_goal,
                 index: self.step as u32,
                 kind,
@@ -735,7 +735,7 @@ impl Executor {
         // a gait finishing (`stop_after_step`) or braking would have
         // overshot the path so the step ran to its end: the next step is
         // never begun (nor announced).
-        if self.phase == Phase::Stopping {
+        if self.phase == Mode::Stopping {
             self.finish_stop(self.after_stop);
             return;
         }
@@ -745,8 +745,8 @@ impl Executor {
             .as_deref()
             .is_none_or(|p| self.step >= p.steps.len());
         if done {
-            self.end_goal(GoalState::Succeeded, Reason::None);
-            self.phase = Phase::Holding;
+            self.end_goal(GoalStage::Succeeded, Reason::None);
+            self.phase = Mode::Holding;
             self.step = 0;
             return;
         }
@@ -767,12 +767,12 @@ impl Executor {
                 }
                 if let Some(v) = r.first_violation() {
                     let (kind, finger) = invariant_fault(v);
-                    self.handle(Cause::new(kind, Source::Command), finger, None);
+                    self.handle(Cause::new(kind, Source::ExecutorCommand), finger, None);
                 }
             }
             Err(_) => {
-                let cause = Cause::new(FaultKind::Contact, Source::Command);
-                self.handle(cause, NO_FINGER, None);
+                let cause = Cause::new(FaultKind::Contact, Source::ExecutorCommand);
+                self.handle(cause, NOT_A_FINGER, None);
             }
         }
     }
@@ -791,7 +791,7 @@ impl Executor {
         // runs (a full turn counts in full), else the way to the goal.
         let remaining = match (self.phase, self.goal) {
             (_, None) => 0.0,
-            (Phase::Moving | Phase::Stopping, Some(_)) => self.planned_rotation_left(),
+            (Mode::Moving | Mode::Stopping, Some(_)) => self.planned_rotation_left(),
             (_, Some(g)) => match g.target {
                 GoalTarget::Rotation { angle, .. } => angle.abs(),
                 GoalTarget::Orientation(_) => g.end.angle_to(&self.setpoint.state.object),
@@ -804,7 +804,7 @@ impl Executor {
         r.setpoint = self.correction.apply(&self.setpoint);
         r.phase = self.phase;
         r.step_kind = match self.phase {
-            Phase::Moving | Phase::Stopping => self
+            Mode::Moving | Mode::Stopping => self
                 .plan
                 .as_deref()
                 .and_then(|p| p.steps.get(self.step))
@@ -817,8 +817,8 @@ impl Executor {
         };
         r.gaits = (self.gaits_done, self.gaits_planned);
         r.eta = match self.phase {
-            Phase::Moving => self.time_after_step + self.runner.time_left(),
-            Phase::Stopping => self.runner.time_left(),
+            Mode::Moving => self.time_after_step + self.runner.time_left(),
+            Mode::Stopping => self.runner.time_left(),
             _ => 0.0,
         };
         r.fault = self.fault;

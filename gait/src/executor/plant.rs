@@ -19,7 +19,7 @@ impl Executor {
     /// [`FaultKind::PlantWaiting`] (nothing to brake; the setpoint is still)
     /// until [`Executor::start_from`] succeeds.
     pub fn await_plant(&mut self) {
-        self.enter_fault(FaultKind::PlantWaiting, NO_FINGER);
+        self.enter_fault(FaultKind::PlantWaiting, NOT_A_FINGER);
         self.braking = false;
     }
 
@@ -51,20 +51,20 @@ impl Executor {
             Ok(r) if r.ok() => {
                 self.adopt(state);
                 self.fault = None;
-                self.phase = Phase::Holding;
-                self.events.push(Event::FaultCleared);
+                self.phase = Mode::Holding;
+                self.events.push(ExecutorEvent::FaultCleared);
                 true
             }
             other => {
                 let (kind, finger) = match other {
                     Ok(r) => r
                         .first_violation()
-                        .map_or((FaultKind::Contact, NO_FINGER), invariant_fault),
-                    Err(_) => (FaultKind::Contact, NO_FINGER),
+                        .map_or((FaultKind::Contact, NOT_A_FINGER), invariant_fault),
+                    Err(_) => (FaultKind::Contact, NOT_A_FINGER),
                 };
                 // Still nothing moves; the fault now says why.
                 self.fault = Some((kind, finger));
-                self.events.push(Event::Fault { kind, finger });
+                self.events.push(ExecutorEvent::Fault { kind, finger });
                 false
             }
         }

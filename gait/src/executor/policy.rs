@@ -17,7 +17,7 @@
 //! | commanded state breaks an invariant, trajectory refused, re-based state invalid | any but safe hold | safe hold |
 //! | the plant: lost, lying, out of sequence, its own fault, a contact lost | any but safe hold | safe hold |
 
-use super::Phase;
+use super::Mode;
 use super::lifecycle::FaultKind;
 
 /// Where a cause was seen.
@@ -29,7 +29,7 @@ pub enum Source {
     /// (`guard`); the kind names the invariant.
     NearLimit,
     /// The commanded state breaks an invariant (checked every tick).
-    Command,
+    ExecutorCommand,
     /// The trajectory generator refused an input.
     Trajectory,
     /// The measured state a recovery re-based on breaks an invariant.
@@ -78,15 +78,15 @@ impl FaultPolicy {
     /// The decision for `cause` seen in `phase`, after `replans` recoveries
     /// of the current goal, `recovering` being true while an earlier
     /// recovery has not yet re-based (module docs, the table).
-    pub fn decide(&self, cause: Cause, phase: Phase, replans: u32, recovering: bool) -> Decision {
-        if phase == Phase::SafeHold {
+    pub fn decide(&self, cause: Cause, phase: Mode, replans: u32, recovering: bool) -> Decision {
+        if phase == Mode::SafeHold {
             return Decision::Ignore;
         }
         let recoverable = match cause.source {
             Source::Measurement => cause.kind == FaultKind::ContactDrift,
-            Source::NearLimit if phase != Phase::Moving => return Decision::Ignore,
+            Source::NearLimit if phase != Mode::Moving => return Decision::Ignore,
             Source::NearLimit => true,
-            Source::Command | Source::Trajectory | Source::Rebase | Source::Plant => false,
+            Source::ExecutorCommand | Source::Trajectory | Source::Rebase | Source::Plant => false,
         };
         if recoverable && !recovering && replans < self.max_replans {
             Decision::Replan
@@ -101,7 +101,7 @@ mod tests {
     use super::*;
     use Decision::*;
     use FaultKind as K;
-    use Phase as P;
+    use Mode as P;
     use Source as S;
 
     /// The module's table, row by row: (kind, source, phase, replans so
@@ -114,7 +114,7 @@ mod tests {
             // Already in safe hold: nothing more.
             (K::ContactDrift, S::Measurement, P::SafeHold, 0, false, Ignore),
             (K::MissingMeasurement, S::Measurement, P::SafeHold, 0, false, Ignore),
-            (K::ForceClosure, S::Command, P::SafeHold, 0, false, Ignore),
+            (K::ForceClosure, S::ExecutorCommand, P::SafeHold, 0, false, Ignore),
             (K::Trajectory, S::Trajectory, P::SafeHold, 0, false, Ignore),
             // A drift is recovered in every other phase, within the budget.
             (K::ContactDrift, S::Measurement, P::Moving, 0, false, Replan),
@@ -137,9 +137,9 @@ mod tests {
             (K::ObjectTracking, S::Measurement, P::Moving, 0, false, SafeHold),
             (K::FingerTracking, S::Measurement, P::Stopping, 0, false, SafeHold),
             // The command or the generator broken, or a bad re-base.
-            (K::ForceClosure, S::Command, P::Moving, 0, false, SafeHold),
-            (K::Workspace, S::Command, P::Holding, 0, false, SafeHold),
-            (K::Contact, S::Command, P::Planning, 0, false, SafeHold),
+            (K::ForceClosure, S::ExecutorCommand, P::Moving, 0, false, SafeHold),
+            (K::Workspace, S::ExecutorCommand, P::Holding, 0, false, SafeHold),
+            (K::Contact, S::ExecutorCommand, P::Planning, 0, false, SafeHold),
             (K::Trajectory, S::Trajectory, P::Stopping, 0, false, SafeHold),
             (K::ContactDrift, S::Rebase, P::Stopping, 0, false, SafeHold),
             // The plant.

@@ -57,9 +57,9 @@ impl Executor {
         let id = self.goal.or(self.pending).map_or(0, |g| g.id);
         let replan = self.replans;
         self.events.push(if cause == FaultKind::ContactDrift {
-            Event::Drift { id, finger, replan }
+            ExecutorEvent::Drift { id, finger, replan }
         } else {
-            Event::NearLimit {
+            ExecutorEvent::NearLimit {
                 id,
                 kind: cause,
                 finger,
@@ -67,18 +67,18 @@ impl Executor {
             }
         });
         match self.phase {
-            Phase::Moving => self.request_stop(AfterStop::Recover),
+            Mode::Moving => self.request_stop(AfterStop::Recover),
             // Already braking: `finish_stop` re-bases before going on.
-            Phase::Stopping => {}
+            Mode::Stopping => {}
             // Re-bases and plans again when the plan in the making arrives
             // (`deliver_plan`).
-            Phase::Planning => {}
-            Phase::Holding => {
+            Mode::Planning => {}
+            Mode::Holding => {
                 self.prev_measurement = Some(*m);
                 self.measured_at = self.tick;
                 self.rebase();
             }
-            Phase::SafeHold => {}
+            Mode::SafeHold => {}
         }
     }
 
@@ -91,7 +91,7 @@ impl Executor {
         let (cause, finger) = self
             .drift
             .take()
-            .map_or((FaultKind::ContactDrift, NO_FINGER), |d| {
+            .map_or((FaultKind::ContactDrift, NOT_A_FINGER), |d| {
                 (d.cause, d.finger)
             });
         // The fingertips stay where they were commanded (with the
@@ -140,7 +140,7 @@ impl Executor {
     pub(super) fn replan_after_drift(&mut self, left: Option<f64>) {
         let from = self.setpoint.state.object;
         let Some(g) = self.goal.as_mut() else {
-            self.phase = Phase::Holding;
+            self.phase = Mode::Holding;
             return;
         };
         if let GoalTarget::Rotation { axis, angle } = g.target {

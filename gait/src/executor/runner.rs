@@ -6,10 +6,10 @@
 //! jerk-limited along the same path, with position, velocity and
 //! acceleration continuous.
 
-use otg::{ControlInterface, Input, Otg, OtgError, Output, Status};
+use otg::{ControlInterface, Input, Otg, OtgError, Output, Progress};
 
 use crate::config::{LimitsConfig, MotionLimit};
-use crate::planner::{LimitKind, MAX_DOFS, Step};
+use crate::planner::{MAX_DOFS, Step, StepLimit};
 
 /// Path-parameter state of the running step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -32,11 +32,11 @@ pub struct StepRunner {
     stopping: bool,
 }
 
-fn limit(limits: &LimitsConfig, kind: LimitKind) -> &MotionLimit {
+fn limit(limits: &LimitsConfig, kind: StepLimit) -> &MotionLimit {
     match kind {
-        LimitKind::Object => &limits.object,
-        LimitKind::Fingertip => &limits.fingertip,
-        LimitKind::Rolling => &limits.rolling,
+        StepLimit::Object => &limits.object,
+        StepLimit::Fingertip => &limits.fingertip,
+        StepLimit::Rolling => &limits.rolling,
     }
 }
 
@@ -73,7 +73,7 @@ impl StepRunner {
 
     /// One control period; returns whether the motion has come to rest at
     /// its end (or at its stop).
-    pub fn advance(&mut self) -> Result<Status, OtgError> {
+    pub fn advance(&mut self) -> Result<Progress, OtgError> {
         let status = self.otg.update(&self.input, &mut self.output)?;
         self.output.pass_to_input(&mut self.input);
         Ok(status)

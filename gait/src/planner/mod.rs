@@ -26,7 +26,7 @@ pub mod timing;
 use nalgebra::{UnitQuaternion, Vector3};
 
 pub use plan::{
-    FreeMove, FreePath, LimitKind, MAX_DOFS, Motion, Setpoint, Step, StepDofs, StepKind,
+    FreeMove, FreePath, MAX_DOFS, Motion, Setpoint, Step, StepDofs, StepKind, StepLimit,
 };
 
 use crate::config::{ConfigError, HandConfig};

@@ -20,7 +20,7 @@ pub const MAX_DOFS: usize = 3;
 
 /// Which kind of motion a path parameter is limited as (SPEC §5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LimitKind {
+pub enum StepLimit {
     /// Object rotation angle \[rad\].
     Object,
     /// Fingertip path length in free space \[m\].
@@ -257,7 +257,7 @@ pub struct StepDofs {
     /// Final value of each parameter (start is 0).
     pub length: [f64; MAX_DOFS],
     /// Which limits apply.
-    pub kind: [LimitKind; MAX_DOFS],
+    pub kind: [StepLimit; MAX_DOFS],
 }
 
 /// A hand state with its rates, as the controller commands it.
@@ -298,9 +298,9 @@ impl Step {
         (0..d.count)
             .map(|i| {
                 let lim = match d.kind[i] {
-                    LimitKind::Object => &limits.object,
-                    LimitKind::Fingertip => &limits.fingertip,
-                    LimitKind::Rolling => &limits.rolling,
+                    StepLimit::Object => &limits.object,
+                    StepLimit::Fingertip => &limits.fingertip,
+                    StepLimit::Rolling => &limits.rolling,
                 };
                 super::timing::rest_to_rest(d.length[i], lim)
             })
@@ -312,7 +312,7 @@ impl Step {
         let mut d = StepDofs {
             count: 1,
             length: [0.0; MAX_DOFS],
-            kind: [LimitKind::Object; MAX_DOFS],
+            kind: [StepLimit::Object; MAX_DOFS],
         };
         match &self.motion {
             Motion::Rotate { angle, free, .. } => {
@@ -320,23 +320,23 @@ impl Step {
                 if let Some(f) = free {
                     d.count = 2;
                     d.length[1] = f.path.length();
-                    d.kind[1] = LimitKind::Fingertip;
+                    d.kind[1] = StepLimit::Fingertip;
                 }
             }
             Motion::Roll { rolls, ratio } => {
                 for (i, r) in rolls.iter().enumerate() {
-                    d.kind[i] = LimitKind::Rolling;
+                    d.kind[i] = StepLimit::Rolling;
                     d.length[i] = r.map_or(0.0, |r| r.angle.abs() * ratio);
                 }
                 d.count = MAX_DOFS;
             }
             Motion::Free(f) => {
                 d.length[0] = f.path.length();
-                d.kind[0] = LimitKind::Fingertip;
+                d.kind[0] = StepLimit::Fingertip;
             }
             Motion::RollSegment { segment, .. } => {
                 d.length[0] = segment.length;
-                d.kind[0] = LimitKind::Rolling;
+                d.kind[0] = StepLimit::Rolling;
             }
         }
         d

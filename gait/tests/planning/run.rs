@@ -3,7 +3,7 @@
 //! controller wrote and, separately, the plant's true state after it — and
 //! the setpoint stream's continuity.
 
-use gait::executor::{Command, Event, Executor, GoalState, Phase, TickReport};
+use gait::executor::{Executor, ExecutorCommand, ExecutorEvent, GoalStage, Mode, TickReport};
 use gait::hand::InvariantChecker;
 use gait::planner::{Planner, Setpoint, StepKind};
 use gait::sim::{KinematicHand, Measurement, Plant};
@@ -31,7 +31,7 @@ pub struct RunStats {
     /// Slips of the plant's true state between ticks.
     pub plant_slips: u64,
     pub discontinuities: Vec<(u64, &'static str, f64)>,
-    pub goals: Vec<(u64, GoalState)>,
+    pub goals: Vec<(u64, GoalStage)>,
     pub faults: u64,
     /// Contact drifts reported (each stops the motion and replans).
     pub drifts: u64,
@@ -105,16 +105,16 @@ impl Rig {
         }
         while let Some(e) = self.exec.pop_event() {
             match e {
-                Event::Goal { id, state, .. } if state.is_terminal() => {
+                ExecutorEvent::Goal { id, state, .. } if state.is_terminal() => {
                     self.stats.goals.push((id, state))
                 }
-                Event::Fault { .. } => self.stats.faults += 1,
-                Event::Drift { .. } => self.stats.drifts += 1,
-                Event::NearLimit { kind, finger, .. } => {
+                ExecutorEvent::Fault { .. } => self.stats.faults += 1,
+                ExecutorEvent::Drift { .. } => self.stats.drifts += 1,
+                ExecutorEvent::NearLimit { kind, finger, .. } => {
                     self.stats.near_limits.push((kind, finger))
                 }
                 // (After a plan delivered above, the executor moves now.)
-                Event::Step { kind, .. } if self.exec.phase() != Phase::Moving => {
+                ExecutorEvent::Step { kind, .. } if self.exec.phase() != Mode::Moving => {
                     self.stats.unmoved_steps.push((rep.tick, kind))
                 }
                 _ => {}
@@ -175,7 +175,7 @@ impl Rig {
     }
 
     /// Sends a command.
-    pub fn command(&mut self, c: Command) -> gait::executor::Answer {
+    pub fn command(&mut self, c: ExecutorCommand) -> gait::executor::ExecutorAnswer {
         self.exec.command(c)
     }
 
@@ -185,7 +185,7 @@ impl Rig {
         loop {
             let r = self.tick();
             n += 1;
-            if (r.phase == Phase::Holding || r.phase == Phase::SafeHold) && n > 1 {
+            if (r.phase == Mode::Holding || r.phase == Mode::SafeHold) && n > 1 {
                 return n;
             }
             if n >= max {

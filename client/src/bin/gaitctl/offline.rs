@@ -6,7 +6,9 @@
 use std::io::Write;
 use std::path::Path;
 
-use gait::executor::{Command, Event, Executor, GoalState, GoalTarget, Phase, Reason};
+use gait::executor::{
+    Executor, ExecutorCommand, ExecutorEvent, GoalStage, GoalTarget, Mode, Reason,
+};
 use gait::planner::{PlanSummary, Planner, StepKind};
 use gait::sim::{KinematicHand, Plant};
 use gait::{HandConfig, HandState};
@@ -36,7 +38,7 @@ pub fn load_config(path: Option<&Path>) -> Result<HandConfig, String> {
 #[derive(Debug, Clone)]
 pub struct GoalRun {
     /// How it ended.
-    pub state: GoalState,
+    pub state: GoalStage,
     /// Why.
     pub reason: Reason,
     /// The plan's statistics (if one was made).
@@ -101,16 +103,16 @@ impl OfflineRun {
         mut trace: Option<&mut dyn Write>,
         progress: &mut dyn FnMut(&gait::executor::TickReport),
     ) -> Result<GoalRun, String> {
-        let answer = self.exec.command(Command::Goal {
+        let answer = self.exec.command(ExecutorCommand::Goal {
             id,
             target,
             limits: None,
         });
-        if answer != gait::executor::Answer::Accepted {
+        if answer != gait::executor::ExecutorAnswer::Accepted {
             return Err(format!("goal refused: {answer:?}"));
         }
         let mut run = GoalRun {
-            state: GoalState::Accepted,
+            state: GoalStage::Accepted,
             reason: Reason::None,
             plan: None,
             steps: [0; 5],
@@ -146,7 +148,7 @@ impl OfflineRun {
                 }
                 drop(self.exec.deliver_plan(req.goal, plan.map(Box::new)));
             }
-            if rep.phase == Phase::Moving {
+            if rep.phase == Mode::Moving {
                 run.min_fc_margin = run.min_fc_margin.min(rep.force_closure.1);
             }
             run.max_grip = run
@@ -160,7 +162,7 @@ impl OfflineRun {
             }
             progress(&rep);
             while let Some(e) = self.exec.pop_event() {
-                if let Event::Goal {
+                if let ExecutorEvent::Goal {
                     id: gid,
                     state,
                     reason,
@@ -172,7 +174,7 @@ impl OfflineRun {
                     run.reason = reason;
                 }
             }
-            if run.state.is_terminal() && matches!(rep.phase, Phase::Holding | Phase::SafeHold) {
+            if run.state.is_terminal() && matches!(rep.phase, Mode::Holding | Mode::SafeHold) {
                 break;
             }
             if self.tick - t0 > 10_000_000 {

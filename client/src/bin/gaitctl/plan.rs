@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use gait::HandState;
-use gait::executor::{GoalState, GoalTarget};
+use gait::executor::{GoalStage, GoalTarget};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use super::offline::{GoalRun, OfflineRun, load_config};
@@ -216,7 +216,7 @@ pub fn run(a: &Args) -> Result<ExitCode, String> {
             eprintln!();
         }
         summary(label, &r);
-        ok &= r.state == GoalState::Succeeded && r.final_error <= 1e-6;
+        ok &= r.state == GoalStage::Succeeded && r.final_error <= 1e-6;
     }
     if let Some(mut w) = writer {
         w.flush().map_err(|e| e.to_string())?;

@@ -10,7 +10,7 @@ use serde_json::Value;
 
 /// One finger of one sample.
 #[derive(Debug, Clone, Copy)]
-pub struct FingerSample {
+pub struct TraceFinger {
     /// Fingertip centre [m].
     pub p: Vector3<f64>,
     /// Fingertip orientation.
@@ -25,13 +25,13 @@ pub struct FingerSample {
 
 /// One tick of a trace.
 #[derive(Debug, Clone)]
-pub struct Sample {
+pub struct TraceSample {
     /// Time [s].
     pub t: f64,
     /// Object orientation.
     pub object: UnitQuaternion<f64>,
     /// The fingers.
-    pub fingers: [FingerSample; 3],
+    pub fingers: [TraceFinger; 3],
     /// Force-closure slack (if recorded).
     pub fc_margin: Option<f64>,
 }
@@ -48,7 +48,7 @@ pub struct Trace {
     /// Finger base azimuths [deg] (default 0, 120, 240 if absent).
     pub finger_azimuth_deg: [f64; 3],
     /// The samples.
-    pub samples: Vec<Sample>,
+    pub samples: Vec<TraceSample>,
 }
 
 fn num(v: &Value, what: &str, line: usize) -> Result<f64, String> {
@@ -109,7 +109,7 @@ pub fn read(path: &Path) -> Result<Trace, String> {
             .as_array()
             .filter(|a| a.len() == 3)
             .ok_or_else(|| format!("line {n}: `fingers` is not an array of 3"))?;
-        let mut fs = [FingerSample {
+        let mut fs = [TraceFinger {
             p: Vector3::zeros(),
             q: UnitQuaternion::identity(),
             contact: false,
@@ -123,7 +123,7 @@ pub fn read(path: &Path) -> Result<Trace, String> {
             f.grip = fv["grip_force"].as_f64().unwrap_or(0.0);
             f.roll = fv["roll"].as_f64().unwrap_or(0.0);
         }
-        trace.samples.push(Sample {
+        trace.samples.push(TraceSample {
             t: num(&v["t"], "t", n)?,
             object: quat(&v["object_q"], "object_q", n)?,
             fingers: fs,
@@ -136,7 +136,7 @@ pub fn read(path: &Path) -> Result<Trace, String> {
     Ok(trace)
 }
 
-impl Sample {
+impl TraceSample {
     /// The hand state of this sample (for `plan --from TRACE`).
     pub fn hand_state(&self) -> HandState {
         HandState {

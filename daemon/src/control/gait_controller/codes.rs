@@ -8,24 +8,24 @@ use gait::planner::PlanError;
 use shm_schema::{FaultCode, GoalState, ReasonCode};
 
 /// A goal state on the wire.
-pub fn goal_state(s: executor::GoalState) -> GoalState {
+pub fn goal_state(s: executor::GoalStage) -> GoalState {
     match s {
-        executor::GoalState::Accepted => GoalState::Accepted,
-        executor::GoalState::Planning => GoalState::Planning,
-        executor::GoalState::Executing => GoalState::Executing,
-        executor::GoalState::Succeeded => GoalState::Succeeded,
-        executor::GoalState::Aborted => GoalState::Aborted,
-        executor::GoalState::Canceled => GoalState::Canceled,
-        executor::GoalState::Preempted => GoalState::Preempted,
-        executor::GoalState::Rejected => GoalState::Rejected,
+        executor::GoalStage::Accepted => GoalState::Accepted,
+        executor::GoalStage::Planning => GoalState::Planning,
+        executor::GoalStage::Executing => GoalState::Executing,
+        executor::GoalStage::Succeeded => GoalState::Succeeded,
+        executor::GoalStage::Aborted => GoalState::Aborted,
+        executor::GoalStage::Canceled => GoalState::Canceled,
+        executor::GoalStage::Preempted => GoalState::Preempted,
+        executor::GoalStage::Rejected => GoalState::Rejected,
     }
 }
 
 /// The wire reason of a goal in `state` that the executor gave `reason`
 /// (a success is `Reached`).
-pub fn goal_reason(state: Option<executor::GoalState>, reason: Reason) -> ReasonCode {
+pub fn goal_reason(state: Option<executor::GoalStage>, reason: Reason) -> ReasonCode {
     match state {
-        Some(executor::GoalState::Succeeded) => ReasonCode::Reached,
+        Some(executor::GoalStage::Succeeded) => ReasonCode::Reached,
         _ => reason_code(reason),
     }
 }
@@ -124,7 +124,7 @@ mod tests {
         assert_eq!(reason_finger(blocked), Some(2));
         assert_eq!(reason_finger(Reason::NoPlan(PlanError::NoGrasp)), None);
         assert_eq!(
-            goal_reason(Some(executor::GoalState::Succeeded), Reason::None),
+            goal_reason(Some(executor::GoalStage::Succeeded), Reason::None),
             ReasonCode::Reached
         );
     }

@@ -6,7 +6,7 @@
 use super::GaitController;
 use super::codes::{fault_code, goal_reason, goal_state, reason_finger};
 use crate::control::controller::TickContext;
-use gait::executor::{Event, FaultKind};
+use gait::executor::{ExecutorEvent, FaultKind};
 use gait::gaiting::FingerGait;
 use gait::planner::StepKind;
 use shm_schema::EventKind;
@@ -17,7 +17,7 @@ impl GaitController {
     pub(super) fn forward_events(&mut self, ctx: &mut TickContext<'_>, remaining: f64) {
         while let Some(e) = self.exec.pop_event() {
             match e {
-                Event::Goal { id, state, reason } => {
+                ExecutorEvent::Goal { id, state, reason } => {
                     // A new plan, or none: no rewind spans it (a gait step
                     // in flight still completes its substitution).
                     self.gaits.interrupt();
@@ -35,7 +35,7 @@ impl GaitController {
                         reason_finger(reason),
                     );
                 }
-                Event::Step {
+                ExecutorEvent::Step {
                     id, kind, finger, ..
                 } => {
                     self.gaits.started(kind);
@@ -46,7 +46,7 @@ impl GaitController {
                         _ => {}
                     }
                 }
-                Event::StepDone {
+                ExecutorEvent::StepDone {
                     id, kind, finger, ..
                 } => {
                     let (client, goal) = self.ids.wire(id);
@@ -61,7 +61,7 @@ impl GaitController {
                         ctx.events.rewind(helper, relocated, goal, client);
                     }
                 }
-                Event::Fault { kind, .. } => {
+                ExecutorEvent::Fault { kind, .. } => {
                     self.gaits.reset();
                     let count = match kind {
                         FaultKind::PlantFault => u64::from(self.plant_fault.code()),
@@ -69,15 +69,15 @@ impl GaitController {
                     };
                     ctx.events.fault_with(fault_code(kind), count);
                 }
-                Event::FaultCleared => ctx
+                ExecutorEvent::FaultCleared => ctx
                     .events
                     .push(shm_schema::Event::new(EventKind::FaultCleared)),
-                Event::Drift { id, finger, replan } => {
+                ExecutorEvent::Drift { id, finger, replan } => {
                     self.gaits.interrupt();
                     let (client, goal) = self.ids.wire(id);
                     ctx.events.drift(finger, replan, goal, client);
                 }
-                Event::NearLimit {
+                ExecutorEvent::NearLimit {
                     id,
                     kind,
                     finger,

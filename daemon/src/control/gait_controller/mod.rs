@@ -23,16 +23,17 @@ mod report;
 mod trace;
 
 use crate::control::controller::{
-    ControlCommand, ControlOutput, Controller, GoalTarget, TickContext,
+    ClientTarget, ControlCommand, ControlOutput, Controller, TickContext,
 };
-use crate::control::planner::{Planner, PlannerLink};
+use crate::control::planner::{BackgroundPlanner, PlannerLink};
 use crate::io::tracer::TraceRecorder;
 use crate::plant::external::ExternalPlant;
 use crate::plant::{Hand, PlantSample};
 use crate::realtime::clock::Nanos;
 use codes::reason_code;
 use gait::executor::TickReport;
-use gait::executor::{self, Command, Executor, FaultKind, PlanRequest, Reason};
+use gait::executor::feedback::NOT_A_FINGER;
+use gait::executor::{self, Executor, ExecutorCommand, FaultKind, PlanRequest, Reason};
 use gait::gaiting::GaitTracker;
 use gait::planner::{Plan, PlanError};
 use gait::sim::{KinematicHand, Measurement, Plant};
@@ -49,7 +50,7 @@ use shm_schema::{
 #[derive(Debug)]
 pub struct GaitPlanner(pub gait::planner::Planner);
 
-impl Planner for GaitPlanner {
+impl BackgroundPlanner for GaitPlanner {
     type Request = PlanRequest;
     type Plan = Plan;
     type Error = PlanError;
@@ -160,7 +161,7 @@ impl GaitController {
     }
 
     /// The executor's phase.
-    pub fn phase(&self) -> executor::Phase {
+    pub fn phase(&self) -> executor::Mode {
         self.exec.phase()
     }
 
@@ -209,7 +210,7 @@ impl GaitController {
                 let r = x.read(sample, now);
                 if let Some((kind, code)) = r.fault {
                     self.plant_fault = code;
-                    self.exec.plant_fault(kind, ExternalPlant::any_finger());
+                    self.exec.plant_fault(kind, NOT_A_FINGER);
                     if kind == FaultKind::PlantLost {
                         self.plant_enabled = false;
                     }
@@ -245,7 +246,7 @@ impl GaitController {
                 if self.plant_enabled {
                     flags |= command_flags::ENABLE;
                 }
-                if self.exec.phase() == executor::Phase::SafeHold {
+                if self.exec.phase() == executor::Mode::SafeHold {
                     flags |= command_flags::HOLD;
                 }
                 if x.lockstep() {
@@ -266,14 +267,14 @@ impl Controller for GaitController {
             ControlCommand::Goal(g) => {
                 let object = self.exec.setpoint().state.object;
                 let target = match g.target {
-                    GoalTarget::Absolute(q) => executor::GoalTarget::Orientation(q),
-                    GoalTarget::Relative(q) => executor::GoalTarget::Orientation(q * object),
-                    GoalTarget::Rotation { axis, angle } => {
+                    ClientTarget::Absolute(q) => executor::GoalTarget::Orientation(q),
+                    ClientTarget::Relative(q) => executor::GoalTarget::Orientation(q * object),
+                    ClientTarget::Rotation { axis, angle } => {
                         executor::GoalTarget::Rotation { axis, angle }
                     }
                 };
                 let id = self.ids.assign(g.client_id, g.goal_id, target);
-                self.exec.command(Command::Goal {
+                self.exec.command(ExecutorCommand::Goal {
                     id,
                     target,
                     limits: Some(g.limits),
@@ -288,22 +289,22 @@ impl Controller for GaitController {
                 if !matches {
                     return Verdict::Rejected(ReasonCode::UnknownGoalId);
                 }
-                self.exec.command(Command::Cancel)
+                self.exec.command(ExecutorCommand::Cancel)
             }
             ControlCommand::Hold { client_id } => {
                 let mut e = shm_schema::Event::new(EventKind::Hold);
                 e.client_id = client_id;
                 e.reason = ReasonCode::HoldRequested.code();
                 ctx.events.push(e);
-                self.exec.command(Command::Hold)
+                self.exec.command(ExecutorCommand::Hold)
             }
             ControlCommand::Reset { .. } => {
-                if self.exec.phase() != executor::Phase::SafeHold {
+                if self.exec.phase() != executor::Mode::SafeHold {
                     return Verdict::Rejected(ReasonCode::NotFaulted);
                 }
-                let a = self.exec.command(Command::Reset);
+                let a = self.exec.command(ExecutorCommand::Reset);
                 // The state is the measured one again: the plant may follow.
-                if a == executor::Answer::Accepted {
+                if a == executor::ExecutorAnswer::Accepted {
                     self.plant_enabled = true;
                 }
                 a
@@ -311,9 +312,11 @@ impl Controller for GaitController {
         };
         self.forward_events(ctx, self.exec.report().remaining_angle);
         match answer {
-            executor::Answer::Accepted => Verdict::Accepted,
-            executor::Answer::Rejected(Reason::None) => Verdict::Rejected(ReasonCode::NoActiveGoal),
-            executor::Answer::Rejected(r) => Verdict::Rejected(reason_code(r)),
+            executor::ExecutorAnswer::Accepted => Verdict::Accepted,
+            executor::ExecutorAnswer::Rejected(Reason::None) => {
+                Verdict::Rejected(ReasonCode::NoActiveGoal)
+            }
+            executor::ExecutorAnswer::Rejected(r) => Verdict::Rejected(reason_code(r)),
         }
     }
 
@@ -342,7 +345,7 @@ impl Controller for GaitController {
 
     fn begin_safe_hold(&mut self, ctx: &mut TickContext<'_>) {
         self.safe_hold_requested = true;
-        self.exec.command(Command::Hold);
+        self.exec.command(ExecutorCommand::Hold);
         self.forward_events(ctx, self.exec.report().remaining_angle);
     }
 
@@ -350,7 +353,7 @@ impl Controller for GaitController {
         let v = self.exec.setpoint();
         matches!(
             self.exec.phase(),
-            executor::Phase::Holding | executor::Phase::Planning | executor::Phase::SafeHold
+            executor::Mode::Holding | executor::Mode::Planning | executor::Mode::SafeHold
         ) && v.finger_velocity.iter().all(|x| *x == Vector3::zeros())
     }
 }

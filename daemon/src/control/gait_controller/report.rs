@@ -4,7 +4,7 @@
 
 use super::GaitController;
 use super::codes::{fault_code, goal_reason, goal_state};
-use crate::control::controller::{ControlOutput, FingerReport, GoalReport};
+use crate::control::controller::{ControlOutput, FingerOutput, GoalReport};
 use gait::executor::{self, Reason, TickReport};
 use gait::planner::{Motion, StepKind};
 use gait::{FINGERS, FingerMode};
@@ -13,12 +13,12 @@ use shm_schema::{FaultCode, FingerPhase, GoalState, GraspState, Phase};
 /// The status phase of the executor's phase and step.
 fn phase(r: &TickReport) -> Phase {
     match (r.phase, r.step_kind) {
-        (executor::Phase::Moving, Some(StepKind::Roll)) => Phase::Roll,
-        (executor::Phase::Moving, Some(StepKind::Rotate)) => Phase::Rotate,
-        (executor::Phase::Moving, Some(StepKind::Place | StepKind::Transfer)) => Phase::Place,
-        (executor::Phase::Moving, Some(StepKind::Lift)) => Phase::Lift,
-        (executor::Phase::Stopping, _) => Phase::Stopping,
-        (executor::Phase::SafeHold, _) => Phase::SafeHold,
+        (executor::Mode::Moving, Some(StepKind::Roll)) => Phase::Roll,
+        (executor::Mode::Moving, Some(StepKind::Rotate)) => Phase::Rotate,
+        (executor::Mode::Moving, Some(StepKind::Place | StepKind::Transfer)) => Phase::Place,
+        (executor::Mode::Moving, Some(StepKind::Lift)) => Phase::Lift,
+        (executor::Mode::Stopping, _) => Phase::Stopping,
+        (executor::Mode::SafeHold, _) => Phase::SafeHold,
         _ => Phase::Hold,
     }
 }
@@ -28,7 +28,7 @@ impl GaitController {
     pub(super) fn output(&self, r: &TickReport, out: &mut ControlOutput) {
         let hand = r.setpoint.state;
         let active = self.exec.plan().and_then(|p| {
-            matches!(r.phase, executor::Phase::Moving | executor::Phase::Stopping)
+            matches!(r.phase, executor::Mode::Moving | executor::Mode::Stopping)
                 .then(|| p.steps.get(self.exec.step_index()))
                 .flatten()
         });
@@ -53,7 +53,7 @@ impl GaitController {
             state: state.map_or(GoalState::None, goal_state),
             reason: goal_reason(state, reason),
             remaining_angle: r.remaining_angle,
-            eta: matches!(r.phase, executor::Phase::Moving | executor::Phase::Stopping)
+            eta: matches!(r.phase, executor::Mode::Moving | executor::Mode::Stopping)
                 .then_some(r.eta),
             gaits_done: r.gaits.0,
             gaits_planned: r.gaits.1,
@@ -68,7 +68,7 @@ impl GaitController {
                 (FingerMode::Grasping, _, _) => FingerPhase::Grasping,
                 (FingerMode::Free, _, _) => FingerPhase::Free,
             };
-            out.fingers[k] = FingerReport {
+            out.fingers[k] = FingerOutput {
                 phase,
                 // The executor's invariant check measured it this tick
                 // against β − margin; the status reports it against β.

@@ -24,7 +24,7 @@ impl GaitController {
         let Some(rec) = &mut self.trace else { return };
         let sample = Sample::from_report(r);
         let starting = match r.goal {
-            Some((id, executor::GoalState::Executing, _)) if rec.recording() != Some(id) => {
+            Some((id, executor::GoalStage::Executing, _)) if rec.recording() != Some(id) => {
                 Some(id)
             }
             _ => None,

@@ -5,7 +5,7 @@
 use crate::common::ConnArgs;
 use gait::HandConfig;
 use gaitd_client::ConnectOptions;
-use gaitd_client::plant::Timing;
+use gaitd_client::plant::Pacing;
 
 /// The plant's view of a daemon config file.
 #[derive(Debug, Clone)]
@@ -15,7 +15,7 @@ pub struct PlantView {
     /// `[control] tick_hz`.
     pub tick_hz: f64,
     /// `[plant] timing`.
-    pub timing: Timing,
+    pub timing: Pacing,
     /// `[ipc]` keys given in the file.
     pub prefix: Option<String>,
     /// `[ipc] root_path`.
@@ -60,8 +60,8 @@ impl PlantView {
             ));
         }
         let timing = match string(&t, "plant", "timing").as_deref() {
-            None | Some("realtime") => Timing::Realtime,
-            Some("lockstep") => Timing::Lockstep,
+            None | Some("realtime") => Pacing::Realtime,
+            Some("lockstep") => Pacing::Lockstep,
             Some(other) => {
                 return Err(format!(
                     "{path}: plant.timing = \"{other}\" (expected \"realtime\" or \"lockstep\")"

@@ -9,7 +9,7 @@ pub mod sim;
 
 use crate::common::ConnArgs;
 use config::PlantView;
-use gaitd_client::plant::{PlantHost, Timing};
+use gaitd_client::plant::{Pacing, PlantHost};
 use std::process::ExitCode;
 
 /// Which plant.
@@ -55,8 +55,8 @@ pub struct Args {
 pub fn run(conn: &ConnArgs, a: &Args) -> Result<(), String> {
     let view = PlantView::load(&a.config)?;
     let timing = match a.timing {
-        Some(TimingArg::Lockstep) => Timing::Lockstep,
-        Some(TimingArg::Realtime) => Timing::Realtime,
+        Some(TimingArg::Lockstep) => Pacing::Lockstep,
+        Some(TimingArg::Realtime) => Pacing::Realtime,
         None => view.timing,
     };
     match a.kind {
@@ -89,7 +89,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<(), String> {
 }
 
 /// Runs the Python MuJoCo plant (`python -m gaitd.plants.mujoco`).
-fn mujoco(conn: &ConnArgs, a: &Args, timing: Timing) -> Result<(), String> {
+fn mujoco(conn: &ConnArgs, a: &Args, timing: Pacing) -> Result<(), String> {
     let python = a
         .python
         .clone()
@@ -99,8 +99,8 @@ fn mujoco(conn: &ConnArgs, a: &Args, timing: Timing) -> Result<(), String> {
     cmd.args(["-m", "gaitd.plants.mujoco", "--config", &a.config])
         .arg("--timing")
         .arg(match timing {
-            Timing::Lockstep => "lockstep",
-            Timing::Realtime => "realtime",
+            Pacing::Lockstep => "lockstep",
+            Pacing::Realtime => "realtime",
         });
     if let Some(s) = a.seconds {
         let view = PlantView::load(&a.config)?;
