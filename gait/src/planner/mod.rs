@@ -36,7 +36,7 @@ use convert::Builder;
 use geometry::{Geometry, rotation};
 use search::{Problem, Root, split};
 use start::{Start, starts};
-use timing::Timing;
+use timing::DurationModel;
 
 /// Heuristic weight of the retry when the first search runs out of budget.
 const GREEDY_WEIGHT: f64 = 3.0;
@@ -128,7 +128,7 @@ impl Plan {
 pub struct Planner {
     config: HandConfig,
     geom: Geometry,
-    timing: Timing,
+    timing: DurationModel,
     /// Shared: a planner re-timed for other limits
     /// ([`Planner::with_limits`]) reuses the candidate grids.
     cand: std::sync::Arc<Candidates>,
@@ -142,7 +142,7 @@ impl Planner {
         Ok(Self {
             config: *config,
             geom,
-            timing: Timing::new(config),
+            timing: DurationModel::new(config),
             cand: std::sync::Arc::new(Candidates::new(&geom, config.planner.candidate_spacing_deg)),
         })
     }
@@ -161,7 +161,7 @@ impl Planner {
         Ok(Self {
             config,
             geom: self.geom,
-            timing: Timing::new(&config),
+            timing: DurationModel::new(&config),
             cand: self.cand.clone(),
         })
     }
@@ -172,7 +172,7 @@ impl Planner {
     }
 
     /// Step durations.
-    pub fn timing(&self) -> &Timing {
+    pub fn timing(&self) -> &DurationModel {
         &self.timing
     }
 

@@ -24,7 +24,7 @@ use super::candidates::Candidates;
 use super::geometry::{
     BOUNDARY_EPS, Geometry, angle_between, cone_exit, fresh_range, roll_exit, rotation,
 };
-use super::timing::Timing;
+use super::timing::DurationModel;
 use crate::state::{FingerMode, HandState};
 
 /// Rotations shorter than this are not worth a segment.
@@ -97,7 +97,7 @@ pub struct Problem<'a> {
     /// Model constants.
     pub geom: &'a Geometry,
     /// Durations.
-    pub timing: &'a Timing,
+    pub timing: &'a DurationModel,
     /// Contact candidates.
     pub cand: &'a Candidates,
     /// Unit rotation axis k.

@@ -13,7 +13,7 @@ use nalgebra::Vector3;
 use super::geometry::{Geometry, angle_between};
 use super::plan::{GreatCircleRoll, Motion, Step, StepKind};
 use super::search::lift_finger;
-use super::timing::Timing;
+use super::timing::DurationModel;
 use crate::state::{FingerMode, HandState};
 
 /// Something done before the search's first segment.
@@ -52,7 +52,7 @@ pub struct Start {
 const ROLL_SAMPLES: usize = 64;
 
 /// The ways to reach a two-finger grasp (empty if none was found).
-pub fn starts(g: &Geometry, timing: &Timing, hand: &HandState, extra: f64) -> Vec<Start> {
+pub fn starts(g: &Geometry, timing: &DurationModel, hand: &HandState, extra: f64) -> Vec<Start> {
     match hand.grasping().1 {
         2 => vec![Start {
             hand: *hand,
@@ -100,7 +100,7 @@ fn others(k: usize) -> (usize, usize) {
 /// (plus `extra`), then lifts `lose`. `None` if an invariant would break.
 fn roll_apart(
     g: &Geometry,
-    timing: &Timing,
+    timing: &DurationModel,
     hand: &HandState,
     lose: usize,
     extra: f64,

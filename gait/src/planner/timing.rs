@@ -16,7 +16,7 @@ pub fn rest_to_rest(distance: f64, lim: &MotionLimit) -> f64 {
 
 /// The durations the planner needs, for one configuration.
 #[derive(Debug, Clone, Copy)]
-pub struct Timing {
+pub struct DurationModel {
     /// Object rotation limits.
     pub object: MotionLimit,
     /// Fingertip translation limits.
@@ -34,7 +34,7 @@ pub struct Timing {
 /// Intervals of the transfer-time table over u ∈ [0, 1].
 const TABLE: usize = 1024;
 
-impl Timing {
+impl DurationModel {
     /// From the configuration.
     pub fn new(config: &HandConfig) -> Self {
         let l = &config.limits;
@@ -54,7 +54,7 @@ impl Timing {
         }
     }
 
-    /// [`Timing::transfer`] from the cosine of the angle, interpolated in a
+    /// [`DurationModel::transfer`] from the cosine of the angle, interpolated in a
     /// table (within a few ms; used to rank candidates, not to cost plans).
     pub fn transfer_cos(&self, cos: f64) -> f64 {
         let x = (0.5 * (1.0 - cos.clamp(-1.0, 1.0))).sqrt() * TABLE as f64;
@@ -109,7 +109,7 @@ mod tests {
 
     #[test]
     fn table_matches_the_closed_form() {
-        let t = Timing::new(&HandConfig::default());
+        let t = DurationModel::new(&HandConfig::default());
         for i in 0..=1000 {
             let angle = std::f64::consts::PI * i as f64 / 1000.0;
             let exact = t.transfer(angle);

@@ -7,7 +7,7 @@
 //! about z and a full turn about x by finger substitutions (paper Fig. 4).
 
 use crate::common::{ConnArgs, code, counted_fingers, finger_name, object_q};
-use crate::progress::{LiveArg, Progress};
+use crate::progress::{LiveArg, ProgressView};
 use gaitd_client::{Client, ConnectOptions, GoalSpec, GoalState, Status};
 use shm_schema::EventKind;
 use std::path::PathBuf;
@@ -253,7 +253,7 @@ fn run_goal(
     (label, goal): (&str, &GoalSpec),
     total: f64,
     timeout: Duration,
-    (gaiting, view): (&mut Gaiting, &mut Progress),
+    (gaiting, view): (&mut Gaiting, &mut ProgressView),
 ) -> Result<(GoalState, f64, u32), String> {
     println!("\n== {label}");
     let t = c
@@ -373,7 +373,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
          force-closure pair): the hand rolls two of them apart, then turns the object by gaits.",
         object_q(&s0)
     );
-    let mut view = Progress::new(a.live.live);
+    let mut view = ProgressView::new(a.live.live);
     if view.redraws() {
         println!("fingers: G grasping, R rolling, L lifting, P placing, . free");
     }

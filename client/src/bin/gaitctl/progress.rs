@@ -1,4 +1,4 @@
-//! Progress as a terminal wants it, or as a log wants it. On a terminal
+//! ProgressView as a terminal wants it, or as a log wants it. On a terminal
 //! `demo`, `watch` and `reorient --wait` redraw their view in place
 //! (carriage return, ANSI escapes); when standard output is a file, a pipe
 //! or a CI job's log they print one line per change of phase or goal state
@@ -81,14 +81,14 @@ pub fn change_line(s: &Status) -> String {
 /// A progress line on standard output: redrawn in place on a terminal, or
 /// a line per change (see [`Live`]), with other lines printed above it.
 #[derive(Debug)]
-pub struct Progress {
+pub struct ProgressView {
     redraw: bool,
     changes: Changes,
     /// A redrawn line is on screen without its newline.
     drawn: bool,
 }
 
-impl Progress {
+impl ProgressView {
     /// A progress view as `live` says.
     pub fn new(live: Live) -> Self {
         Self {

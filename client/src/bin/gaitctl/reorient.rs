@@ -1,7 +1,7 @@
 //! `gaitctl reorient`: send a goal, optionally wait for its outcome.
 
 use crate::common::{ConnArgs, code};
-use crate::progress::{LiveArg, Progress};
+use crate::progress::{LiveArg, ProgressView};
 use gaitd_client::{Client, GoalFrame, GoalSpec, GoalState, LimitKind, LimitOrder, Verdict};
 use std::process::ExitCode;
 use std::time::Duration;
@@ -123,7 +123,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
 /// `--wait`: progress until goal `goal_id` ends; exit 0 if it succeeded.
 fn wait(c: &mut Client, goal_id: u64, a: &Args) -> gaitd_client::Result<ExitCode> {
     let deadline = std::time::Instant::now() + Duration::from_secs_f64(a.wait_timeout);
-    let mut view = Progress::new(a.live.live);
+    let mut view = ProgressView::new(a.live.live);
     loop {
         let left = deadline.saturating_duration_since(std::time::Instant::now());
         if left.is_zero() {
