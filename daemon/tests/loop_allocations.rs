@@ -574,3 +574,78 @@ fn the_loop_does_not_allocate_with_an_external_plant() {
     assert!(succeeded >= 2 && placed >= 4, "goals ran on the plant");
     g.finish();
 }
+
+/// Lockstep: the loop waits on the plant's wake-up, ticks on each
+/// measurement and queues the command — the real lockstep pass
+/// (`Runtime::lockstep_once`), the plant answering on another thread. No
+/// allocation on the loop thread.
+#[test]
+fn the_lockstep_loop_does_not_allocate() {
+    use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+    let mut ns = Namespace::new("xlock");
+    ns.cfg.plant.kind = gaitd::process::config::PlantKind::Shm;
+    ns.cfg.plant.timing = gaitd::process::config::PlantTiming::Lockstep;
+    let mut g = ipc_rig::gait_loop(&ns, 48, |_| {});
+    let (done, steps) = (AtomicBool::new(false), AtomicU64::new(0));
+    // The plant's ports live until the loop stopped counting: a port that
+    // goes away is a connection change iceoryx2 handles on the loop thread.
+    let released = AtomicBool::new(false);
+    let heap = Tally::default();
+    let counted = AtomicU64::new(0);
+    std::thread::scope(|s| {
+        let ns = &ns;
+        let (done, steps, released) = (&done, &steps, &released);
+        let plant = s.spawn(move || {
+            // The plant, and a client that keeps a goal running.
+            let mut plant = ipc_rig::RigPlant::open(ns);
+            let (ice, settings) = gaitd::io::ipc::resolve(&ns.cfg.ipc).unwrap();
+            let client = ipc_rig::TestClient::open(
+                &ice,
+                &shm_schema::ServiceNames::new(&settings.service_prefix),
+            );
+            for k in 0u64..40_000 {
+                if k % 6000 == 300 {
+                    client.send(Command::goal(
+                        7,
+                        k + 1,
+                        GoalFrame::AxisAngle,
+                        [1.5, 0.2, 0.1, 1.0],
+                    ));
+                }
+                plant.publish();
+                assert!(
+                    plant.follow(std::time::Duration::from_secs(20)),
+                    "no command"
+                );
+                steps.store(k + 1, Ordering::Release);
+                client.drain();
+            }
+            done.store(true, Ordering::Release);
+            while !released.load(Ordering::Acquire) {
+                std::thread::sleep(std::time::Duration::from_millis(1));
+            }
+            plant.state().object
+        });
+        // Warm-up (not counted): the plant's ports connect, its first
+        // state is taken.
+        while steps.load(Ordering::Acquire) < 500 {
+            g.rt.lockstep_once();
+        }
+        while !done.load(Ordering::Acquire) {
+            if heap.count(|| g.rt.lockstep_once()) {
+                counted.fetch_add(1, Ordering::Relaxed);
+            }
+        }
+        released.store(true, Ordering::Release);
+        let turned = plant.join().unwrap().angle();
+        assert!(
+            turned > 0.5,
+            "the goals moved the plant's object ({turned} rad)"
+        );
+    });
+    let ticks = counted.load(Ordering::Relaxed);
+    assert_no_allocations_over("lockstep plant", &heap, ticks);
+    assert!(ticks > 30_000, "{ticks} lockstep ticks");
+    assert!(!g.rt.controller().awaiting_plant());
+    g.finish();
+}

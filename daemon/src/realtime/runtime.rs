@@ -153,6 +153,17 @@ pub struct Runtime<C: Controller, K: Clock> {
     lockstep: Option<Nanos>,
     /// Sequence number of the last plant measurement a tick ran on.
     plant_seq: u64,
+    /// Lockstep: when the plant last made progress, the next heartbeat,
+    /// whether its timeout was reported.
+    pace: LockstepPace,
+}
+
+/// The lockstep loop's state between passes.
+#[derive(Debug, Clone, Copy, Default)]
+struct LockstepPace {
+    last_progress: Nanos,
+    next_beat: Nanos,
+    timed_out: bool,
 }
 
 impl ControlOutput {
@@ -214,6 +225,7 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
                 .lockstep()
                 .then(|| u64::from(cfg.plant.lockstep_timeout_ms) * 1_000_000),
             plant_seq: 0,
+            pace: LockstepPace::default(),
         }
     }
 
@@ -312,43 +324,60 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
     /// (`PlantLost`) and the wait goes on. Commands are handled on the
     /// plant's ticks.
     fn run_lockstep(&mut self, stop: &AtomicBool) {
+        let now = self.clock.now();
+        self.pace = LockstepPace {
+            last_progress: now,
+            next_beat: now + self.settings.period,
+            timed_out: false,
+        };
+        while !stop.load(Ordering::Acquire) {
+            self.lockstep_once();
+        }
+    }
+
+    /// One pass of the lockstep loop ([`Runtime::run`]): waits at most a
+    /// period for the plant, then runs a tick on a new measurement (or on
+    /// the timeout, once, to fault), or publishes a heartbeat. Returns
+    /// whether a tick ran.
+    pub fn lockstep_once(&mut self) -> bool {
         let timeout = self.lockstep.unwrap_or(u64::MAX);
         let period = self.settings.period;
-        let (mut last_progress, mut next_beat) = (self.clock.now(), self.clock.now() + period);
-        let mut timed_out = false;
-        while !stop.load(Ordering::Acquire) {
-            if let Some(p) = self.plant.as_mut() {
-                p.wait(std::time::Duration::from_nanos(period));
-            }
-            let now = self.clock.now();
-            let sample = self
-                .plant
-                .as_mut()
-                .map(|p| p.drain(now))
-                .unwrap_or_default();
-            if let Some(m) = sample.newest.filter(|m| m.seq != self.plant_seq) {
-                // The plant's clock is the daemon's clock.
-                self.plant_seq = m.seq;
-                last_progress = now;
-                timed_out = false;
-                self.step_with(m.time_ns, &sample);
-                next_beat = self.clock.now() + period;
-            } else if self.plant_seq != 0
-                && !timed_out
-                && now.saturating_sub(last_progress) > timeout
-            {
-                timed_out = true;
-                let lost = PlantSample {
-                    timed_out: true,
-                    ..PlantSample::default()
-                };
-                let t = self.status.time_ns + period;
-                self.step_with(t, &lost);
-                next_beat = now + period;
-            } else if now >= next_beat {
-                next_beat = now + period;
+        if let Some(p) = self.plant.as_mut() {
+            p.wait(std::time::Duration::from_nanos(period));
+        }
+        let now = self.clock.now();
+        let sample = self
+            .plant
+            .as_mut()
+            .map(|p| p.drain(now))
+            .unwrap_or_default();
+        if let Some(m) = sample.newest.filter(|m| m.seq != self.plant_seq) {
+            // The plant's clock is the daemon's clock.
+            self.plant_seq = m.seq;
+            self.pace.last_progress = now;
+            self.pace.timed_out = false;
+            self.step_with(m.time_ns, &sample);
+            self.pace.next_beat = self.clock.now() + period;
+            true
+        } else if self.plant_seq != 0
+            && !self.pace.timed_out
+            && now.saturating_sub(self.pace.last_progress) > timeout
+        {
+            self.pace.timed_out = true;
+            let lost = PlantSample {
+                timed_out: true,
+                ..PlantSample::default()
+            };
+            let t = self.status.time_ns + period;
+            self.step_with(t, &lost);
+            self.pace.next_beat = now + period;
+            true
+        } else {
+            if now >= self.pace.next_beat {
+                self.pace.next_beat = now + period;
                 self.heartbeat(now);
             }
+            false
         }
     }
 
