@@ -202,7 +202,8 @@ fn a_killed_plant_is_a_fault_and_a_restarted_one_resumes_after_reset() {
     assert!(angle(s.measured_object_q, q) <= 1e-6);
 }
 
-/// A plant that lies, stalls or faults: each is a fault with its reason,
+/// A plant that lies, stalls, loses a contact or faults: each is a fault
+/// with its reason,
 /// the hand goes to safe hold, and the daemon keeps running.
 #[test]
 fn lying_stalling_and_faulting_plants_are_faults_with_their_reasons() {
@@ -211,6 +212,7 @@ fn lying_stalling_and_faulting_plants_are_faults_with_their_reasons() {
         ("non-unit", FaultCode::PlantInvalid),
         ("backwards", FaultCode::PlantSequence),
         ("session", FaultCode::PlantSequence),
+        ("contact", FaultCode::ContactLost),
         ("fault", FaultCode::PlantFault),
         ("stall", FaultCode::PlantLost),
     ];

@@ -5,8 +5,8 @@
 //! (`PlantHost::send_raw`) so that it can lie about them.
 //!
 //! `plant_fixture --prefix P --root R --file-prefix F --lie KIND [--after N]`
-//! KIND: none, nan, non-unit, backwards, session, fault, stall, exit,
-//! start-invalid.
+//! KIND: none, nan, non-unit, backwards, session, contact, fault, stall,
+//! exit, start-invalid.
 
 use gaitd_client::ConnectOptions;
 use gaitd_client::plant::PlantHost;
@@ -149,6 +149,8 @@ fn main() {
                 "non-unit" => out.object_q = [0.5, 0.0, 0.0, 0.0],
                 "backwards" => out.seq = seq.saturating_sub(50).max(1),
                 "session" => out.session ^= 0xbad,
+                // A grasping finger reports no contact (it slipped off).
+                "contact" => out.fingers[0].contact = 0,
                 "fault" => {
                     out.state |= plant_state::FAULT;
                     out.fault = PlantFault::EmergencyStop.code();
