@@ -264,18 +264,7 @@ impl PlantHost {
         m.time_ns = self.time_ns;
         m.session = self.last.map_or(0, |c| c.session);
         m.applied = self.last.map_or(0, |c| c.seq);
-        let sample = self
-            .measurements
-            .loan_uninit()
-            .map_err(|e| ipc_err("loan a measurement")(&e))?;
-        sample
-            .write_payload(m)
-            .send()
-            .map_err(|e| ipc_err("send a measurement")(&e))?;
-        self.measured
-            .notify_with_custom_event_id(EventId::new(PLANT_EVENT_ID))
-            .map_err(|e| ipc_err("notify a measurement")(&e))?;
-        Ok(())
+        self.send_raw(&m)
     }
 
     /// Runs `model` until `stop` (PLANT-GUIDE.md): `period_ns` is the step

@@ -348,3 +348,36 @@ pub fn mujoco_replay(trace: &Path) -> std::process::Output {
         .output()
         .unwrap()
 }
+
+/// The (state, tick) of every goal transition of `goal_id` the client has
+/// received so far.
+pub fn goal_transition_ticks(c: &mut gaitd_client::Client, goal_id: u64) -> Vec<(u32, u64)> {
+    c.events()
+        .expect("events")
+        .filter(|e| e.kind() == Ok(gaitd_client::EventKind::GoalTransition) && e.goal_id == goal_id)
+        .map(|e| (e.state, e.tick))
+        .collect()
+}
+
+/// The lines after the header of the first trace (`*.jsonl`) written to
+/// `dir`, waiting up to 10 s for the daemon's trace thread to write it.
+pub fn trace_lines(dir: &Path) -> Vec<String> {
+    let t0 = std::time::Instant::now();
+    let file = loop {
+        let found = std::fs::read_dir(dir)
+            .expect("trace dir")
+            .flatten()
+            .find(|e| e.file_name().to_string_lossy().ends_with(".jsonl"));
+        if let Some(f) = found {
+            break f.path();
+        }
+        assert!(
+            t0.elapsed() < std::time::Duration::from_secs(10),
+            "no trace written to {}",
+            dir.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    let text = std::fs::read_to_string(file).expect("read trace");
+    text.lines().skip(1).map(str::to_owned).collect()
+}

@@ -316,27 +316,10 @@ fn two_lockstep_runs_write_identical_traces() {
         assert_eq!(o.state, GoalState::Succeeded);
         // The ticks of the goal's transitions (plant time: the same in
         // both runs only if plans arrive at fixed ticks).
-        let ticks: Vec<(u32, u64)> = c
-            .events()
-            .unwrap()
-            .filter(|e| e.kind() == Ok(gaitd_client::EventKind::GoalTransition) && e.goal_id == 1)
-            .map(|e| (e.state, e.tick))
-            .collect();
-        let t0 = Instant::now();
-        let file = loop {
-            let found = std::fs::read_dir(&traces)
-                .unwrap()
-                .flatten()
-                .find(|e| e.file_name().to_string_lossy().ends_with(".jsonl"));
-            if let Some(f) = found {
-                break f.path();
-            }
-            assert!(t0.elapsed() < Duration::from_secs(10), "no trace written");
-            std::thread::sleep(Duration::from_millis(20));
-        };
-        let text = std::fs::read_to_string(&file).unwrap();
+        let ticks = gaitd_tests::goal_transition_ticks(&mut c, 1);
+        let lines = gaitd_tests::trace_lines(&traces);
         let _ = std::fs::remove_dir_all(&traces);
-        (text.lines().skip(1).map(str::to_owned).collect(), ticks)
+        (lines, ticks)
     };
     let ((a, ticks_a), (b, ticks_b)) = (run(0), run(1));
     println!("goal transitions (state, tick): {ticks_a:?}");

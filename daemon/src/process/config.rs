@@ -220,7 +220,8 @@ pub enum KeyError {
     },
 }
 
-fn int_range(
+/// `value` in [`lo`, `hi`], else the key's out-of-range error.
+pub(crate) fn int_range(
     key: &'static str,
     value: u32,
     lo: u32,

@@ -1,7 +1,7 @@
 //! `[plant]`: which hand the daemon controls (SPEC §6.2, shm_schema's
 //! `PLANT-GUIDE.md`).
 
-use super::config::KeyError;
+use super::config::{KeyError, int_range as range};
 use serde::{Deserialize, Serialize};
 
 /// Where the hand is.
@@ -72,24 +72,6 @@ impl Default for PlantSection {
             connect_timeout_ms: 5000,
             lockstep_timeout_ms: 1000,
         }
-    }
-}
-
-fn range(
-    key: &'static str,
-    value: u32,
-    lo: u32,
-    hi: u32,
-    expected: &'static str,
-) -> Result<(), KeyError> {
-    if (lo..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(KeyError::OutOfRange {
-            key,
-            value: value.into(),
-            expected,
-        })
     }
 }
 

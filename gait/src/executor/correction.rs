@@ -107,17 +107,8 @@ impl Correction {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::executor::rest;
     use crate::{HandConfig, HandState};
-
-    fn rest(state: HandState) -> Setpoint {
-        Setpoint {
-            state,
-            object_rate: Vector3::zeros(),
-            finger_velocity: [Vector3::zeros(); 3],
-            finger_rate: [Vector3::zeros(); 3],
-            estimate_epoch: 0,
-        }
-    }
 
     #[test]
     fn a_constant_lag_is_integrated_away_and_bounded() {

@@ -211,14 +211,20 @@ impl Executor {
         // Resume from the measured state if it is valid.
         match self.checker.check(&state) {
             Ok(r) if r.ok() => {
-                self.adopt(state);
-                self.fault = None;
-                self.phase = Mode::Holding;
-                self.events.push(ExecutorEvent::FaultCleared);
+                self.resume_from(state);
                 ExecutorAnswer::Accepted
             }
             _ => ExecutorAnswer::Rejected(Reason::MeasuredStateInvalid),
         }
+    }
+
+    /// Leaves safe hold holding `state` (valid, measured): a new estimate,
+    /// no fault (`FaultCleared`).
+    pub(super) fn resume_from(&mut self, state: HandState) {
+        self.adopt(state);
+        self.fault = None;
+        self.phase = Mode::Holding;
+        self.events.push(ExecutorEvent::FaultCleared);
     }
 
     /// Accepts the planner's answer for goal `id`. Returns the plan the

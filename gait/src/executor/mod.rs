@@ -317,7 +317,8 @@ pub struct Executor {
     policy: FaultPolicy,
 }
 
-fn rest(state: HandState) -> Setpoint {
+/// A still setpoint at `state`.
+pub(crate) fn rest(state: HandState) -> Setpoint {
     Setpoint {
         state,
         object_rate: Vector3::zeros(),

@@ -49,10 +49,7 @@ impl Executor {
         let state = self.measured_hand(m);
         match self.checker.check(&state) {
             Ok(r) if r.ok() => {
-                self.adopt(state);
-                self.fault = None;
-                self.phase = Mode::Holding;
-                self.events.push(ExecutorEvent::FaultCleared);
+                self.resume_from(state);
                 true
             }
             other => {
