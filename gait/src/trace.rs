@@ -6,7 +6,9 @@
 //! {"t":T,"object_q":[w,x,y,z],"phase":"...","fingers":[F0,F1,F2],...}
 //! Fi = {"p":[x,y,z],"q":[w,x,y,z],"contact":true|false,"grip_force":N,"roll":rad}
 //! ```
-//! Tick lines also carry `fc`, `fc_margin`, `remaining_angle`, `gaits` and
+//! Tick lines also carry `fc`, `fc_margin`, `load_margin` (`load.max_grip`
+//! minus the largest normal force the load needs, SPEC §1.3 I1'; `null`
+//! when no grip holds it), `remaining_angle`, `gaits` and
 //! `estimate_epoch`, which changes where the controller re-based its object
 //! estimate on a measurement (SPEC §6.3): `object_q` jumps there, without
 //! object motion, so a replay starts over from that line.
@@ -83,6 +85,19 @@ pub fn header(out: &mut String, config: &HandConfig, dt: f64, extra: &str) {
         m.finger_azimuth_deg[2],
         config.load.object_mass
     );
+    // The physical model a replay must use (SPEC §1.2, §3.3): torsion
+    // coefficient μ_t [m], gravity [m/s²], force limit and disturbance [N].
+    let l = &config.load;
+    let _ = write!(
+        out,
+        ",\"mu_torsion\":{},\"gravity\":[{},{},{}],\"max_grip\":{},\"disturbance_force\":{}",
+        config.mu_torsion(),
+        l.gravity[0],
+        l.gravity[1],
+        l.gravity[2],
+        l.max_grip,
+        l.disturbance_force
+    );
     if !extra.is_empty() {
         out.push(',');
         out.push_str(extra);
@@ -139,6 +154,8 @@ pub struct Sample {
     pub fc: bool,
     /// Force-closure margin \[rad\].
     pub fc_margin: f64,
+    /// Load margin `load.max_grip` − F* \[N\] (SPEC §1.3 I1').
+    pub load_margin: f64,
     /// Angle still to rotate \[rad\].
     pub remaining_angle: f64,
     /// Gaits done.
@@ -170,6 +187,7 @@ impl Sample {
             fingers,
             fc: r.force_closure.0,
             fc_margin: r.force_closure.1,
+            load_margin: r.load_margin,
             remaining_angle: r.remaining_angle,
             gaits: r.gaits.0,
             estimate_epoch: r.setpoint.estimate_epoch,
@@ -207,6 +225,8 @@ pub fn sample_line(out: &mut String, t: f64, s: &Sample) {
     out.push_str(if s.fc { "true" } else { "false" });
     out.push_str(",\"fc_margin\":");
     num(out, s.fc_margin);
+    out.push_str(",\"load_margin\":");
+    num(out, s.load_margin);
     out.push_str(",\"remaining_angle\":");
     num(out, s.remaining_angle);
     let _ = write!(

@@ -77,8 +77,9 @@ fn random_goals_from_the_paper_start() {
     assert_clean(&rig, "random goals");
 }
 
-/// The planner's step durations are the trajectory generator's: each step
-/// of executed plans takes its planned duration, to the tick.
+/// The planner's step durations are the trajectory generator's (plus the
+/// handover wait): each step of executed plans takes its planned
+/// duration, to the tick.
 #[test]
 fn planned_step_durations_match_execution() {
     use gait::executor::runner::StepRunner;
@@ -97,7 +98,8 @@ fn planned_step_durations_match_execution() {
             while runner.advance().unwrap() != otg::Progress::Finished {
                 ticks += 1;
             }
-            let executed = f64::from(ticks) * 1e-3;
+            // The handover after the motion is a fixed wait.
+            let executed = f64::from(ticks) * 1e-3 + step.handover.map_or(0.0, |h| h.duration);
             assert!(
                 (executed - step.duration).abs() <= 1.5e-3,
                 "{:?}: planned {} s, executed {executed} s",

@@ -48,7 +48,7 @@ class Load:
     object_mass: float = 0.1
     gravity: tuple[float, float, float] = (0.0, 0.0, -9.81)
     min_grip: float = 1.0
-    max_grip: float = 100.0
+    max_grip: float = 20.0
 
 
 @dataclass(frozen=True)

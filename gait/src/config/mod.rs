@@ -121,10 +121,21 @@ pub struct LoadConfig {
     /// Extra torque [N·m] the grasp must resist about any axis.
     pub disturbance_torque: f64,
     /// Least normal force a grasping finger presses with \[N\] (keeps the
-    /// contact sensed and loaded, e.g. a finger just placed).
+    /// contact sensed and loaded).
     pub min_grip: f64,
-    /// Largest normal force a finger may be commanded \[N\].
+    /// Largest normal force a fingertip can apply \[N\]: no grasp the
+    /// planner makes needs more to hold the load (SPEC §1.3 I1'), and no
+    /// commanded grip exceeds it. Default 20 N, a typical fingertip force
+    /// of a dexterous hand and the limit GRAVITY-NOTES' numbers are given
+    /// for (a 0.1 kg object then needs near-antipodal pairs in planes
+    /// close to vertical).
     pub max_grip: f64,
+    /// Time for the grip to pass from one finger to another with the
+    /// object still \[s\]: after a placement the new finger's force ramps
+    /// in while the one that lifts next ramps out (and before any other
+    /// lift), so no contact force jumps. 0: no ramp (forces jump at each
+    /// gait).
+    pub handover_time: f64,
 }
 
 impl Default for LoadConfig {
@@ -135,7 +146,8 @@ impl Default for LoadConfig {
             disturbance_force: 0.5,
             disturbance_torque: 0.0,
             min_grip: 1.0,
-            max_grip: 100.0,
+            max_grip: 20.0,
+            handover_time: 0.15,
         }
     }
 }

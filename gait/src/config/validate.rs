@@ -274,6 +274,13 @@ impl LoadConfig {
             1e5,
             "> load.min_grip and at most 1e5 N",
         )?;
+        in_closed(
+            "load.handover_time",
+            l.handover_time,
+            0.0,
+            10.0,
+            "in [0, 10] s",
+        )?;
         Ok(())
     }
 }

@@ -148,9 +148,11 @@ impl Executor {
             Mode::Moving | Mode::Stopping => {
                 self.after_stop = then;
                 self.phase = Mode::Stopping;
-                let finishing = self
-                    .current_step()
-                    .is_some_and(|s| matches!(s.kind, StepKind::Place | StepKind::Lift));
+                // A gait, or a handover under way, finishes first.
+                let finishing = self.handover.is_some()
+                    || self
+                        .current_step()
+                        .is_some_and(|s| matches!(s.kind, StepKind::Place | StepKind::Lift));
                 if finishing {
                     self.stop_after_step = true;
                 } else if !self.runner.stopping() {

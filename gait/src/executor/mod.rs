@@ -221,10 +221,18 @@ pub struct TickReport {
     pub gaits: (u32, u32),
     /// Estimated time to the goal \[s\].
     pub eta: f64,
-    /// Normal force per finger \[N\].
+    /// Commanded normal force per finger \[N\] ([`grip`]).
     pub grip: [f64; 3],
-    /// Whether the grip had to be capped at `load.max_grip`.
+    /// Whether the grip had to be capped at `load.max_grip` (the grasp
+    /// cannot hold the load).
     pub grip_capped: bool,
+    /// The largest normal force the load needs over every load scenario
+    /// (weight, acceleration, any disturbance of the configured size:
+    /// F*, SPEC §1.3 I1'); +∞ when no grip holds it \[N\].
+    pub grip_peak: f64,
+    /// Load margin `load.max_grip` − `grip_peak` \[N\]: ≥ 0 when the
+    /// commanded grasp holds the load (I1'), negative (or −∞) when not.
+    pub load_margin: f64,
     /// Force-closure flag and margin of the commanded grasp.
     pub force_closure: (bool, f64),
     /// Workspace slack per finger \[rad\] (negative: outside).
@@ -304,8 +312,16 @@ pub struct Executor {
     tick: u64,
     /// Invariants of the last checked setpoint state.
     invariants: memo::Memo<HandState, Result<InvariantReport, StateError>>,
-    /// Grip of the last (state, torque).
-    grips: memo::Memo<(HandState, Vector3<f64>), grip::Grip>,
+    /// Grip of the last (state, torque, carrying set).
+    grips: memo::Memo<(HandState, Vector3<f64>, u8), grip::Grip>,
+    /// Grip of the set a handover goes to, for the last (state, torque).
+    grips_to: memo::Memo<(HandState, Vector3<f64>, u8), grip::Grip>,
+    /// Bit mask of the fingers that carry the load ([`grip`]).
+    carrying: u8,
+    /// Grasping fingers of the last setpoint (bit mask).
+    grasp_prev: u8,
+    /// A handover in progress at the end of the current step.
+    handover: Option<HandoverPhase>,
     /// Epoch of the object estimate (bumped on every re-base).
     epoch: u32,
     /// A drift waiting for the motion to rest to re-base (module
@@ -315,6 +331,19 @@ pub struct Executor {
     replans: u32,
     /// What every detected cause leads to ([`policy`]).
     policy: FaultPolicy,
+}
+
+/// The grip passing from one carrying set to another, object still.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct HandoverPhase {
+    /// Time since the motion ended \[s\].
+    elapsed: f64,
+    /// Its length \[s\].
+    duration: f64,
+    /// Carrying set before.
+    from: u8,
+    /// Carrying set after.
+    to: u8,
 }
 
 /// A still setpoint at `state`.
@@ -433,6 +462,8 @@ impl Executor {
                 eta: 0.0,
                 grip: [0.0; 3],
                 grip_capped: false,
+                grip_peak: 0.0,
+                load_margin: config.load.max_grip,
                 force_closure: (false, 0.0),
                 workspace_slack: [0.0; 3],
                 fault: None,
@@ -440,6 +471,10 @@ impl Executor {
             tick: 0,
             invariants: memo::Memo::new(),
             grips: memo::Memo::new(),
+            grips_to: memo::Memo::new(),
+            carrying: grip::grasp_mask(&start),
+            grasp_prev: grip::grasp_mask(&start),
+            handover: None,
             epoch: 0,
             drift: None,
             replans: 0,
@@ -544,6 +579,8 @@ impl Executor {
             self.goal_event(p.id, GoalStage::Aborted, Reason::Fault);
         }
         let moving = matches!(self.phase, Mode::Moving | Mode::Stopping);
+        // A handover stops where it is: every touching finger carries.
+        self.handover = None;
         self.phase = Mode::SafeHold;
         self.after_stop = AfterStop::Fault;
         self.stop_after_step = false;
@@ -611,6 +648,7 @@ impl Executor {
         }
         self.prev_setpoint = self.setpoint;
         self.advance();
+        self.update_carrying();
         self.setpoint.estimate_epoch = self.epoch;
         self.remember_written();
         self.check_invariants();
@@ -680,6 +718,19 @@ impl Executor {
             self.object_acceleration = Vector3::zeros();
             return;
         }
+        if let Some(h) = self.handover.as_mut() {
+            // At rest while the grip passes; then the step ends.
+            h.elapsed += self.dt;
+            self.setpoint = rest(self.setpoint.state);
+            self.object_acceleration = Vector3::zeros();
+            if h.elapsed < h.duration - 1e-12 {
+                return;
+            }
+            self.carrying = h.to;
+            self.handover = None;
+            self.end_of_step(false);
+            return;
+        }
         let status = match self.runner.advance() {
             Ok(s) => s,
             Err(_) => {
@@ -702,7 +753,7 @@ impl Executor {
             self.setpoint = rest(self.setpoint.state);
             return;
         };
-        let (setpoint, kind) = sp;
+        let (setpoint, _) = sp;
         self.setpoint = setpoint;
         if status != otg::Progress::Finished {
             return;
@@ -720,6 +771,29 @@ impl Executor {
             self.braking = false;
             return;
         }
+        if !stopped_early
+            && let Some(h) = self.current_step().and_then(|s| s.handover)
+            && h.duration > 0.0
+        {
+            // The motion is done; the grip passes before the step ends.
+            self.object_acceleration = Vector3::zeros();
+            self.handover = Some(HandoverPhase {
+                elapsed: 0.0,
+                duration: h.duration,
+                from: self.carrying,
+                to: (self.carrying | h.take_mask()) & !h.release_mask(),
+            });
+            return;
+        }
+        self.end_of_step(stopped_early);
+    }
+
+    /// The running step has ended (at rest): count it, then stop or begin
+    /// the next one.
+    fn end_of_step(&mut self, stopped_early: bool) {
+        let Some(kind) = self.current_step().map(|s| s.kind) else {
+            return;
+        };
         if !stopped_early {
             if matches!(kind, StepKind::Place | StepKind::Lift) {
                 self.gaits_done += 1;
@@ -817,18 +891,59 @@ impl Executor {
             None => self.last_goal,
         };
         r.gaits = (self.gaits_done, self.gaits_planned);
+        let hold_left = match (self.handover, self.current_step().and_then(|s| s.handover)) {
+            (Some(h), _) => (h.duration - h.elapsed).max(0.0),
+            (None, Some(h)) => h.duration,
+            (None, None) => 0.0,
+        };
+        let r = &mut self.report;
         r.eta = match self.phase {
-            Mode::Moving => self.time_after_step + self.runner.time_left(),
-            Mode::Stopping => self.runner.time_left(),
+            Mode::Moving => self.time_after_step + self.runner.time_left() + hold_left,
+            Mode::Stopping => self.runner.time_left() + hold_left,
             _ => 0.0,
         };
         r.fault = self.fault;
         let model = &self.grip;
-        let g = self.grips.get(
-            (self.setpoint.state, self.object_acceleration * self.inertia),
-            |(s, torque)| model.grip(s, torque),
-        );
+        let torque = self.object_acceleration * self.inertia;
+        let state = self.setpoint.state;
+        let from = self.grips.get((state, torque, self.carrying), |(s, t, c)| {
+            model.carried(s, t, *c)
+        });
+        let g = match self.handover {
+            Some(h) => {
+                let to = self
+                    .grips_to
+                    .get((state, torque, h.to), |(s, t, c)| model.carried(s, t, *c));
+                grip::GripModel::blend(&from, &to, grip::ramp(h.elapsed / h.duration))
+            }
+            None => from,
+        };
+        let r = &mut self.report;
         r.grip = g.normal;
         r.grip_capped = g.capped;
+        r.grip_peak = g.peak;
+        r.load_margin = model.hold().max_grip() - g.peak;
+    }
+
+    /// Keeps the carrying set ([`grip`]) in step with the setpoint: a
+    /// finger that leaves carries nothing; a finger that touches carries
+    /// at once unless the running step hands the grip over to it; at rest
+    /// every touching finger carries.
+    fn update_carrying(&mut self) {
+        let grasp = grip::grasp_mask(&self.setpoint.state);
+        let moving = matches!(self.phase, Mode::Moving | Mode::Stopping);
+        let pending = if moving {
+            self.current_step()
+                .and_then(|s| s.handover)
+                .map_or(0, |h| h.take_mask())
+        } else {
+            0
+        };
+        let joined = grasp & !self.grasp_prev;
+        self.carrying = (self.carrying | (joined & !pending)) & grasp;
+        if self.handover.is_none() && (!moving || self.carrying.count_ones() < 2) {
+            self.carrying = grasp;
+        }
+        self.grasp_prev = grasp;
     }
 }

@@ -497,3 +497,150 @@ impl GraspForceSolver {
         })
     }
 }
+
+/// The largest normal force a grasp needs to hold a set of loads, as an
+/// SOCP (SPEC §1.3 I1', §3.3): the reference the closed forms of
+/// [`super::hold`] are checked against.
+///
+/// ```text
+/// minimise  F
+/// s.t.  G f_s = (−E_s, T_s / R)                    for every scenario s
+///       ‖(f_1, f_2 [, τ μ/μ_t])‖ ≤ μ f_n,   floor ≤ f_n ≤ F   (each contact, each s)
+/// ```
+///
+/// with G the normalised grasp map of [`super::contact`] (torques divided
+/// by R; the soft contacts' coupled, elliptic cone f_n ≥ √(|f_t|²/μ² +
+/// τ²/μ_t²)), E_s the force on the object the contacts must balance and T_s
+/// the torque about O they must supply. Each scenario's forces are free:
+/// F* is the least force limit under which *every* listed load can be held
+/// (GRAVITY-NOTES' F*). Builds a fresh problem per call (allocates): for
+/// tests, benchmarks and plan-time studies, not for the tick.
+#[derive(Debug, Clone, Copy)]
+pub struct LoadSolver {
+    friction: Friction,
+}
+
+/// The answer of [`LoadSolver::solve`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoadSolution {
+    /// F*: the least largest normal force over all scenarios \[N\].
+    pub peak_normal: f64,
+    /// Interior-point iterations.
+    pub iterations: u32,
+}
+
+impl LoadSolver {
+    /// A solver for `friction` (μ, μ_t, R).
+    pub fn new(friction: Friction) -> Self {
+        Self { friction }
+    }
+
+    /// F* for `contacts` and the loads `scenarios` (force E \[N\], torque T
+    /// \[N·m\]), every normal force at least `floor` \[N\].
+    /// [`GraspError::Infeasible`] when no forces hold some load.
+    pub fn solve(
+        &self,
+        contacts: &[Contact],
+        scenarios: &[(Vector3<f64>, Vector3<f64>)],
+        floor: f64,
+    ) -> Result<LoadSolution, GraspError> {
+        if contacts.is_empty() || scenarios.is_empty() {
+            return Err(GraspError::NoContacts);
+        }
+        let fr = self.friction;
+        let ok = fr.is_valid()
+            && floor.is_finite()
+            && floor >= 0.0
+            && contacts
+                .iter()
+                .all(|c| c.normal.iter().all(|v| v.is_finite()) && c.normal.norm() > 1e-12)
+            && scenarios
+                .iter()
+                .all(|(e, t)| e.iter().chain(t.iter()).all(|v| v.is_finite()));
+        if !ok {
+            return Err(GraspError::BadInput);
+        }
+        let k = contacts.len();
+        let ns = scenarios.len();
+        let d: usize = contacts.iter().map(|c| c.kind.dim()).sum();
+        let n = ns * d + 1;
+        let f_col = n - 1;
+        let cols: Vec<[Vector6<f64>; 4]> = contacts.iter().map(|c| grasp_columns(c, &fr)).collect();
+        // Rows: equilibrium 6·ns, cones ns·d, caps ns·k, floors ns·k.
+        let eq_rows = 6 * ns;
+        let cone_rows = ns * d;
+        let rows = eq_rows + cone_rows + 2 * ns * k;
+        let mut triplets: Vec<(usize, usize, f64)> = Vec::new();
+        let mut b = vec![0.0; rows];
+        let inv_r = 1.0 / fr.object_radius;
+        for (s, (e, t)) in scenarios.iter().enumerate() {
+            let rhs = [-e.x, -e.y, -e.z, t.x * inv_r, t.y * inv_r, t.z * inv_r];
+            b[6 * s..6 * s + 6].copy_from_slice(&rhs);
+            let mut off = 0;
+            for (i, c) in contacts.iter().enumerate() {
+                for (j, column) in cols[i].iter().enumerate().take(c.kind.dim()) {
+                    let col = s * d + off + j;
+                    for (r, &v) in column.iter().enumerate() {
+                        if v != 0.0 {
+                            triplets.push((6 * s + r, col, v));
+                        }
+                    }
+                    let cone_row = eq_rows + s * d + off + j;
+                    let top = if j == 0 { -fr.mu } else { -1.0 };
+                    triplets.push((cone_row, col, top));
+                    if j == 0 {
+                        let cap = eq_rows + cone_rows + s * k + i;
+                        triplets.push((cap, col, 1.0));
+                        triplets.push((cap, f_col, -1.0));
+                        let fl = eq_rows + cone_rows + ns * k + s * k + i;
+                        triplets.push((fl, col, -1.0));
+                        b[fl] = -floor;
+                    }
+                }
+                off += c.kind.dim();
+            }
+        }
+        triplets.sort_by_key(|&(r, c, _)| (c, r));
+        let mut colptr = vec![0usize; n + 1];
+        let mut rowval = Vec::with_capacity(triplets.len());
+        let mut nzval = Vec::with_capacity(triplets.len());
+        for &(r, c, v) in &triplets {
+            colptr[c + 1] += 1;
+            rowval.push(r);
+            nzval.push(v);
+        }
+        for c in 0..n {
+            colptr[c + 1] += colptr[c];
+        }
+        let a = clarabel::algebra::CscMatrix::new(rows, n, colptr, rowval, nzval);
+        let mut q = vec![0.0; n];
+        q[f_col] = 1.0;
+        let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(eq_rows)];
+        for _ in 0..ns {
+            cones.extend(contacts.iter().map(|c| SecondOrderConeT(c.kind.dim())));
+        }
+        cones.push(NonnegativeConeT(2 * ns * k));
+        let settings = clarabel::solver::DefaultSettingsBuilder::default()
+            .verbose(false)
+            .max_iter(200)
+            .max_threads(1)
+            .build()
+            .map_err(|_| GraspError::SolverSetup)?;
+        let mut solver = DefaultSolver::new(&socp::zero_p(n), &q, &a, &b, &cones, settings)
+            .map_err(|_| GraspError::SolverSetup)?;
+        solver.solve();
+        let sol = &solver.solution;
+        match sol.status {
+            SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
+                Err(GraspError::Infeasible)
+            }
+            s if socp::solved(s) && sol.x[f_col].is_finite() => Ok(LoadSolution {
+                peak_normal: sol.x[f_col],
+                iterations: sol.iterations,
+            }),
+            _ => Err(GraspError::SolverFailed {
+                iterations: sol.iterations,
+            }),
+        }
+    }
+}

@@ -14,7 +14,13 @@
 //! - [`conic`]: the exact test and margin t* of SPEC §3.2 for any number of
 //!   hard or soft contacts (Clarabel SOCP, built once, re-solved).
 //! - [`forces`]: grip forces that hold the weight plus a disturbance margin
-//!   with the smallest largest normal force (SPEC §3.3).
+//!   with the smallest largest normal force (SPEC §3.3), and the exact
+//!   largest normal force a grasp needs for a set of loads
+//!   ([`forces::LoadSolver`], the reference of [`hold`]).
+//! - [`hold`]: the closed-form load model of SPEC §1.3 I1' — grip forces
+//!   for two soft or three hard contacts against the weight, the
+//!   acceleration torque and every disturbance of the configured size, and
+//!   the largest normal force that needs (per tick and while planning).
 //!
 //! # Allocation and determinism of the conic re-solve
 //! Problems are built once per contact-kind sequence (allocating) and
@@ -39,12 +45,14 @@ pub mod conic;
 pub mod contact;
 pub mod facts;
 pub mod forces;
+pub mod hold;
 pub mod planar;
 mod socp;
 
 pub use conic::{ClosureMargin, ConicSolver, closure_margin};
 pub use contact::{Contact, ContactFrame, ContactKind, Friction, grasp_rank};
-pub use forces::{ContactForce, ForceSolution, GraspForceSolver, Load};
+pub use forces::{ContactForce, ForceSolution, GraspForceSolver, Load, LoadSolution, LoadSolver};
+pub use hold::{Accel, Hold, HoldModel, Loads};
 pub use socp::MAX_ITERATIONS;
 
 /// Why a grasp computation gave no answer.

@@ -12,7 +12,7 @@ use nalgebra::Vector3;
 
 use super::collision::{other_centers, path_clear, sweep_clear};
 use super::geometry::{Geometry, angle_between};
-use super::plan::{FreeMove, FreePath, Motion, Reorientation, Step, StepKind};
+use super::plan::{FreeMove, FreePath, Handover, Motion, Reorientation, Step, StepKind};
 use super::start::PrefixAction;
 use crate::state::{FingerMode, HandState};
 
@@ -27,6 +27,8 @@ pub struct Blocked {
 pub struct Builder<'a> {
     g: &'a Geometry,
     limits: crate::config::LimitsConfig,
+    /// `load.handover_time` (0: no handovers).
+    handover_time: f64,
     /// Steps so far.
     pub steps: Vec<Step>,
     /// State after the last step.
@@ -34,11 +36,18 @@ pub struct Builder<'a> {
 }
 
 impl<'a> Builder<'a> {
-    /// Starts at `hand`.
-    pub fn new(g: &'a Geometry, limits: crate::config::LimitsConfig, hand: HandState) -> Self {
+    /// Starts at `hand`; every placement and every lift gets a handover of
+    /// `handover_time` seconds (none if 0).
+    pub fn new(
+        g: &'a Geometry,
+        limits: crate::config::LimitsConfig,
+        handover_time: f64,
+        hand: HandState,
+    ) -> Self {
         Self {
             g,
             limits,
+            handover_time,
             steps: Vec::with_capacity(32),
             hand,
         }
@@ -50,11 +59,45 @@ impl<'a> Builder<'a> {
             start: self.hand,
             motion,
             duration: 0.0,
+            handover: None,
         };
         step.duration = step.planned_duration(&self.limits);
         let d = step.dofs();
         self.hand = step.eval(&d.length, &[0.0; 3]).state;
         self.steps.push(step);
+    }
+
+    /// The last step's grip ramps `finger` out before it lifts (a handover
+    /// at the end of that step; a still step of its own when the plan
+    /// starts with the lift).
+    fn release_before_lift(&mut self, finger: usize) {
+        if self.handover_time <= 0.0 {
+            return;
+        }
+        if self.steps.is_empty() {
+            self.push(
+                StepKind::Rotate,
+                Motion::Rotate {
+                    axis: Vector3::z(),
+                    angle: 0.0,
+                    free: None,
+                },
+            );
+        }
+        let time = self.handover_time;
+        if let Some(last) = self.steps.last_mut() {
+            match &mut last.handover {
+                Some(h) => h.release = Some(finger),
+                None => {
+                    last.handover = Some(Handover {
+                        take: None,
+                        release: Some(finger),
+                        duration: time,
+                    });
+                    last.duration += time;
+                }
+            }
+        }
     }
 
     /// A prefix action of the start.
@@ -103,8 +146,10 @@ impl<'a> Builder<'a> {
         }
     }
 
-    /// Radial ascent of a grasping finger to the transfer height.
+    /// Radial ascent of a grasping finger to the transfer height, after
+    /// its grip ramped out.
     pub fn lift(&mut self, finger: usize) {
+        self.release_before_lift(finger);
         let dir = self.hand.fingers[finger].contact_normal();
         self.push(
             StepKind::Lift,
@@ -257,6 +302,16 @@ impl<'a> Builder<'a> {
                 contact_at_end: true,
             }),
         );
+        if self.handover_time > 0.0
+            && let Some(last) = self.steps.last_mut()
+        {
+            last.handover = Some(Handover {
+                take: Some(finger),
+                release: None,
+                duration: self.handover_time,
+            });
+            last.duration += self.handover_time;
+        }
         Ok(())
     }
 

@@ -26,7 +26,7 @@ pub mod timing;
 use nalgebra::{UnitQuaternion, Vector3};
 
 pub use plan::{
-    FreeMove, FreePath, MAX_DOFS, Motion, Setpoint, Step, StepDofs, StepKind, StepLimit,
+    FreeMove, FreePath, Handover, MAX_DOFS, Motion, Setpoint, Step, StepDofs, StepKind, StepLimit,
 };
 
 use crate::config::{ConfigError, HandConfig};
@@ -476,7 +476,12 @@ impl Planner {
         mut summary: PlanSummary,
     ) -> Result<Plan, PlanError> {
         let blocked = |b: convert::Blocked| PlanError::Blocked { finger: b.finger };
-        let mut b = Builder::new(&self.geom, self.config.limits, *start);
+        let mut b = Builder::new(
+            &self.geom,
+            self.config.limits,
+            self.config.load.handover_time,
+            *start,
+        );
         for a in &s.actions {
             b.prefix(a).map_err(blocked)?;
         }
@@ -507,6 +512,7 @@ impl Planner {
         for st in &b.steps {
             match st.kind {
                 StepKind::Place | StepKind::Lift => summary.gaits += 1,
+                StepKind::Rotate if step_rotation_angle(st) == 0.0 => {}
                 StepKind::Rotate => summary.rotations += 1,
                 StepKind::Roll => summary.rolls += 1,
                 StepKind::Transfer => {}
@@ -520,6 +526,14 @@ impl Planner {
             steps: b.steps,
             summary,
         })
+    }
+}
+
+/// The angle of a Rotate step (0 for a still handover step).
+fn step_rotation_angle(st: &Step) -> f64 {
+    match st.motion {
+        Motion::Rotate { angle, .. } => angle,
+        _ => 0.0,
     }
 }
 

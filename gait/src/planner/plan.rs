@@ -236,6 +236,33 @@ pub enum StepKind {
     Lift = 4,
 }
 
+/// The grip passing between fingers at the end of a step, with the
+/// object and the fingers still (`load.handover_time`; SPEC §1.3 I1',
+/// [`crate::executor::grip`]): the grip of the finger just placed ramps
+/// in, that of the finger that lifts next ramps out, and no contact force
+/// jumps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Handover {
+    /// The finger whose grip ramps in (the one this step placed).
+    pub take: Option<usize>,
+    /// The finger whose grip ramps out (the one the next step lifts).
+    pub release: Option<usize>,
+    /// How long the ramp takes \[s\].
+    pub duration: f64,
+}
+
+impl Handover {
+    /// Bit mask of `take`.
+    pub fn take_mask(&self) -> u8 {
+        self.take.map_or(0, |k| 1 << k)
+    }
+
+    /// Bit mask of `release`.
+    pub fn release_mask(&self) -> u8 {
+        self.release.map_or(0, |k| 1 << k)
+    }
+}
+
 /// One primitive with its exact start state.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Step {
@@ -245,8 +272,11 @@ pub struct Step {
     pub start: HandState,
     /// The motion.
     pub motion: Motion,
-    /// Planned duration at the configured limits, rest to rest \[s\].
+    /// Planned duration at the configured limits, rest to rest, including
+    /// the handover \[s\].
     pub duration: f64,
+    /// A handover after the motion, at rest (its time is in `duration`).
+    pub handover: Option<Handover>,
 }
 
 /// Path parameters of a step: their count, lengths and limit kinds.

@@ -273,7 +273,7 @@ impl<'a> Problem<'a> {
         let mut h = self.timing.rotate(rem);
         if range_now < rem {
             let segments = ((rem - range_now) / fresh.best.max(1e-3)).ceil();
-            h += segments * 2.0 * self.timing.vertical;
+            h += segments * (2.0 * self.timing.vertical + self.timing.handover);
         }
         h
     }
@@ -513,7 +513,7 @@ impl<'a> Problem<'a> {
             pair,
             free,
             done: node.done,
-            g: node.g + travel + 2.0 * self.timing.vertical,
+            g: node.g + travel + 2.0 * self.timing.vertical + self.timing.handover,
             prev_rotation: 0.0,
             parent: idx,
             edge: Edge::Substitute {

@@ -71,7 +71,7 @@ pub fn starts(g: &Geometry, timing: &DurationModel, hand: &HandState, extra: f64
                     out.push(Start {
                         hand: h,
                         actions: vec![PrefixAction::Lift(lose)],
-                        cost: timing.vertical,
+                        cost: timing.vertical + timing.handover,
                     });
                 }
             }
@@ -138,6 +138,7 @@ fn roll_apart(
         start: *hand,
         motion: Motion::Roll { rolls, ratio },
         duration: 0.0,
+        handover: None,
     };
     let dofs = step.dofs();
     for sample in 0..=ROLL_SAMPLES {
@@ -160,7 +161,7 @@ fn roll_apart(
     Some(Start {
         hand: after,
         actions: vec![PrefixAction::Roll(rolls), PrefixAction::Lift(lose)],
-        cost: roll_time + timing.vertical,
+        cost: roll_time + timing.vertical + timing.handover,
     })
 }
 

@@ -25,6 +25,9 @@ pub struct DurationModel {
     pub rolling: MotionLimit,
     /// Duration of a vertical lift or descent over the transfer height.
     pub vertical: f64,
+    /// Duration of a handover (`load.handover_time`): each placement and
+    /// each lift waits that long for the grip to pass.
+    pub handover: f64,
     transfer_radius: f64,
     /// `transfer` tabulated over u = sin(angle/2) = √((1 − cos)/2), in
     /// which it is smooth (the cosine itself is flat near 0 and π).
@@ -49,6 +52,7 @@ impl DurationModel {
             fingertip: l.fingertip,
             rolling: l.rolling,
             vertical: rest_to_rest(config.planner.transfer_height, &l.fingertip),
+            handover: config.load.handover_time,
             transfer_radius,
             by_half_sine,
         }

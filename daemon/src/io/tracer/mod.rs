@@ -180,6 +180,7 @@ mod tests {
             fingers,
             fc: true,
             fc_margin: 0.1,
+            load_margin: 10.0,
             remaining_angle: 0.0,
             gaits: 0,
             estimate_epoch: 0,
