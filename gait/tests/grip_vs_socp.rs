@@ -220,3 +220,38 @@ fn closed_form_holds_the_load_and_bounds_the_socp_optimum() {
     assert!(tm < 1.6, "triple closed form far from optimal: median {tm}");
     assert!(t95 < 3.0, "triple closed form tail: p95 {t95}");
 }
+
+/// No commanded normal force exceeds `load.max_grip`, not even by the
+/// rounding of the cap: a plant refuses a grip above its limit. A heavy
+/// object and a low limit make the cap act on most grasps.
+#[test]
+fn commanded_normals_never_exceed_the_force_limit() {
+    let mut cfg = HandConfig::default();
+    cfg.load.object_mass = 0.5;
+    cfg.load.max_grip = 7.0;
+    let geom = Geometry::new(&cfg);
+    let g = GripModel::new(&cfg);
+    let r = cfg.model.object_radius + cfg.model.fingertip_radius;
+    let mut rng = common::rng(0x9_71b);
+    let (mut capped, mut at_limit) = (0u32, 0u32);
+    for i in 0..4000 {
+        let normals = if i % 2 == 0 {
+            random_pair(&mut rng, &geom)
+        } else {
+            random_triple(&mut rng)
+        };
+        let torque = common::unit(&mut rng) * rng.random_range(0.0..0.02);
+        let grip = g.grip(&state_with(&normals, r), &torque);
+        capped += u32::from(grip.capped);
+        for n in grip.normal {
+            assert!(
+                n <= cfg.load.max_grip,
+                "grip {n:e} N above {} N",
+                cfg.load.max_grip
+            );
+            at_limit += u32::from(n == cfg.load.max_grip);
+        }
+    }
+    eprintln!("4000 grasps: {capped} capped, {at_limit} normals at the limit");
+    assert!(capped > 400, "the cap acted on only {capped} grasps");
+}

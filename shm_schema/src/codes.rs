@@ -248,6 +248,8 @@ code_enum! {
         InvalidGoalTarget = 32,
         /// Reset refused: the measured state breaks an invariant (SPEC §1.3); bring the hand back to a valid grasp first.
         MeasuredStateInvalid = 33,
+        /// No plan keeps the load feasible (SPEC §1.3 I1'): no sequence of grasps found holds the weight, the acceleration torque and the configured disturbance with every normal force within `load.max_grip` (also when the start grasp itself cannot).
+        LoadInfeasible = 34,
     }
 }
 

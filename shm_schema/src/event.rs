@@ -9,7 +9,7 @@ use iceoryx2::prelude::ZeroCopySend;
 /// Type name `gaitd::Event.v2`, 88 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Event.v2")]
+#[type_name("gaitd::Event.v3")]
 pub struct Event {
     /// Sequence number within this daemon instance, from 1, no gaps.
     pub seq: u64,

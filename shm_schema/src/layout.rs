@@ -239,6 +239,18 @@ pub fn layouts() -> Vec<TypeLayout> {
                 ),
                 f!(
                     Status,
+                    load_grip,
+                    "N",
+                    "largest normal force the grasp needs to hold the load (F*, SPEC §1.3 I1'); +inf when none does"
+                ),
+                f!(
+                    Status,
+                    load_margin,
+                    "N",
+                    "load.max_grip − load_grip; negative when the grasp cannot hold the load"
+                ),
+                f!(
+                    Status,
                     commanded_object_q,
                     "[w,x,y,z]",
                     "commanded object orientation q_o, object → hand (the setpoint)"

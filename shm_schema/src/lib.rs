@@ -18,7 +18,7 @@
 //!
 //! Every payload is `#[repr(C)]`, `Copy`, `ZeroCopySend`, fixed size with
 //! explicit padding and a versioned iceoryx2 type name
-//! (`gaitd::Status.v2`): iceoryx2 compares name, size and alignment when a
+//! (`gaitd::Status.v3`): iceoryx2 compares name, size and alignment when a
 //! service opens, so a client of another schema version cannot open the
 //! services instead of misreading memory. Enums travel as `u32` codes
 //! decoded with `TryFrom<u32>` ([`codes`]). The byte layout of every field is
@@ -58,7 +58,7 @@ pub use iceoryx2;
 
 /// Version of the payload layout. It is part of every payload's type name, so
 /// a client built against another version fails to open the services.
-pub const SCHEMA_VERSION: u32 = 2;
+pub const SCHEMA_VERSION: u32 = 3;
 
 /// The iceoryx2 version every peer (Rust and Python) must use.
 pub const ICEORYX2_VERSION: &str = "0.10.0";

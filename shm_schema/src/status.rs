@@ -37,7 +37,7 @@ pub const NO_FINGER: u32 = u32::MAX;
 /// The active goal and its progress.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::GoalStatus.v2")]
+#[type_name("gaitd::GoalStatus.v3")]
 pub struct GoalStatus {
     /// Id of the current (or last) goal, 0 if none.
     pub goal_id: u64,
@@ -84,7 +84,7 @@ pub mod measured {
 /// otherwise.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::FingerStatus.v2")]
+#[type_name("gaitd::FingerStatus.v3")]
 pub struct FingerStatus {
     /// [`FingerPhase`] code.
     pub state: u32,
@@ -123,7 +123,7 @@ pub struct FingerStatus {
 /// [`TIMING_REFRESH_TICKS`] ticks; last and max every tick.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Timing.v2")]
+#[type_name("gaitd::Timing.v3")]
 pub struct Timing {
     /// Loop period \[ns\].
     pub period_ns: u64,
@@ -154,10 +154,10 @@ pub const TIMING_REFRESH_TICKS: u64 = 100;
 /// (SPEC §7.3): the commanded state beside the measured one, named so that
 /// neither is mistaken for the other.
 ///
-/// Type name `gaitd::Status.v2`, 1144 bytes, alignment 8.
+/// Type name `gaitd::Status.v3`, 1160 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Status.v2")]
+#[type_name("gaitd::Status.v3")]
 pub struct Status {
     /// Tick counter since daemon start.
     pub tick: u64,
@@ -177,6 +177,15 @@ pub struct Status {
     pub grasp: u32,
     /// Force-closure margin \[rad\] (angle margin of SPEC §3); 0 when unknown.
     pub grasp_margin: f64,
+    /// The largest normal force the commanded grasp needs to hold the load
+    /// (weight, acceleration torque and any disturbance of the configured
+    /// size; F* of SPEC §1.3 I1') \[N\]; +∞ when no grip holds it, 0 with
+    /// gravity off and no disturbance.
+    pub load_grip: f64,
+    /// Load margin `load.max_grip` − `load_grip` \[N\]: ≥ 0 while the
+    /// grasp holds the load within the fingertips' force limit, negative
+    /// (or −∞) when it cannot.
+    pub load_margin: f64,
     /// Commanded object orientation q_o [w, x, y, z] (object → hand frame):
     /// the controller's setpoint, not a measurement.
     pub commanded_object_q: [f64; 4],
@@ -213,7 +222,7 @@ pub struct Status {
 const _: () = assert!(core::mem::size_of::<GoalStatus>() == 56);
 const _: () = assert!(core::mem::size_of::<FingerStatus>() == 232);
 const _: () = assert!(core::mem::size_of::<Timing>() == 200);
-const _: () = assert!(core::mem::size_of::<Status>() == 1144);
+const _: () = assert!(core::mem::size_of::<Status>() == 1160);
 const _: () = assert!(core::mem::align_of::<Status>() == 8);
 
 impl Status {

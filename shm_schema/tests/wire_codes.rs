@@ -36,7 +36,7 @@ where
 
 #[test]
 fn schema_version_is_pinned() {
-    assert_eq!(shm_schema::SCHEMA_VERSION, 2);
+    assert_eq!(shm_schema::SCHEMA_VERSION, 3);
 }
 
 #[test]
@@ -126,6 +126,7 @@ fn reason_codes() {
             (FingerBlocked, 31),
             (InvalidGoalTarget, 32),
             (MeasuredStateInvalid, 33),
+            (LoadInfeasible, 34),
         ],
     );
 }

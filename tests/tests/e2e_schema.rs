@@ -8,21 +8,21 @@ use iceoryx2::prelude::*;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use std::time::Duration;
 
-/// The status as a hypothetical schema v3 would name it (same bytes).
+/// The status as a hypothetical schema v4 would name it (same bytes).
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+#[type_name("gaitd::Status.v4")]
+struct StatusV4 {
+    bytes: [u64; 145],
+}
+const _: () = assert!(size_of::<StatusV4>() == size_of::<Status>());
+
+/// Same name as v3 but another layout (a field added without a version bump).
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::Status.v3")]
-struct StatusV3 {
-    bytes: [u64; 143],
-}
-const _: () = assert!(size_of::<StatusV3>() == size_of::<Status>());
-
-/// Same name as v2 but another layout (a field added without a version bump).
-#[derive(Debug, Clone, Copy, ZeroCopySend)]
-#[repr(C)]
-#[type_name("gaitd::Status.v2")]
 struct StatusGrown {
-    bytes: [u64; 144],
+    bytes: [u64; 146],
 }
 
 /// An old daemon's command type.
@@ -54,7 +54,7 @@ fn another_schema_version_cannot_open_the_services() {
     let n = node(&d);
     let v3 = n
         .service_builder(&status_service(&d))
-        .publish_subscribe::<StatusV3>()
+        .publish_subscribe::<StatusV4>()
         .open();
     assert!(
         matches!(v3, Err(PublishSubscribeOpenError::IncompatibleTypes)),
@@ -93,7 +93,7 @@ fn the_client_library_reports_a_schema_mismatch_clearly() {
     let msg = err.to_string();
     assert!(msg.contains("schema mismatch"), "{msg}");
     assert!(msg.contains(&format!("{}/commands", d.prefix)), "{msg}");
-    assert!(msg.contains("gaitd::Command.v2"), "{msg}");
+    assert!(msg.contains("gaitd::Command.v3"), "{msg}");
 }
 
 #[test]
@@ -104,7 +104,7 @@ fn a_stale_service_of_another_schema_is_replaced_at_start() {
     let n = node(&d);
     let stale = n
         .service_builder(&status_service(&d))
-        .publish_subscribe::<StatusV3>()
+        .publish_subscribe::<StatusV4>()
         .create()
         .unwrap();
     d.spawn();

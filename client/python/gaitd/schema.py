@@ -27,7 +27,7 @@ from typing import Any
 from collections.abc import Iterable
 
 #: Version of the payload layout (part of every type name).
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 #: The iceoryx2 release the daemon is built with; resource names are
 #: version-tagged, so the Python bindings must be exactly this version.
 ICEORYX2_VERSION = "0.10.0"
@@ -175,6 +175,8 @@ class Status(ctypes.Structure):
         ("fault", u32),
         ("grasp", u32),
         ("grasp_margin", f64),
+        ("load_grip", f64),
+        ("load_margin", f64),
         ("commanded_object_q", f64 * 4),
         ("commanded_object_omega", f64 * 3),
         ("measured_object_q", f64 * 4),
@@ -384,6 +386,7 @@ class ReasonCode(enum.IntEnum):
     FingerBlocked = 31
     InvalidGoalTarget = 32
     MeasuredStateInvalid = 33
+    LoadInfeasible = 34
 
 
 class Phase(enum.IntEnum):

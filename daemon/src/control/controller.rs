@@ -165,6 +165,12 @@ pub struct ControlOutput {
     pub grasp: GraspState,
     /// Force-closure margin \[rad\] (0 when unknown).
     pub grasp_margin: f64,
+    /// The largest normal force the grasp needs to hold the load (F*,
+    /// SPEC §1.3 I1') \[N\]; +∞ when none does.
+    pub load_grip: f64,
+    /// `load.max_grip` − `load_grip` \[N\]: negative when the grasp cannot
+    /// hold the load within the force limit.
+    pub load_margin: f64,
     /// The command for an external plant (the loop hands it to the writer
     /// first; `None` with the embedded hand).
     pub plant_command: Option<PlantCommand>,

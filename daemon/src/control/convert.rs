@@ -85,6 +85,8 @@ pub fn fill_status(out: &ControlOutput, object_radius: f64, status: &mut Status)
     status.fault = out.fault.code();
     status.grasp = out.grasp.code();
     status.grasp_margin = out.grasp_margin;
+    status.load_grip = out.load_grip;
+    status.load_margin = out.load_margin;
     status.commanded_object_q = quat_to_wire(&out.hand.object);
     status.commanded_object_omega = vec_to_wire(&out.object_omega);
     let g = &out.goal;
@@ -223,6 +225,8 @@ mod tests {
             }; 3],
             grasp: shm_schema::GraspState::Unknown,
             grasp_margin: 0.0,
+            load_grip: 0.0,
+            load_margin: 0.0,
             plant_command: None,
         };
         ctl.tick(&mut ctx, &mut out);

@@ -183,6 +183,8 @@ impl ControlOutput {
             }; gait::FINGERS],
             grasp: GraspState::Unknown,
             grasp_margin: 0.0,
+            load_grip: 0.0,
+            load_margin: 0.0,
             plant_command: None,
         }
     }

@@ -58,6 +58,8 @@ impl HoldController {
                 fingers,
                 grasp: GraspState::Unknown,
                 grasp_margin: 0.0,
+                load_grip: 0.0,
+                load_margin: 0.0,
                 plant_command: None,
             },
         }

@@ -148,7 +148,10 @@ impl GripModel {
             capped: from.capped || to.capped,
         };
         for i in 0..3 {
-            g.normal[i] = (1.0 - l) * from.normal[i] + l * to.normal[i];
+            // Never above either end, not even by rounding: a plant
+            // refuses a grip over `load.max_grip`.
+            let top = from.normal[i].max(to.normal[i]);
+            g.normal[i] = ((1.0 - l) * from.normal[i] + l * to.normal[i]).min(top);
             g.force[i] = from.force[i] * (1.0 - l) + to.force[i] * l;
             g.torsion[i] = (1.0 - l) * from.torsion[i] + l * to.torsion[i];
         }
@@ -170,8 +173,11 @@ impl GripModel {
             feasible: h.feasible,
             capped: h.capped,
         };
+        // No commanded normal above the fingertip's limit, not even by the
+        // rounding of the cap (a plant refuses it).
+        let limit = self.hold.max_grip();
         for (j, &i) in idx.iter().enumerate() {
-            g.normal[i] = h.normal[j];
+            g.normal[i] = h.normal[j].min(limit);
             g.force[i] = h.force[j];
             g.torsion[i] = h.torsion[j];
         }

@@ -234,6 +234,9 @@ pub fn status_json(s: &Status) -> serde_json::Value {
         "fault": code(s.fault(), s.fault),
         "grasp": code(s.grasp(), s.grasp),
         "grasp_margin": s.grasp_margin,
+        // +∞ (no grip holds the load) is JSON null.
+        "load_grip": s.load_grip,
+        "load_margin": s.load_margin,
         "commanded_object_q": s.commanded_object_q,
         "commanded_object_omega": s.commanded_object_omega,
         "measured_object_q": s.measured_object_q,

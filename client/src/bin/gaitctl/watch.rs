@@ -61,11 +61,13 @@ pub fn render(s: &Status, progress: Option<f64>, rate: Option<f64>) -> String {
     );
     let _ = writeln!(
         o,
-        "phase {:<9} fault {:<18} grasp {} margin {:.2} deg",
+        "phase {:<9} fault {:<18} grasp {} margin {:.2} deg  load: grip {:.2} N margin {:+.2} N",
         code(s.phase(), s.phase),
         code(s.fault(), s.fault),
         code(s.grasp(), s.grasp),
-        deg(s.grasp_margin)
+        deg(s.grasp_margin),
+        s.load_grip,
+        s.load_margin,
     );
     let q = s.commanded_object_q;
     let w = s.commanded_object_omega;

@@ -63,8 +63,11 @@ impl GaitController {
             let f = &hand.fingers[k];
             let phase = match (f.mode, active.map(|s| s.kind), active_finger == Some(k)) {
                 (FingerMode::Grasping, Some(StepKind::Roll), true) => FingerPhase::Rolling,
-                (_, Some(StepKind::Lift), true) => FingerPhase::Lifting,
-                (_, Some(StepKind::Place), true) => FingerPhase::Placing,
+                // A finger still touching while the grip passes to or from
+                // it (the handover at rest before a lift, after a
+                // placement) is grasping: it presses with its share.
+                (FingerMode::Free, Some(StepKind::Lift), true) => FingerPhase::Lifting,
+                (FingerMode::Free, Some(StepKind::Place), true) => FingerPhase::Placing,
                 (FingerMode::Grasping, _, _) => FingerPhase::Grasping,
                 (FingerMode::Free, _, _) => FingerPhase::Free,
             };
@@ -82,5 +85,7 @@ impl GaitController {
             GraspState::NotForceClosure
         };
         out.grasp_margin = r.force_closure.1;
+        out.load_grip = r.grip_peak;
+        out.load_margin = r.load_margin;
     }
 }
