@@ -26,7 +26,13 @@ fn goals() -> usize {
 }
 
 fn sweep(seed: u64, random_start: bool) {
-    let cfg = HandConfig::default();
+    // From the paper start with the default load (gravity on); from random
+    // states weightless, the kinematic regime (planning::weightless).
+    let cfg = if random_start {
+        planning::weightless()
+    } else {
+        HandConfig::default()
+    };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let n = goals();
     let (mut ticks, mut worst_err, mut exec_s) = (0u64, 0.0f64, Vec::with_capacity(n));

@@ -10,7 +10,14 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 fn sweep(n: usize, seed: u64, random_start: bool) {
-    let cfg = HandConfig::default();
+    // From the paper start with the default load (gravity on: every plan
+    // also holds it, planner_load.rs checks that); from random states
+    // weightless, the kinematic regime (planning::weightless).
+    let cfg = if random_start {
+        planning::weightless()
+    } else {
+        HandConfig::default()
+    };
     let planner = Planner::new(&cfg).unwrap();
     let checker = Checker::new(&cfg);
     let start = HandState::paper_start(&cfg);

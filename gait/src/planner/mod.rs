@@ -18,6 +18,7 @@ pub mod convert;
 mod detour;
 pub mod escape;
 pub mod geometry;
+pub mod load;
 pub mod plan;
 pub mod search;
 pub mod start;
@@ -75,6 +76,15 @@ pub enum PlanError {
         /// The finger.
         finger: usize,
     },
+    /// No plan found keeps the load feasible (SPEC §1.3 I1': every grasp
+    /// holds the weight, the acceleration torque and the disturbance with
+    /// normal forces within `load.max_grip`); `start`: the start grasp
+    /// itself cannot hold it.
+    #[error("{}", if *start { "the start grasp cannot hold the load within load.max_grip" } else { "no plan keeps the load within load.max_grip" })]
+    LoadInfeasible {
+        /// Whether the start grasp already fails.
+        start: bool,
+    },
 }
 
 /// Plan statistics (SPEC §11 plan quality).
@@ -129,6 +139,10 @@ pub struct Planner {
     config: HandConfig,
     geom: Geometry,
     timing: DurationModel,
+    /// The search's load test.
+    load: load::PairLoad,
+    /// The exact grip model a built plan is checked with.
+    grip: crate::executor::grip::GripModel,
     /// Shared: a planner re-timed for other limits
     /// ([`Planner::with_limits`]) reuses the candidate grids.
     cand: std::sync::Arc<Candidates>,
@@ -143,6 +157,8 @@ impl Planner {
             config: *config,
             geom,
             timing: DurationModel::new(config),
+            load: load::PairLoad::new(config),
+            grip: crate::executor::grip::GripModel::new(config),
             cand: std::sync::Arc::new(Candidates::new(&geom, config.planner.candidate_spacing_deg)),
         })
     }
@@ -162,6 +178,8 @@ impl Planner {
             config,
             geom: self.geom,
             timing: DurationModel::new(&config),
+            load: load::PairLoad::new(&config),
+            grip: crate::executor::grip::GripModel::new(&config),
             cand: self.cand.clone(),
         })
     }
@@ -174,6 +192,11 @@ impl Planner {
     /// Step durations.
     pub fn timing(&self) -> &DurationModel {
         &self.timing
+    }
+
+    /// The search's load test (SPEC §1.3 I1').
+    pub fn load(&self) -> &load::PairLoad {
+        &self.load
     }
 
     /// The configuration.
@@ -192,7 +215,71 @@ impl Planner {
             return Err(PlanError::NonFiniteState);
         }
         let (axis, total) = rotation_to(&start.object, &goal);
-        self.plan_about(start, &goal, axis, total, false)
+        match self.plan_about(start, &goal, axis, total, false) {
+            Err(e @ (PlanError::LoadInfeasible { start: false } | PlanError::SearchExhausted))
+                if self.load.active() =>
+            {
+                self.plan_via_twist(start, &goal).ok_or(e)
+            }
+            r => r,
+        }
+    }
+
+    /// Under load, the goal rotation split into a turn about gravity (which
+    /// leaves every grasp's load unchanged) and the rest, in either order,
+    /// each planned on its own: the fallback when one search about the
+    /// goal's axis finds nothing.
+    fn plan_via_twist(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Option<Plan> {
+        let up = -self.grip.hold().weight();
+        let up = if up.norm() > 0.0 {
+            up.normalize()
+        } else {
+            Vector3::z()
+        };
+        let rel = goal * start.object.inverse();
+        let q = rel.quaternion();
+        // Twist about `up`: the projection of the rotation onto it.
+        let v = Vector3::new(q.i, q.j, q.k);
+        let t = nalgebra::Quaternion::from_parts(q.w, up * up.dot(&v));
+        if t.norm() < 1e-9 {
+            return None;
+        }
+        let twist = UnitQuaternion::new_normalize(t);
+        for first in [twist, twist.inverse() * rel] {
+            let mid = first * start.object;
+            let Ok(a) = self.plan_leg(start, &mid) else {
+                continue;
+            };
+            let at = a.end_state();
+            let Ok(b) = self.plan_leg(&at, goal) else {
+                continue;
+            };
+            let mut summary = a.summary;
+            let s2 = b.summary;
+            summary.gaits += s2.gaits;
+            summary.rotations += s2.rotations;
+            summary.rolls += s2.rolls;
+            summary.duration += s2.duration;
+            summary.escaped |= s2.escaped;
+            summary.expansions += s2.expansions;
+            summary.goal_angle = start.object.angle_to(goal);
+            let mut steps = a.steps;
+            steps.extend(b.steps);
+            (summary.substitutions, summary.rewinds) = count_finger_gaits(&steps);
+            return Some(Plan {
+                start: *start,
+                goal: *goal,
+                steps,
+                summary,
+            });
+        }
+        None
+    }
+
+    /// One leg of [`Planner::plan_via_twist`].
+    fn plan_leg(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Result<Plan, PlanError> {
+        let (axis, total) = rotation_to(&start.object, goal);
+        self.plan_about(start, goal, axis, total, false)
     }
 
     /// Plans a rotation of the object by `angle` (any size, e.g. a full
@@ -221,9 +308,11 @@ impl Planner {
         };
         let goal = rotation(&axis, angle) * start.object;
         match self.plan_about(start, &goal, axis, angle, true) {
-            Err(PlanError::SearchExhausted | PlanError::Blocked { .. }) if angle > TURN_CHUNK => {
-                self.plan_in_chunks(start, &axis, angle)
-            }
+            Err(
+                PlanError::SearchExhausted
+                | PlanError::Blocked { .. }
+                | PlanError::LoadInfeasible { start: false },
+            ) if angle > TURN_CHUNK => self.plan_in_chunks(start, &axis, angle),
             r => r,
         }
     }
@@ -314,14 +403,31 @@ impl Planner {
                 return Err(PlanError::NoGrasp);
             }
         }
+        // The start must hold the load (at rest) for anything to follow.
+        if self.load.active()
+            && !self
+                .grip
+                .carried_with(start, crate::grasp::Accel::None, 0b111)
+                .feasible
+        {
+            return Err(PlanError::LoadInfeasible { start: true });
+        }
         let starts = starts(
             &self.geom,
             &self.timing,
+            &self.load,
+            &self.grip,
+            &self.config,
             start,
+            &axis,
             self.config.planner.pair_margin_deg.to_radians(),
         );
         if starts.is_empty() {
-            return Err(PlanError::NoTwoFingerGrasp);
+            return Err(if self.load.active() {
+                PlanError::LoadInfeasible { start: false }
+            } else {
+                PlanError::NoTwoFingerGrasp
+            });
         }
         // 1. Straight: search about the goal axis from every start.
         let roots: Vec<Root> = starts
@@ -367,7 +473,8 @@ impl Planner {
         //    finger for a three-finger grasp, spin the other two back to roll
         //    zero, lift it again, and escape from there.
         for s in &starts {
-            let Some(unwound) = escape::unwind(&self.geom, &self.cand, &self.config, &s.hand)
+            let Some(unwound) =
+                escape::unwind(&self.geom, &self.cand, &self.grip, &self.config, &s.hand)
             else {
                 continue;
             };
@@ -393,6 +500,10 @@ impl Planner {
                 Err(e) => last_err = e,
             }
         }
+        // Under load, the search failing means no load-feasible plan.
+        if self.load.active() && last_err == PlanError::SearchExhausted {
+            last_err = PlanError::LoadInfeasible { start: false };
+        }
         Err(last_err)
     }
 
@@ -408,8 +519,10 @@ impl Planner {
     ) -> Result<Plan, PlanError> {
         let mut last_err = PlanError::SearchExhausted;
         let axes = fibonacci_sphere(self.config.planner.escape_axes as usize);
-        let rotations = escape::rotation_escapes(&self.geom, &self.cand, &s.hand, &axes, 8);
-        let rolls = escape::roll_escapes(&self.geom, &self.cand, &self.config, &s.hand, 2);
+        let rotations =
+            escape::rotation_escapes(&self.geom, &self.cand, &self.load, &s.hand, &axes, 8);
+        let rolls =
+            escape::roll_escapes(&self.geom, &self.cand, &self.load, &self.config, &s.hand, 2);
         let tries = rotations
             .into_iter()
             .map(Escape::Rotate)
@@ -450,6 +563,7 @@ impl Planner {
             geom: &self.geom,
             timing: &self.timing,
             cand: &self.cand,
+            load: &self.load,
             axis,
             total,
             branching: self.config.planner.branching as usize,
@@ -520,6 +634,16 @@ impl Planner {
             summary.duration += st.duration;
         }
         (summary.substitutions, summary.rewinds) = count_finger_gaits(&b.steps);
+        // The exact load check of every sample (SPEC §1.3 I1').
+        if self.load.active() {
+            load::check_steps(
+                &self.grip,
+                self.config.limits.object.acceleration,
+                start,
+                &b.steps,
+            )
+            .map_err(|_| PlanError::LoadInfeasible { start: false })?;
+        }
         Ok(Plan {
             start: *start,
             goal: *goal,
