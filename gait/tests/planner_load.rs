@@ -226,6 +226,33 @@ fn plans_from_the_paper_start_hold_the_load_at_every_sample() {
 }
 
 #[test]
+fn the_papers_scenario_holds_the_load_at_every_sample() {
+    // A full turn about z, then one about x from where it ends (the
+    // second starts from a grasp the first left, not the paper start).
+    let cfg = HandConfig::default();
+    let planner = Planner::new(&cfg).unwrap();
+    let check = LoadCheck::new(&cfg);
+    let checker = Checker::new(&cfg);
+    let mut at = HandState::paper_start(&cfg);
+    for axis in [Vector3::z(), Vector3::x()] {
+        let plan = planner
+            .plan_rotation(&at, &axis, std::f64::consts::TAU)
+            .unwrap_or_else(|e| panic!("full turn about {axis:?}: {e:?}"));
+        let (peak, bad) = plan_load(&check, &plan);
+        println!(
+            "paper scenario, turn about {:?}: {} gaits, {:.2} s, largest F* {peak:.2} N",
+            axis.as_slice(),
+            plan.summary.gaits,
+            plan.summary.duration
+        );
+        assert_eq!(bad, None, "a sample that does not hold (step, F*)");
+        assert!(peak <= cfg.load.max_grip * (1.0 + 1e-6));
+        assert!(checker.check_plan(&plan, 20).is_empty());
+        at = plan.end_state();
+    }
+}
+
+#[test]
 fn a_heavy_object_is_planned_or_rejected_with_its_reason() {
     // Stretch figures (printed, not graded): 0.5 kg at the default limit,
     // and the limit every goal would need (from a ladder of limits).

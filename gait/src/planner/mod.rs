@@ -47,6 +47,10 @@ const GREEDY_WEIGHT: f64 = 3.0;
 /// cannot reverse its direction).
 const TURN_CHUNK: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
 
+/// Shortest piece of a turn [`Planner::plan_in_chunks`] halves a piece
+/// down to when it finds no plan for it \[rad\] (15°).
+const MIN_TURN_CHUNK: f64 = std::f64::consts::PI / 12.0;
+
 /// Why no plan was returned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, thiserror::Error)]
 pub enum PlanError {
@@ -320,25 +324,38 @@ impl Planner {
     /// A long turn as consecutive turns of at most [`TURN_CHUNK`], each
     /// planned from where the previous one ends: the fallback when one
     /// search over the whole turn runs out of budget (many full turns, or
-    /// an escape first).
+    /// an escape first). A piece with no plan (under load, SPEC §1.3 I1',
+    /// a pair may hold for less of a turn than its cones allow) is halved,
+    /// down to [`MIN_TURN_CHUNK`], and the next piece is full size again.
     fn plan_in_chunks(
         &self,
         start: &HandState,
         axis: &Vector3<f64>,
         angle: f64,
     ) -> Result<Plan, PlanError> {
-        let pieces = (angle / TURN_CHUNK).ceil().max(1.0);
-        let piece = angle / pieces;
         let mut steps = Vec::new();
         let mut summary = PlanSummary {
             goal_angle: angle,
             ..PlanSummary::default()
         };
         let mut at = *start;
-        for _ in 0..pieces as usize {
-            let goal = rotation(axis, piece) * at.object;
-            let plan = self.plan_about(&at, &goal, *axis, piece, true)?;
+        let mut left = angle;
+        let mut piece = TURN_CHUNK;
+        while left > 1e-12 {
+            // Even pieces of at most `piece` for what is left.
+            let this = left / (left / piece).ceil().max(1.0);
+            let goal = rotation(axis, this) * at.object;
+            let plan = match self.plan_about(&at, &goal, *axis, this, true) {
+                Ok(p) => p,
+                Err(e) if this * 0.5 < MIN_TURN_CHUNK => return Err(e),
+                Err(_) => {
+                    piece = this * 0.5;
+                    continue;
+                }
+            };
             at = plan.end_state();
+            left -= this;
+            piece = TURN_CHUNK;
             let s = plan.summary;
             summary.gaits += s.gaits;
             summary.rotations += s.rotations;
