@@ -488,8 +488,15 @@ impl Planner {
         }
         // 3. Still stuck (both contacts at their limits): place the free
         //    finger for a three-finger grasp, spin the other two back to roll
-        //    zero, lift it again, and escape from there.
-        for s in &starts {
+        //    zero, lift it again, and escape from there. Not under load
+        //    (SPEC §1.3 I1'): a contact spinning on the object uses its
+        //    whole coupled cone for the spin's torsion (MuJoCo's elliptic
+        //    cone alike), so it has no friction left; the other two, not a
+        //    force-closure pair while the spinner's partner is near its
+        //    antipode, do not hold the weight (replayed with gravity, the
+        //    object slides out during the spin).
+        let unwinds: &[Start] = if self.load.active() { &[] } else { &starts };
+        for s in unwinds {
             let Some(unwound) =
                 escape::unwind(&self.geom, &self.cand, &self.grip, &self.config, &s.hand)
             else {

@@ -106,6 +106,20 @@ impl LoadCheck {
         kind: Kind,
         loads: &[(Vector3<f64>, Vector3<f64>)],
     ) -> Option<f64> {
+        self.peak_with(normals, kind, loads, 0)
+    }
+
+    /// [`LoadCheck::peak`] with the contacts in the bit mask `frictionless`
+    /// pushing along their normals only (μ = 0 in their cones: no
+    /// tangential force, no torsion) — a contact that spins on the object
+    /// has used its whole coupled cone for the spin's torsion.
+    pub fn peak_with(
+        &self,
+        normals: &[Vector3<f64>],
+        kind: Kind,
+        loads: &[(Vector3<f64>, Vector3<f64>)],
+        frictionless: u8,
+    ) -> Option<f64> {
         let k = normals.len();
         let dim = if kind == Kind::Soft { 4 } else { 3 };
         let ns = loads.len();
@@ -163,12 +177,16 @@ impl LoadCheck {
                         }
                     }
                     // Cone rows: (μ f_n, f_1, f_2, τ μ/μ_t) ∈ SOC.
+                    let slick = frictionless & (1 << i) != 0;
                     let scale = match j {
+                        0 if slick => 0.0,
                         0 => self.mu,
                         3 => self.mu / self.mu_t,
                         _ => 1.0,
                     };
-                    trip.push((cone0 + (s * k + i) * dim + j, col, -scale));
+                    if scale != 0.0 {
+                        trip.push((cone0 + (s * k + i) * dim + j, col, -scale));
+                    }
                     if j == 0 {
                         let cap = caps + s * k + i;
                         trip.push((cap, col, 1.0));
@@ -220,8 +238,20 @@ impl LoadCheck {
         kind: Kind,
         axis: Option<&Vector3<f64>>,
     ) -> (bool, f64) {
+        self.holds_with(normals, kind, axis, 0)
+    }
+
+    /// [`LoadCheck::holds`] with the contacts in `frictionless` pushing
+    /// only ([`LoadCheck::peak_with`]).
+    pub fn holds_with(
+        &self,
+        normals: &[Vector3<f64>],
+        kind: Kind,
+        axis: Option<&Vector3<f64>>,
+        frictionless: u8,
+    ) -> (bool, f64) {
         let loads = self.loads(axis);
-        match self.peak(normals, kind, &loads) {
+        match self.peak_with(normals, kind, &loads, frictionless) {
             Some(f) => (f <= self.max_grip * (1.0 + 1e-6), f),
             None => (false, f64::INFINITY),
         }
