@@ -199,12 +199,19 @@ pub struct Unwound {
 /// The three-finger unwind (module docs), if a placement of the free finger
 /// makes the three contacts force-closure (planar certificate at θ − margin/2)
 /// and both spins are possible.
+///
+/// With `spin` false (under load, SPEC §1.3 I1': a contact spinning on the
+/// object has no friction left, its coupled cone used up by the spin's
+/// torsion, and the other two cannot carry the weight alone) the fingers
+/// do not spin: the free finger is placed and lifted again, a relocation
+/// that the escapes start from.
 pub fn unwind(
     g: &Geometry,
     cand: &Candidates,
     grip: &GripModel,
     config: &HandConfig,
     hand: &HandState,
+    spin: bool,
 ) -> Option<Unwound> {
     let (pair, free) = split(hand)?;
     let (ca, cb) = (
@@ -235,7 +242,7 @@ pub fn unwind(
         roll: 0.0,
     }];
     let cg = ContactGeometry::from_config(config);
-    for &k in &pair {
+    for &k in pair.iter().filter(|_| spin) {
         let f = h.fingers[k];
         let state = ContactState::from_finger(&f, h.object, &cg).ok()?;
         let mut path = RollingPath::new(cg, state.relative());

@@ -488,18 +488,20 @@ impl Planner {
         }
         // 3. Still stuck (both contacts at their limits): place the free
         //    finger for a three-finger grasp, spin the other two back to roll
-        //    zero, lift it again, and escape from there. Not under load
-        //    (SPEC §1.3 I1'): a contact spinning on the object uses its
-        //    whole coupled cone for the spin's torsion (MuJoCo's elliptic
-        //    cone alike), so it has no friction left; the other two, not a
-        //    force-closure pair while the spinner's partner is near its
-        //    antipode, do not hold the weight (replayed with gravity, the
-        //    object slides out during the spin).
-        let unwinds: &[Start] = if self.load.active() { &[] } else { &starts };
-        for s in unwinds {
-            let Some(unwound) =
-                escape::unwind(&self.geom, &self.cand, &self.grip, &self.config, &s.hand)
-            else {
+        //    zero, lift it again, and escape from there. Under load without
+        //    the spins (escape::unwind): a contact spinning on the object
+        //    has used its whole coupled cone for the spin's torsion (MuJoCo's
+        //    elliptic cone alike) and the other two do not hold the weight
+        //    (replayed with gravity, the object slid out during a spin).
+        for s in &starts {
+            let Some(unwound) = escape::unwind(
+                &self.geom,
+                &self.cand,
+                &self.grip,
+                &self.config,
+                &s.hand,
+                !self.load.active(),
+            ) else {
                 continue;
             };
             let mut s2 = s.clone();
