@@ -28,7 +28,8 @@ fn assert_clean(rig: &Rig, what: &str) {
 
 #[test]
 fn paper_scenario_full_turns_about_z_and_x() {
-    let cfg = HandConfig::default();
+    // The lifecycle, not the load: a weightless object (planning::weightless).
+    let cfg = planning::weightless();
     let start = HandState::paper_start(&cfg);
     let mut rig = Rig::new(cfg, start, 1e-3);
     let turns = [(1, Vector3::z()), (2, Vector3::x())];
@@ -58,7 +59,8 @@ fn paper_scenario_full_turns_about_z_and_x() {
 
 #[test]
 fn random_goals_from_the_paper_start() {
-    let cfg = HandConfig::default();
+    // The lifecycle, not the load: a weightless object (planning::weightless).
+    let cfg = planning::weightless();
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
     for id in 1..=30u64 {

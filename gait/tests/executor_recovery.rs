@@ -5,10 +5,10 @@
 
 mod planning;
 
+use gait::HandState;
 use gait::executor::{Executor, ExecutorCommand, FaultKind, GoalStage, GoalTarget, Mode};
 use gait::planner::Planner;
 use gait::sim::{InjectedFault, KinematicHand, Plant};
-use gait::{HandConfig, HandState};
 use nalgebra::{UnitQuaternion, Vector3};
 use planning::run::Rig;
 use rand::SeedableRng;
@@ -48,7 +48,7 @@ fn assert_clean(rig: &Rig, what: &str) {
 
 #[test]
 fn a_slip_mid_goal_is_replanned_and_the_true_object_reaches_the_goal() {
-    let cfg = HandConfig::default();
+    let cfg = planning::weightless();
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let mut cases = 0;
     for seed in 0..6u64 {
@@ -96,7 +96,7 @@ fn a_slip_mid_goal_is_replanned_and_the_true_object_reaches_the_goal() {
 
 #[test]
 fn a_turn_goal_keeps_its_full_turns_and_direction_after_a_slip() {
-    let cfg = HandConfig::default();
+    let cfg = planning::weightless();
     let start = HandState::paper_start(&cfg);
     let z = Vector3::z();
     for sign in [1.0, -1.0] {
@@ -147,7 +147,7 @@ fn a_turn_goal_keeps_its_full_turns_and_direction_after_a_slip() {
 fn a_slip_while_planning_re_bases_before_the_plan_is_used() {
     // Plans are held back here (as the daemon's planner thread takes its
     // time), so the slip lands while the executor waits for one.
-    let cfg = HandConfig::default();
+    let cfg = planning::weightless();
     let start = HandState::paper_start(&cfg);
     let planner = Planner::new(&cfg).unwrap();
     let mut exec = Executor::new(&cfg, 1e-3, start).unwrap();
@@ -206,7 +206,7 @@ fn a_slip_while_planning_re_bases_before_the_plan_is_used() {
 
 #[test]
 fn drifts_beyond_the_replan_budget_end_in_safe_hold() {
-    let cfg = HandConfig::default();
+    let cfg = planning::weightless();
     let budget = cfg.feedback.max_replans;
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
     rig.command(ExecutorCommand::Goal {
@@ -241,7 +241,7 @@ fn drifts_beyond_the_replan_budget_end_in_safe_hold() {
 
 #[test]
 fn a_slip_at_rest_re_bases_the_estimate_and_the_next_goal_is_exact() {
-    let cfg = HandConfig::default();
+    let cfg = planning::weightless();
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
     for _ in 0..10 {
         rig.tick();
@@ -273,7 +273,7 @@ fn a_slip_at_rest_re_bases_the_estimate_and_the_next_goal_is_exact() {
 
 #[test]
 fn with_no_replans_allowed_drift_is_a_fault() {
-    let mut cfg = HandConfig::default();
+    let mut cfg = planning::weightless();
     cfg.feedback.max_replans = 0;
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), 1e-3);
     rig.command(ExecutorCommand::Goal {

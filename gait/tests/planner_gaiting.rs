@@ -6,9 +6,9 @@
 
 mod planning;
 
+use gait::HandState;
 use gait::gaiting::{FingerGait, GaitTracker};
 use gait::planner::{Plan, Planner, StepKind};
-use gait::{HandConfig, HandState};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -85,7 +85,7 @@ fn check_rewind(plan: &Plan, lift: usize, relocated: u8, helper: u8) {
 
 #[test]
 fn recognised_gaits_match_the_plans_states() {
-    let cfg = HandConfig::default();
+    let cfg = planning::weightless();
     let planner = Planner::new(&cfg).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let (mut subs, mut rewinds) = (0, 0);
@@ -151,7 +151,7 @@ fn lifts_after_a_placement(plan: &Plan) -> u32 {
 fn turn_plans_count_their_substitutions() {
     // The paper's scenario (two turns about z) and turns about other axes
     // are planned in pieces; the summary counts over the whole plan.
-    let cfg = HandConfig::default();
+    let cfg = planning::weightless();
     let planner = Planner::new(&cfg).unwrap();
     let start = HandState::paper_start(&cfg);
     for axis in [

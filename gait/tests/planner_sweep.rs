@@ -9,8 +9,15 @@ use planning::verify::Checker;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-fn sweep(n: usize, seed: u64, random_start: bool) {
-    let cfg = HandConfig::default();
+fn sweep(n: usize, seed: u64, random_start: bool, load: bool) {
+    // With the default load (gravity on: every plan also holds it,
+    // planner_load.rs checks that), or weightless, the kinematic regime
+    // (planning::weightless).
+    let cfg = if load {
+        HandConfig::default()
+    } else {
+        planning::weightless()
+    };
     let planner = Planner::new(&cfg).unwrap();
     let checker = Checker::new(&cfg);
     let start = HandState::paper_start(&cfg);
@@ -35,6 +42,11 @@ fn sweep(n: usize, seed: u64, random_start: bool) {
                 escapes += plan.summary.escaped as usize;
             }
             Err(e) => {
+                // Under load a goal may be refused, with its reason.
+                assert!(
+                    load && e == gait::planner::PlanError::LoadInfeasible { start: false },
+                    "goal {i}: {e:?}"
+                );
                 fails += 1;
                 eprintln!("goal {i}: {e}");
             }
@@ -51,15 +63,27 @@ fn sweep(n: usize, seed: u64, random_start: bool) {
         mean(&gaits),
         gaits.iter().cloned().fold(0.0, f64::max)
     );
-    assert_eq!(fails, 0);
+    // Under load: at most 0.5 % refused (measured 3 in 10³: the unwind
+    // escape may not spin a contact under load, SPEC §1.3 I1').
+    assert!(
+        fails as f64 <= if load { 0.005 * n as f64 } else { 0.0 },
+        "{fails} of {n} goals not planned"
+    );
 }
 
 #[test]
 fn paper_start_random_goals() {
-    sweep(10000, 1, false);
+    sweep(10000, 1, false, false);
+}
+
+#[test]
+fn paper_start_random_goals_under_load() {
+    // Fewer: planning under load takes ~20× longer in the debug profile
+    // (the tail of goals that need the load-limited search's fallbacks).
+    sweep(500, 3, false, true);
 }
 
 #[test]
 fn random_states_random_goals() {
-    sweep(10000, 2, true);
+    sweep(10000, 2, true, false);
 }

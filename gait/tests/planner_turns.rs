@@ -4,8 +4,8 @@
 
 mod planning;
 
+use gait::HandState;
 use gait::planner::{Motion, Planner};
-use gait::{HandConfig, HandState};
 use nalgebra::Vector3;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -23,7 +23,7 @@ fn turned_about(plan: &gait::planner::Plan, axis: &Vector3<f64>) -> f64 {
 
 #[test]
 fn requested_turns_turn_that_far() {
-    let cfg = HandConfig::default();
+    let cfg = planning::weightless();
     let planner = Planner::new(&cfg).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let tau = std::f64::consts::TAU;

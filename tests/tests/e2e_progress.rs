@@ -111,7 +111,11 @@ fn watch_prints_lines_when_piped() {
 /// The README's headline command against a running daemon, into a log.
 #[test]
 fn demo_into_a_log_is_readable() {
-    let d = TestDaemon::start("progress-demo");
+    // A weightless object, as the demo starts its own daemon without
+    // `--gravity` (under the default load the paper's turn about x is
+    // refused: planner_load.rs).
+    let mut d = TestDaemon::new("progress-demo", "[load]\ngravity = [0.0, 0.0, 0.0]\n");
+    d.spawn();
     let out = d.gaitctl().arg("demo").output().unwrap();
     let text = log_text("demo", &out);
     assert!(text.contains("using the running gaitd"), "{text}");

@@ -323,83 +323,158 @@ fn two_lockstep_runs_with_the_mujoco_plant_are_identical() {
     assert_eq!(first, None, "traces differ from line {first:?}");
 }
 
-/// With gravity on (the default 0.1 kg) the same goals run on the MuJoCo
-/// hand; how many succeed, how far off they end and whether the object
-/// drops is printed — the starting figure for the issue on holding
-/// against gravity, not a pass/fail criterion. Checked: every goal ends
-/// (no hang) and the daemon keeps running.
+/// Goal accuracy with gravity, as measured in the simulator (issue
+/// "Holding against gravity": within 1°).
+const GRAVITY_TOL_DEG: f64 = 1.0;
+
+/// Per finger over one goal: the largest drift of the measured contact
+/// point over the object's surface from the commanded one (both in the
+/// object frame, while the finger grasps) \[m\], the largest commanded
+/// and measured normal forces \[N\].
+#[derive(Default, Clone, Copy)]
+struct ContactFigures {
+    slip: [f64; 3],
+    commanded: [f64; 3],
+    measured: [f64; 3],
+}
+
+impl ContactFigures {
+    fn add(&mut self, s: &Status) {
+        let r = 0.5; // the object's radius (the default configuration)
+        for (k, f) in s.fingers.iter().enumerate() {
+            if f.commanded_normal_force <= 0.0 {
+                continue;
+            }
+            let pc = to_object(s.commanded_object_q, f.commanded_tip_position);
+            let pm = to_object(s.measured_object_q, f.measured_tip_position);
+            let d = (0..3).map(|i| (pc[i] - pm[i]).powi(2)).sum::<f64>().sqrt() * r;
+            self.slip[k] = self.slip[k].max(d);
+            self.commanded[k] = self.commanded[k].max(f.commanded_normal_force);
+            self.measured[k] = self.measured[k].max(f.measured_normal_force);
+        }
+    }
+}
+
+/// The direction of the hand-frame point `p` in the object frame of the
+/// orientation `q` [w, x, y, z] (object → hand): q* (p/|p|) q.
+fn to_object(q: [f64; 4], p: [f64; 3]) -> [f64; 3] {
+    let n = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+    let v = p.map(|x| x / n);
+    let qn = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let (w, u) = (q[0] / qn, [-q[1] / qn, -q[2] / qn, -q[3] / qn]);
+    // v' = v + 2w (u × v) + 2 u × (u × v) for the unit quaternion (w, u).
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let t = cross(u, v);
+    let tt = cross(u, t);
+    [0, 1, 2].map(|i| v[i] + 2.0 * w * t[i] + 2.0 * tt[i])
+}
+
+/// Closed loop with gravity (issue "Holding against gravity"): the default
+/// load (0.1 kg under gravity, the configuration's μ, torsion and mass in
+/// the MuJoCo scene), the paper start's full turn about z, then
+/// `GAITD_GRAVITY_GOALS` (default 10) seeded random goals, one daemon and
+/// one plant, until the first goal not reached within 1° as the simulator
+/// measures (after a fault the daemon refuses goals until a reset). Printed
+/// per goal: the measured error, and per contact the largest slip over the
+/// object's surface and the largest commanded and measured normal forces.
+/// A figure, not yet pass/fail (measured: 3 of 4 reached, then a
+/// ContactLost fault with the object swung 112° during a handover);
+/// checked: every goal ends, the daemon survives, the plant ran and
+/// refused no command.
 #[test]
-fn the_same_goals_with_gravity_on_are_counted() {
-    let mut d = shm_daemon_loaded("py-gravity", "", PHYSICS_FEEDBACK);
+fn gravity_goals_on_the_mujoco_plant_are_counted() {
+    let n: usize = std::env::var("GAITD_GRAVITY_GOALS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(10);
+    let mut d = shm_daemon_loaded("py-gravity-goals", "", PHYSICS_FEEDBACK);
     let report = d.dir.join("plant-report.json");
     let mut plant = mujoco_plant(&d, &report);
     let mut c = connect_when_measured(&mut d, &plant);
     let start = c.wait_status(T).unwrap().measured_object_q;
-    let mut goals: Vec<(GoalSpec, [f64; 4], String)> = [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]
-        .into_iter()
-        .map(|axis| {
-            (
-                GoalSpec::turn(axis, std::f64::consts::TAU).unwrap(),
-                start,
-                format!("full turn about {axis:?}"),
-            )
-        })
-        .collect();
-    for (i, q) in random_goals(20, 0x6A17_D0C5).into_iter().enumerate() {
+    let mut goals = vec![(
+        GoalSpec::turn([0.0, 0.0, 1.0], std::f64::consts::TAU).unwrap(),
+        start,
+        "paper: full turn about z".to_owned(),
+    )];
+    for (i, q) in random_goals(n, 0x15_6A17).into_iter().enumerate() {
         goals.push((GoalSpec::absolute(q), q, format!("random goal {i}")));
     }
-    let (mut ok, mut errors, mut faults) = (0, Vec::new(), Vec::new());
+    let t0 = Instant::now();
+    let (mut reached, mut worst, mut failed) = (0, 0.0f64, Vec::new());
+    let mut all = ContactFigures::default();
     for (goal, expect, what) in &goals {
-        let s = c.wait_status(T).unwrap();
-        if s.fault != 0 {
-            // After a fault (a slip, a swing, a drop): once at rest, reset
-            // from the measured state (refused if that state is invalid).
-            faults.push(shm_schema::FaultCode::try_from(s.fault).map_or("?", |f| f.name()));
-            let t0 = Instant::now();
-            while c.reset(T).ok() != Some(Verdict::Accepted)
-                && t0.elapsed() < Duration::from_secs(5)
-            {
-                std::thread::sleep(Duration::from_millis(100));
+        let ticket = c.reorient(goal, T).expect("send goal");
+        assert_eq!(ticket.verdict, Verdict::Accepted, "{what}");
+        let mut fig = ContactFigures::default();
+        let deadline = Instant::now() + GOAL;
+        loop {
+            let s = c.wait_status(T).unwrap();
+            if s.goal.goal_id == ticket.goal_id {
+                fig.add(&s);
+                if GoalState::try_from(s.goal.state).is_ok_and(|g| g.is_terminal()) {
+                    break;
+                }
             }
+            assert!(Instant::now() < deadline, "{what}: no end");
         }
-        let Ok(t) = c.reorient(goal, T) else { continue };
-        if t.verdict != Verdict::Accepted {
-            println!("gravity, {what}: refused ({:?})", t.verdict);
-            errors.push(f64::NAN);
-            continue;
-        }
-        let o = c
-            .wait_outcome(t.goal_id, GOAL)
-            .unwrap_or_else(|e| panic!("{what}: {e}"));
+        let o = c.wait_outcome(ticket.goal_id, T).unwrap();
         let s = settled(&mut c);
         let err = angle(s.measured_object_q, *expect).to_degrees();
-        let reached = o.state == GoalState::Succeeded && err < MEASURED_TOL_DEG;
-        ok += usize::from(reached);
-        errors.push(err);
+        let ok = o.state == GoalState::Succeeded && s.fault == 0 && err < GRAVITY_TOL_DEG;
+        reached += usize::from(ok);
+        worst = worst.max(err);
+        for k in 0..3 {
+            all.slip[k] = all.slip[k].max(fig.slip[k]);
+            all.commanded[k] = all.commanded[k].max(fig.commanded[k]);
+            all.measured[k] = all.measured[k].max(fig.measured[k]);
+        }
         println!(
-            "gravity, {what}: {:?} ({:?}), measured error {err:.3}°",
-            o.state, o.reason
+            "gravity, {what}: {:?} ({:?}), measured error {err:.3}°, gaits {}; slip per contact {:.2?} mm, \
+             largest grip commanded {:.2?} N, measured {:.2?} N",
+            o.state,
+            o.reason,
+            s.goal.gaits_done,
+            fig.slip.map(|x| x * 1e3),
+            fig.commanded,
+            fig.measured
         );
+        if !ok {
+            failed.push(what.clone());
+            break;
+        }
     }
-    assert!(d.running(), "gaitd survived:\n{}", d.log());
     let status = plant.stop(Duration::from_secs(20));
     let rep: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report).unwrap_or_default())
-            .unwrap_or_default();
-    errors.sort_by(f64::total_cmp);
-    let median = errors.get(errors.len() / 2).copied().unwrap_or(f64::NAN);
-    let refused = errors.iter().filter(|e| e.is_nan()).count();
-    println!("gravity on: {refused} goals refused (a fault that a reset could not clear)");
-    let worst = errors
-        .iter()
-        .copied()
-        .filter(|e| e.is_finite())
-        .fold(0.0, f64::max);
+        serde_json::from_str(&std::fs::read_to_string(&report).expect("plant report")).unwrap();
+    let drift = rep["max_object_drift_m"].as_f64().unwrap_or(f64::NAN);
     println!(
-        "gravity on, 0.1 kg: {ok}/{} goals reached within {MEASURED_TOL_DEG}° as measured; median error \
-         {median:.3}°, worst {worst:.3}°; faults before a goal {faults:?}; object centre moved up to {} m \
-         (a drop moves it by the radius); plant exit {status:?}",
+        "gravity on, 0.1 kg, MuJoCo closed loop: {reached}/{} goals reached within {GRAVITY_TOL_DEG}° \
+         (worst {worst:.3}°) in {:.0} s wall; slip per contact up to {:.2?} mm; largest grip commanded \
+         {:.2?} N, measured {:.2?} N; object centre moved up to {:.2} mm",
         goals.len(),
-        rep["max_object_drift_m"]
+        t0.elapsed().as_secs_f64(),
+        all.slip.map(|x| x * 1e3),
+        all.commanded,
+        all.measured,
+        drift * 1e3
+    );
+    println!("gravity on: first goal not reached: {failed:?}");
+    assert!(d.running(), "gaitd survived:\n{}", d.log());
+    assert!(
+        status.is_some_and(|s| s.success()),
+        "plant exit {status:?}:\n{}",
+        plant.log()
+    );
+    assert_eq!(
+        rep["rejected"], 0,
+        "plant refused commands: {}",
+        rep["last_rejection"]
     );
 }

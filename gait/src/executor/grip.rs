@@ -104,6 +104,12 @@ impl GripModel {
     /// Grip forces when the grasping fingers in the bit mask `carrying`
     /// carry the load (module docs).
     pub fn carried(&self, state: &HandState, torque: &Vector3<f64>, carrying: u8) -> Grip {
+        self.carried_with(state, Accel::Known(*torque), carrying)
+    }
+
+    /// [`GripModel::carried`] for any acceleration model (the planner's
+    /// bound ±α_max along a rotation axis).
+    pub fn carried_with(&self, state: &HandState, accel: Accel, carrying: u8) -> Grip {
         let set = carrying & grasp_mask(state);
         let mut idx = [0usize; 3];
         let mut k = 0;
@@ -112,7 +118,7 @@ impl GripModel {
             k += 1;
         }
         let n = |i: usize| state.fingers[i].center.normalize();
-        let loads = self.hold.loads(Accel::Known(*torque));
+        let loads = self.hold.loads(accel);
         match k {
             2 => self.spread(&self.hold.pair(&[n(idx[0]), n(idx[1])], &loads), &idx[..2]),
             3 => {
@@ -132,6 +138,16 @@ impl GripModel {
             }
             _ => Grip::default(),
         }
+    }
+
+    /// The three grasping fingers of `state` as hard contacts (no pair
+    /// fallback: what rolling or spinning contacts can do).
+    pub fn triple(&self, state: &HandState, accel: Accel) -> Grip {
+        if grasp_mask(state) != 0b111 {
+            return Grip::default();
+        }
+        let n = state.fingers.map(|f| f.center.normalize());
+        self.spread(&self.hold.triple(&n, &self.hold.loads(accel)), &[0, 1, 2])
     }
 
     /// Forces during a handover from the grip `from` (of the set before)

@@ -66,8 +66,9 @@
 //! # Three hard contacts
 //! The load part is the least-norm solution of G f = (−E, T) (6 × 9 grasp
 //! map, computed once per grasp); the squeeze is λ times weighted sums of
-//! the unit chords to the other two contacts, the pattern with the least
-//! peak out of seven winning.
+//! the unit chords to the other two contacts: equal weights whenever they
+//! hold within `load.max_grip` (so forces stay continuous along a motion),
+//! else the pattern with the least peak out of seven.
 //!
 //! Nothing here allocates; a pair costs about 2 µs with the 12 disturbance
 //! vertices, a triple about 5 µs (`benches/executor.rs`).
@@ -373,12 +374,17 @@ impl HoldModel {
         let mut squeeze: f64 = 0.0;
         let mut possible = true;
         let count = loads.count();
+        // The normals are a F + b_s at both contacts, a = sin(θ/2): the
+        // largest b_s per contact gives the peak.
+        let a_sq = u.dot(&-n1);
+        let mut b_max = [f64::NEG_INFINITY; 2];
         for s in 0..count {
             let (e, t) = loads.scenario(s);
             let (g1, g2, tau) = self.pair_parts(n1, n2, &e, &t);
-            for (dir, g, nn) in [(u, g1, n1), (-u, g2, n2)] {
+            for (i, (dir, g, nn)) in [(u, g1, n1), (-u, g2, n2)].into_iter().enumerate() {
                 let a = dir.dot(&-nn);
                 let b = g.dot(&-nn);
+                b_max[i] = b_max[i].max(b);
                 let aa = dir + nn * a;
                 let bb = g + nn * b;
                 match self.least(a, b, &aa, &bb, tau * self.torsion_scale, self.min_grip) {
@@ -387,7 +393,7 @@ impl HoldModel {
                 }
             }
         }
-        // Normals at that squeeze: a F + b per scenario.
+        // Contact forces of scenario s at squeeze f.
         let normals = |f: f64, s: usize| {
             let (e, t) = loads.scenario(s);
             let (g1, g2, tau) = self.pair_parts(n1, n2, &e, &t);
@@ -395,12 +401,7 @@ impl HoldModel {
             let f2 = -u * f + g2;
             (f1, f2, tau)
         };
-        let mut peak = [0.0f64; 3];
-        for s in 0..count {
-            let (f1, f2, _) = normals(squeeze, s);
-            peak[0] = peak[0].max(f1.dot(&-n1));
-            peak[1] = peak[1].max(f2.dot(&-n2));
-        }
+        let peak = [a_sq * squeeze + b_max[0], a_sq * squeeze + b_max[1], 0.0];
         let mut max_peak = if possible {
             peak[0].max(peak[1])
         } else {
@@ -511,6 +512,12 @@ impl HoldModel {
             let top = peak[0].max(peak[1]).max(peak[2]);
             if best.is_none_or(|(m, ..)| top < m) {
                 best = Some((top, lambda, chords, peak));
+            }
+            // The equal squeeze whenever it holds within the limit: one
+            // pattern throughout keeps the forces continuous along a
+            // motion (the least-peak choice could switch and jump).
+            if w == SQUEEZE_PATTERNS[0] && top <= self.max_grip {
+                break;
             }
         }
         let gl = load_part(0);

@@ -17,27 +17,37 @@ use nalgebra::Vector3;
 
 use super::candidates::Candidates;
 use super::geometry::{BOUNDARY_EPS, Geometry, cone_exit, roll_exit};
+use super::load::PairLoad;
 use super::search::{lift_finger, place_finger};
 use super::search::{rotate_hand, split};
 use super::start::PrefixAction;
 use crate::HandConfig;
 use crate::contact::{ContactGeometry, ContactState};
+use crate::executor::grip::GripModel;
+use crate::grasp::hold::Accel;
 use crate::grasp::planar::three_hard_certificate;
 use crate::rolling::{RollGoal, RollLimits, RollingPath, plan_roll};
 use crate::state::HandState;
 
 /// Paper Theory 1 for a pair of contact normals: some candidate placement
-/// of the free finger is force-closure with one of them and clear of both.
+/// of the free finger is force-closure with one of them, clear of both,
+/// and holds the load with it (SPEC §1.3 I1'; rotating about `axis` next,
+/// or at rest).
 pub fn theory1(
     g: &Geometry,
     cand: &Candidates,
+    load: &PairLoad,
+    axis: Option<&Vector3<f64>>,
     free: usize,
     ca: &Vector3<f64>,
     cb: &Vector3<f64>,
 ) -> bool {
     let sep = g.cos_sep_contact - BOUNDARY_EPS;
     cand.points[free].iter().any(|c| {
-        c.dot(ca) <= sep && c.dot(cb) <= sep && (g.is_good_pair(c, ca) || g.is_good_pair(c, cb))
+        c.dot(ca) <= sep
+            && c.dot(cb) <= sep
+            && ((g.is_good_pair(c, ca) && load.holds(c, ca, axis))
+                || (g.is_good_pair(c, cb) && load.holds(c, cb, axis)))
     })
 }
 
@@ -48,6 +58,7 @@ pub fn theory1(
 pub fn rotation_escapes(
     g: &Geometry,
     cand: &Candidates,
+    load: &PairLoad,
     hand: &HandState,
     axes: &[Vector3<f64>],
     keep: usize,
@@ -66,6 +77,11 @@ pub fn rotation_escapes(
                 .min(roll_exit(g, e, &f.pole_axis(), f.roll));
         }
         let range = (range - BOUNDARY_EPS).min(std::f64::consts::FRAC_PI_2);
+        let (ca0, cb0) = (
+            hand.fingers[pair[0]].contact_normal(),
+            hand.fingers[pair[1]].contact_normal(),
+        );
+        let range = load.exit(&ca0, &cb0, e, range);
         let mut t = step;
         while t <= range {
             let mut h = *hand;
@@ -76,7 +92,7 @@ pub fn rotation_escapes(
             );
             // (The free finger parks over its cone centre if it is in the
             // way: the plan builder does that.)
-            if theory1(g, cand, free, &ca, &cb) {
+            if theory1(g, cand, load, None, free, &ca, &cb) {
                 found.push((*e, t));
                 break;
             }
@@ -97,6 +113,7 @@ const PATH_SAMPLES: usize = 64;
 pub fn roll_escapes(
     g: &Geometry,
     cand: &Candidates,
+    load: &PairLoad,
     config: &HandConfig,
     hand: &HandState,
     keep: usize,
@@ -118,8 +135,8 @@ pub fn roll_escapes(
         let sep = g.cos_sep_contact - BOUNDARY_EPS;
         let mut targets: Vec<(f64, Vector3<f64>)> = cand.points[x]
             .iter()
-            .filter(|t| g.is_good_pair(t, &cy) && t.dot(&cy) <= sep)
-            .filter(|t| theory1(g, cand, free, t, &cy))
+            .filter(|t| g.is_good_pair(t, &cy) && t.dot(&cy) <= sep && load.holds(t, &cy, None))
+            .filter(|t| theory1(g, cand, load, None, free, t, &cy))
             .map(|t| (-t.dot(&cx), *t))
             .collect();
         targets.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -131,7 +148,7 @@ pub fn roll_escapes(
             let Ok(path) = plan_roll(&cg, &rel, &goal, &limits) else {
                 continue;
             };
-            if path_ok(g, hand, x, y, free, &path) {
+            if path_ok(g, load, hand, x, y, free, &path) {
                 out.push((x, path));
                 break;
             }
@@ -147,6 +164,7 @@ pub fn roll_escapes(
 /// force-closure with `y` and clear of the other fingertips.
 fn path_ok(
     g: &Geometry,
+    load: &PairLoad,
     hand: &HandState,
     x: usize,
     y: usize,
@@ -162,6 +180,7 @@ fn path_ok(
         let c = q_o * path.eval(s).contact;
         g.in_cone(x, &c)
             && g.is_fc_pair(&c, &cy)
+            && load.holds(&c, &cy, None)
             && others
                 .iter()
                 .all(|o| (c * g.contact_radius - o).norm() >= g.min_center_distance)
@@ -180,11 +199,19 @@ pub struct Unwound {
 /// The three-finger unwind (module docs), if a placement of the free finger
 /// makes the three contacts force-closure (planar certificate at θ − margin/2)
 /// and both spins are possible.
+///
+/// With `spin` false (under load, SPEC §1.3 I1': a contact spinning on the
+/// object has no friction left, its coupled cone used up by the spin's
+/// torsion, and the other two cannot carry the weight alone) the fingers
+/// do not spin: the free finger is placed and lifted again, a relocation
+/// that the escapes start from.
 pub fn unwind(
     g: &Geometry,
     cand: &Candidates,
+    grip: &GripModel,
     config: &HandConfig,
     hand: &HandState,
+    spin: bool,
 ) -> Option<Unwound> {
     let (pair, free) = split(hand)?;
     let (ca, cb) = (
@@ -199,6 +226,13 @@ pub fn unwind(
         .iter()
         .filter(|c| c.dot(&ca) <= sep && c.dot(&cb) <= sep)
         .filter(|c| three_hard_certificate(&[ca, cb, **c], theta).is_some_and(|m| m > 1e-6))
+        .filter(|c| {
+            // The three, hard contacts, hold the load while the pair spins
+            // (SPEC §1.3 I1').
+            let hold = grip.hold();
+            hold.triple(&[ca, cb, **c], &hold.loads(Accel::None))
+                .feasible
+        })
         .max_by(|a, b| a.dot(&from).total_cmp(&b.dot(&from)))?;
     let mut h = *hand;
     place_finger(g, &mut h, free, contact, 0.0);
@@ -208,7 +242,7 @@ pub fn unwind(
         roll: 0.0,
     }];
     let cg = ContactGeometry::from_config(config);
-    for &k in &pair {
+    for &k in pair.iter().filter(|_| spin) {
         let f = h.fingers[k];
         let state = ContactState::from_finger(&f, h.object, &cg).ok()?;
         let mut path = RollingPath::new(cg, state.relative());

@@ -18,6 +18,7 @@ pub mod convert;
 mod detour;
 pub mod escape;
 pub mod geometry;
+pub mod load;
 pub mod plan;
 pub mod search;
 pub mod start;
@@ -45,6 +46,10 @@ const GREEDY_WEIGHT: f64 = 3.0;
 /// long for one search \[rad\] (short enough that an escape inside a piece
 /// cannot reverse its direction).
 const TURN_CHUNK: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
+
+/// Shortest piece of a turn [`Planner::plan_in_chunks`] halves a piece
+/// down to when it finds no plan for it \[rad\] (15°).
+const MIN_TURN_CHUNK: f64 = std::f64::consts::PI / 12.0;
 
 /// Why no plan was returned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, thiserror::Error)]
@@ -74,6 +79,15 @@ pub enum PlanError {
     Blocked {
         /// The finger.
         finger: usize,
+    },
+    /// No plan found keeps the load feasible (SPEC §1.3 I1': every grasp
+    /// holds the weight, the acceleration torque and the disturbance with
+    /// normal forces within `load.max_grip`); `start`: the start grasp
+    /// itself cannot hold it.
+    #[error("{}", if *start { "the start grasp cannot hold the load within load.max_grip" } else { "no plan keeps the load within load.max_grip" })]
+    LoadInfeasible {
+        /// Whether the start grasp already fails.
+        start: bool,
     },
 }
 
@@ -129,6 +143,10 @@ pub struct Planner {
     config: HandConfig,
     geom: Geometry,
     timing: DurationModel,
+    /// The search's load test.
+    load: load::PairLoad,
+    /// The exact grip model a built plan is checked with.
+    grip: crate::executor::grip::GripModel,
     /// Shared: a planner re-timed for other limits
     /// ([`Planner::with_limits`]) reuses the candidate grids.
     cand: std::sync::Arc<Candidates>,
@@ -143,6 +161,8 @@ impl Planner {
             config: *config,
             geom,
             timing: DurationModel::new(config),
+            load: load::PairLoad::new(config),
+            grip: crate::executor::grip::GripModel::new(config),
             cand: std::sync::Arc::new(Candidates::new(&geom, config.planner.candidate_spacing_deg)),
         })
     }
@@ -162,6 +182,8 @@ impl Planner {
             config,
             geom: self.geom,
             timing: DurationModel::new(&config),
+            load: load::PairLoad::new(&config),
+            grip: crate::executor::grip::GripModel::new(&config),
             cand: self.cand.clone(),
         })
     }
@@ -174,6 +196,11 @@ impl Planner {
     /// Step durations.
     pub fn timing(&self) -> &DurationModel {
         &self.timing
+    }
+
+    /// The search's load test (SPEC §1.3 I1').
+    pub fn load(&self) -> &load::PairLoad {
+        &self.load
     }
 
     /// The configuration.
@@ -192,7 +219,71 @@ impl Planner {
             return Err(PlanError::NonFiniteState);
         }
         let (axis, total) = rotation_to(&start.object, &goal);
-        self.plan_about(start, &goal, axis, total, false)
+        match self.plan_about(start, &goal, axis, total, false) {
+            Err(e @ (PlanError::LoadInfeasible { start: false } | PlanError::SearchExhausted))
+                if self.load.active() =>
+            {
+                self.plan_via_twist(start, &goal).ok_or(e)
+            }
+            r => r,
+        }
+    }
+
+    /// Under load, the goal rotation split into a turn about gravity (which
+    /// leaves every grasp's load unchanged) and the rest, in either order,
+    /// each planned on its own: the fallback when one search about the
+    /// goal's axis finds nothing.
+    fn plan_via_twist(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Option<Plan> {
+        let up = -self.grip.hold().weight();
+        let up = if up.norm() > 0.0 {
+            up.normalize()
+        } else {
+            Vector3::z()
+        };
+        let rel = goal * start.object.inverse();
+        let q = rel.quaternion();
+        // Twist about `up`: the projection of the rotation onto it.
+        let v = Vector3::new(q.i, q.j, q.k);
+        let t = nalgebra::Quaternion::from_parts(q.w, up * up.dot(&v));
+        if t.norm() < 1e-9 {
+            return None;
+        }
+        let twist = UnitQuaternion::new_normalize(t);
+        for first in [twist, twist.inverse() * rel] {
+            let mid = first * start.object;
+            let Ok(a) = self.plan_leg(start, &mid) else {
+                continue;
+            };
+            let at = a.end_state();
+            let Ok(b) = self.plan_leg(&at, goal) else {
+                continue;
+            };
+            let mut summary = a.summary;
+            let s2 = b.summary;
+            summary.gaits += s2.gaits;
+            summary.rotations += s2.rotations;
+            summary.rolls += s2.rolls;
+            summary.duration += s2.duration;
+            summary.escaped |= s2.escaped;
+            summary.expansions += s2.expansions;
+            summary.goal_angle = start.object.angle_to(goal);
+            let mut steps = a.steps;
+            steps.extend(b.steps);
+            (summary.substitutions, summary.rewinds) = count_finger_gaits(&steps);
+            return Some(Plan {
+                start: *start,
+                goal: *goal,
+                steps,
+                summary,
+            });
+        }
+        None
+    }
+
+    /// One leg of [`Planner::plan_via_twist`].
+    fn plan_leg(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Result<Plan, PlanError> {
+        let (axis, total) = rotation_to(&start.object, goal);
+        self.plan_about(start, goal, axis, total, false)
     }
 
     /// Plans a rotation of the object by `angle` (any size, e.g. a full
@@ -221,9 +312,11 @@ impl Planner {
         };
         let goal = rotation(&axis, angle) * start.object;
         match self.plan_about(start, &goal, axis, angle, true) {
-            Err(PlanError::SearchExhausted | PlanError::Blocked { .. }) if angle > TURN_CHUNK => {
-                self.plan_in_chunks(start, &axis, angle)
-            }
+            Err(
+                PlanError::SearchExhausted
+                | PlanError::Blocked { .. }
+                | PlanError::LoadInfeasible { start: false },
+            ) if angle > TURN_CHUNK => self.plan_in_chunks(start, &axis, angle),
             r => r,
         }
     }
@@ -231,25 +324,38 @@ impl Planner {
     /// A long turn as consecutive turns of at most [`TURN_CHUNK`], each
     /// planned from where the previous one ends: the fallback when one
     /// search over the whole turn runs out of budget (many full turns, or
-    /// an escape first).
+    /// an escape first). A piece with no plan (under load, SPEC §1.3 I1',
+    /// a pair may hold for less of a turn than its cones allow) is halved,
+    /// down to [`MIN_TURN_CHUNK`], and the next piece is full size again.
     fn plan_in_chunks(
         &self,
         start: &HandState,
         axis: &Vector3<f64>,
         angle: f64,
     ) -> Result<Plan, PlanError> {
-        let pieces = (angle / TURN_CHUNK).ceil().max(1.0);
-        let piece = angle / pieces;
         let mut steps = Vec::new();
         let mut summary = PlanSummary {
             goal_angle: angle,
             ..PlanSummary::default()
         };
         let mut at = *start;
-        for _ in 0..pieces as usize {
-            let goal = rotation(axis, piece) * at.object;
-            let plan = self.plan_about(&at, &goal, *axis, piece, true)?;
+        let mut left = angle;
+        let mut piece = TURN_CHUNK;
+        while left > 1e-12 {
+            // Even pieces of at most `piece` for what is left.
+            let this = left / (left / piece).ceil().max(1.0);
+            let goal = rotation(axis, this) * at.object;
+            let plan = match self.plan_about(&at, &goal, *axis, this, true) {
+                Ok(p) => p,
+                Err(e) if this * 0.5 < MIN_TURN_CHUNK => return Err(e),
+                Err(_) => {
+                    piece = this * 0.5;
+                    continue;
+                }
+            };
             at = plan.end_state();
+            left -= this;
+            piece = TURN_CHUNK;
             let s = plan.summary;
             summary.gaits += s.gaits;
             summary.rotations += s.rotations;
@@ -314,14 +420,31 @@ impl Planner {
                 return Err(PlanError::NoGrasp);
             }
         }
+        // The start must hold the load (at rest) for anything to follow.
+        if self.load.active()
+            && !self
+                .grip
+                .carried_with(start, crate::grasp::Accel::None, 0b111)
+                .feasible
+        {
+            return Err(PlanError::LoadInfeasible { start: true });
+        }
         let starts = starts(
             &self.geom,
             &self.timing,
+            &self.load,
+            &self.grip,
+            &self.config,
             start,
+            &axis,
             self.config.planner.pair_margin_deg.to_radians(),
         );
         if starts.is_empty() {
-            return Err(PlanError::NoTwoFingerGrasp);
+            return Err(if self.load.active() {
+                PlanError::LoadInfeasible { start: false }
+            } else {
+                PlanError::NoTwoFingerGrasp
+            });
         }
         // 1. Straight: search about the goal axis from every start.
         let roots: Vec<Root> = starts
@@ -365,10 +488,20 @@ impl Planner {
         }
         // 3. Still stuck (both contacts at their limits): place the free
         //    finger for a three-finger grasp, spin the other two back to roll
-        //    zero, lift it again, and escape from there.
+        //    zero, lift it again, and escape from there. Under load without
+        //    the spins (escape::unwind): a contact spinning on the object
+        //    has used its whole coupled cone for the spin's torsion (MuJoCo's
+        //    elliptic cone alike) and the other two do not hold the weight
+        //    (replayed with gravity, the object slid out during a spin).
         for s in &starts {
-            let Some(unwound) = escape::unwind(&self.geom, &self.cand, &self.config, &s.hand)
-            else {
+            let Some(unwound) = escape::unwind(
+                &self.geom,
+                &self.cand,
+                &self.grip,
+                &self.config,
+                &s.hand,
+                !self.load.active(),
+            ) else {
                 continue;
             };
             let mut s2 = s.clone();
@@ -393,6 +526,10 @@ impl Planner {
                 Err(e) => last_err = e,
             }
         }
+        // Under load, the search failing means no load-feasible plan.
+        if self.load.active() && last_err == PlanError::SearchExhausted {
+            last_err = PlanError::LoadInfeasible { start: false };
+        }
         Err(last_err)
     }
 
@@ -408,8 +545,10 @@ impl Planner {
     ) -> Result<Plan, PlanError> {
         let mut last_err = PlanError::SearchExhausted;
         let axes = fibonacci_sphere(self.config.planner.escape_axes as usize);
-        let rotations = escape::rotation_escapes(&self.geom, &self.cand, &s.hand, &axes, 8);
-        let rolls = escape::roll_escapes(&self.geom, &self.cand, &self.config, &s.hand, 2);
+        let rotations =
+            escape::rotation_escapes(&self.geom, &self.cand, &self.load, &s.hand, &axes, 8);
+        let rolls =
+            escape::roll_escapes(&self.geom, &self.cand, &self.load, &self.config, &s.hand, 2);
         let tries = rotations
             .into_iter()
             .map(Escape::Rotate)
@@ -450,6 +589,7 @@ impl Planner {
             geom: &self.geom,
             timing: &self.timing,
             cand: &self.cand,
+            load: &self.load,
             axis,
             total,
             branching: self.config.planner.branching as usize,
@@ -520,6 +660,16 @@ impl Planner {
             summary.duration += st.duration;
         }
         (summary.substitutions, summary.rewinds) = count_finger_gaits(&b.steps);
+        // The exact load check of every sample (SPEC §1.3 I1').
+        if self.load.active() {
+            load::check_steps(
+                &self.grip,
+                self.config.limits.object.acceleration,
+                start,
+                &b.steps,
+            )
+            .map_err(|_| PlanError::LoadInfeasible { start: false })?;
+        }
         Ok(Plan {
             start: *start,
             goal: *goal,

@@ -24,6 +24,7 @@ use super::candidates::Candidates;
 use super::geometry::{
     BOUNDARY_EPS, Geometry, angle_between, cone_exit, fresh_range, roll_exit, rotation,
 };
+use super::load::PairLoad;
 use super::timing::DurationModel;
 use crate::state::{FingerMode, HandState};
 
@@ -100,6 +101,9 @@ pub struct Problem<'a> {
     pub timing: &'a DurationModel,
     /// Contact candidates.
     pub cand: &'a Candidates,
+    /// The load test (SPEC §1.3 I1'): every pair the search makes holds
+    /// the load, and rotations end before a pair would stop holding it.
+    pub load: &'a PairLoad,
     /// Unit rotation axis k.
     pub axis: Vector3<f64>,
     /// Angle Φ to rotate about k.
@@ -238,7 +242,8 @@ impl<'a> Problem<'a> {
         }
     }
 
-    /// How far the grasping pair of `hand` can rotate about the axis.
+    /// How far the grasping pair of `hand` can rotate about the axis: in
+    /// its cones, within its roll limits, holding the load.
     pub fn pair_range(&self, hand: &HandState, pair: [usize; 2]) -> f64 {
         let mut range = f64::INFINITY;
         for &k in &pair {
@@ -248,7 +253,15 @@ impl<'a> Problem<'a> {
                 .min(cone_exit(self.geom, k, &self.axis, &c))
                 .min(roll_exit(self.geom, &self.axis, &f.pole_axis(), f.roll));
         }
-        (range - BOUNDARY_EPS).max(0.0)
+        let range = (range - BOUNDARY_EPS).max(0.0);
+        let (ca, cb) = (
+            hand.fingers[pair[0]].contact_normal(),
+            hand.fingers[pair[1]].contact_normal(),
+        );
+        // Only as far as it is worth going: the rest of a turn at most.
+        let limit = range.min(self.total.max(MIN_SEGMENT));
+        let held = self.load.exit(&ca, &cb, &self.axis, limit);
+        if held < limit { held } else { range }
     }
 
     /// Paper Theory 1: some placement of the free finger is force-closure
@@ -257,6 +270,8 @@ impl<'a> Problem<'a> {
         super::escape::theory1(
             self.geom,
             self.cand,
+            self.load,
+            None,
             free,
             &hand.fingers[pair[0]].contact_normal(),
             &hand.fingers[pair[1]].contact_normal(),
@@ -456,9 +471,24 @@ impl<'a> Problem<'a> {
             {
                 continue;
             }
+            // The new pair must hold the load at rest (SPEC §1.3 I1'); its
+            // rotation range then ends where it stops holding it.
+            if !self.load.holds(c_keep, c, None) {
+                continue;
+            }
             let d = from.dot(c);
             // Rotation beyond what is left is worth nothing.
-            let score = -fresh.range[z][i].min(rem) * RANGE_WEIGHT + self.timing.transfer_cos(d);
+            let mut range = fresh.range[z][i].min(rem);
+            let travel = self.timing.transfer_cos(d);
+            // The load may end the rotation first; worth knowing only for
+            // a candidate that could make the lists.
+            let could = -range * RANGE_WEIGHT + travel < best.0
+                || n_top < k
+                || -range * RANGE_WEIGHT + travel < top[n_top - 1].0;
+            if could && self.load.active() {
+                range = self.load.exit(c_keep, c, &self.axis, range);
+            }
+            let score = -range * RANGE_WEIGHT + travel;
             if score < best.0 {
                 best = (score, i);
             }

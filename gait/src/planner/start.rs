@@ -10,10 +10,16 @@
 
 use nalgebra::Vector3;
 
-use super::geometry::{Geometry, angle_between};
+use super::geometry::{Geometry, angle_between, rotation};
+use super::load::PairLoad;
 use super::plan::{GreatCircleRoll, Motion, Step, StepKind};
 use super::search::lift_finger;
 use super::timing::DurationModel;
+use crate::HandConfig;
+use crate::contact::{ContactGeometry, ContactState};
+use crate::executor::grip::GripModel;
+use crate::grasp::hold::Accel;
+use crate::rolling::{RollGoal, RollLimits, SegmentKind, plan_roll};
 use crate::state::{FingerMode, HandState};
 
 /// Something done before the search's first segment.
@@ -51,8 +57,21 @@ pub struct Start {
 /// top of the exact end-point checks).
 const ROLL_SAMPLES: usize = 64;
 
-/// The ways to reach a two-finger grasp (empty if none was found).
-pub fn starts(g: &Geometry, timing: &DurationModel, hand: &HandState, extra: f64) -> Vec<Start> {
+/// The ways to reach a two-finger grasp (empty if none was found). Under
+/// load (SPEC §1.3 I1') the pair must hold it: a lift only leaves a pair
+/// that does, and the roll apart goes on until the pair does (holding it
+/// while rotating about `axis` next, when the cones allow).
+#[allow(clippy::too_many_arguments)]
+pub fn starts(
+    g: &Geometry,
+    timing: &DurationModel,
+    load: &PairLoad,
+    grip: &GripModel,
+    config: &HandConfig,
+    hand: &HandState,
+    axis: &Vector3<f64>,
+    extra: f64,
+) -> Vec<Start> {
     match hand.grasping().1 {
         2 => vec![Start {
             hand: *hand,
@@ -68,6 +87,9 @@ pub fn starts(g: &Geometry, timing: &DurationModel, hand: &HandState, extra: f64
                 if g.is_fc_pair(&ci, &cj) {
                     let mut h = *hand;
                     lift_finger(g, &mut h, lose);
+                    if load.active() && !grip.carried_with(&h, Accel::None, 0b111).feasible {
+                        continue;
+                    }
                     out.push(Start {
                         hand: h,
                         actions: vec![PrefixAction::Lift(lose)],
@@ -77,8 +99,19 @@ pub fn starts(g: &Geometry, timing: &DurationModel, hand: &HandState, extra: f64
             }
             if out.is_empty() {
                 for lose in 0..3 {
-                    if let Some(s) = roll_apart(g, timing, hand, lose, extra) {
-                        out.push(s);
+                    let want = holding_extra(g, load, grip, hand, lose, axis, extra);
+                    match roll_apart(g, timing, hand, lose, want) {
+                        Some(s) if pair_holds(load, grip, &s.hand, axis) => out.push(s),
+                        // Beyond a great-circle roll's reach (the fingertip
+                        // hemisphere): rolling paths with Fig. 2 legs.
+                        _ => {
+                            if let Some(s) =
+                                roll_paths_apart(g, timing, grip, config, hand, lose, want)
+                                    .filter(|s| pair_holds(load, grip, &s.hand, axis))
+                            {
+                                out.push(s);
+                            }
+                        }
                     }
                 }
             }
@@ -86,6 +119,199 @@ pub fn starts(g: &Geometry, timing: &DurationModel, hand: &HandState, extra: f64
         }
         _ => Vec::new(),
     }
+}
+
+/// The least extra separation (≥ `extra`, 1° steps) after which the pair
+/// the roll apart leaves holds the load rotating about `axis` — or, if no
+/// such roll stays in the cones, at rest — or `extra` if nothing does.
+fn holding_extra(
+    g: &Geometry,
+    load: &PairLoad,
+    grip: &GripModel,
+    hand: &HandState,
+    lose: usize,
+    axis: &Vector3<f64>,
+    extra: f64,
+) -> f64 {
+    if !load.active() {
+        return extra;
+    }
+    let (i, j) = others(lose);
+    let ci = hand.fingers[i].contact_normal();
+    let cj = hand.fingers[j].contact_normal();
+    let w = ci.cross(&cj);
+    if w.norm() < 1e-9 {
+        return extra;
+    }
+    let w = w.normalize();
+    let base = g.fc_min_angle - angle_between(&ci, &cj);
+    let step = 1f64.to_radians();
+    let pair_at = |x: f64| {
+        let half = 0.5 * (base + x);
+        (rotation(&w, -half) * ci, rotation(&w, half) * cj)
+    };
+    let in_cones = |a: &Vector3<f64>, b: &Vector3<f64>| g.in_cone(i, a) && g.in_cone(j, b);
+    let mut x = extra;
+    while x < std::f64::consts::PI - g.fc_min_angle {
+        let (a, b) = pair_at(x);
+        if !in_cones(&a, &b) {
+            break;
+        }
+        if load.holds(&a, &b, Some(axis)) {
+            return x;
+        }
+        x += step;
+    }
+    let mut x = extra;
+    while x < std::f64::consts::PI - g.fc_min_angle {
+        let (a, b) = pair_at(x);
+        if !in_cones(&a, &b) {
+            break;
+        }
+        let mut h = *hand;
+        h.fingers[i].center = a * g.contact_radius;
+        h.fingers[j].center = b * g.contact_radius;
+        lift_finger(g, &mut h, lose);
+        if grip.carried_with(&h, Accel::None, 0b111).feasible {
+            return x;
+        }
+        x += step;
+    }
+    extra
+}
+
+/// Whether the two grasping fingers of `hand` hold the load, rotating
+/// about `axis` (the search's test) or at least at rest (exact).
+fn pair_holds(load: &PairLoad, grip: &GripModel, hand: &HandState, axis: &Vector3<f64>) -> bool {
+    if !load.active() {
+        return true;
+    }
+    let (idx, n) = hand.grasping();
+    if n != 2 {
+        return false;
+    }
+    let (a, b) = (
+        hand.fingers[idx[0]].contact_normal(),
+        hand.fingers[idx[1]].contact_normal(),
+    );
+    load.holds(&a, &b, Some(axis)) || grip.carried_with(hand, Accel::None, 0b111).feasible
+}
+
+/// Samples per rolling path at which [`roll_paths_apart`] checks the three
+/// fingers (the plan's exact check samples every step again).
+const PATH_SAMPLES: usize = 6;
+
+/// Like [`roll_apart`], beyond a great-circle roll's reach (the fingertip
+/// hemisphere, SPEC §2.4): each of the two fingers follows a rolling path
+/// with Fig. 2 legs (paper Fig. 3) to half the separation wanted while
+/// the other fingers hold; the legs are pure great-circle rolls, so the
+/// two fingers roll at the same time, leg by leg. Then `lose` lifts. Every
+/// sample keeps the three in their cones, clear of each other,
+/// force-closure (Fact 4 or a force-closure pair) and holding the load as
+/// hard contacts.
+fn roll_paths_apart(
+    g: &Geometry,
+    timing: &DurationModel,
+    grip: &GripModel,
+    config: &HandConfig,
+    hand: &HandState,
+    lose: usize,
+    extra: f64,
+) -> Option<Start> {
+    let (i, j) = others(lose);
+    let ci = hand.fingers[i].contact_normal();
+    let cj = hand.fingers[j].contact_normal();
+    let w = ci.cross(&cj);
+    if w.norm() < 1e-9 {
+        return None;
+    }
+    let w = w.normalize();
+    let half = 0.5 * (g.fc_min_angle + extra - angle_between(&ci, &cj));
+    if half <= 0.0 {
+        return None;
+    }
+    let cg = ContactGeometry::from_config(config);
+    let limits = RollLimits::from_config(config, true);
+    let ratio = g.contact_radius / g.fingertip_radius;
+    // Each finger's legs as great-circle rolls (hand frame).
+    let mut legs: [Vec<GreatCircleRoll>; 2] = [Vec::new(), Vec::new()];
+    for (slot, (k, sign)) in [(i, -1.0), (j, 1.0)].into_iter().enumerate() {
+        let target = rotation(&w, sign * half) * hand.fingers[k].contact_normal();
+        let state = ContactState::from_finger(&hand.fingers[k], hand.object, &cg).ok()?;
+        let goal = RollGoal {
+            target: hand.object.inverse() * target,
+            final_roll: None,
+        };
+        let path = plan_roll(&cg, &state.relative(), &goal, &limits).ok()?;
+        for seg in path.segments() {
+            if seg.kind != SegmentKind::Roll {
+                return None;
+            }
+            legs[slot].push(GreatCircleRoll {
+                finger: k,
+                axis: hand.object * seg.axis,
+                angle: seg.length / ratio,
+            });
+        }
+    }
+    let hold = grip.hold();
+    let loads = hold.loads(Accel::None);
+    let mut h = *hand;
+    let mut actions = Vec::with_capacity(6);
+    let mut cost = 0.0;
+    for n in 0..legs[0].len().max(legs[1].len()) {
+        let mut rolls = [None; 3];
+        rolls[0] = legs[0].get(n).copied();
+        rolls[1] = legs[1].get(n).copied();
+        let step = Step {
+            kind: StepKind::Roll,
+            start: h,
+            motion: Motion::Roll { rolls, ratio },
+            duration: 0.0,
+            handover: None,
+        };
+        let dofs = step.dofs();
+        for sample in 0..=PATH_SAMPLES {
+            let lam = sample as f64 / PATH_SAMPLES as f64;
+            let x = step.eval(&dofs.length.map(|l| l * lam), &[0.0; 3]).state;
+            for k in [i, j] {
+                let f = &x.fingers[k];
+                if !g.in_cone(k, &f.contact_normal()) || f.fingertip_contact().z < -1e-9 {
+                    return None;
+                }
+            }
+            for a in 0..3 {
+                for b in a + 1..3 {
+                    if (x.fingers[a].center - x.fingers[b].center).norm() < g.min_center_distance {
+                        return None;
+                    }
+                }
+            }
+            let nn = x.fingers.map(|f| f.contact_normal());
+            let fc = fact4(g, &nn[0], &nn[1], &nn[2])
+                || (0..3).any(|a| g.is_fc_pair(&nn[a], &nn[(a + 1) % 3]));
+            if !fc || !hold.triple(&nn, &loads).feasible {
+                return None;
+            }
+        }
+        cost += timing.roll(dofs.length[0].max(dofs.length[1]));
+        h = step.eval(&dofs.length, &[0.0; 3]).state;
+        actions.push(PrefixAction::Roll(rolls));
+    }
+    if !g.is_fc_pair(
+        &h.fingers[i].contact_normal(),
+        &h.fingers[j].contact_normal(),
+    ) || h.fingers.iter().any(|f| f.roll.abs() > g.roll_limit + 1e-9)
+    {
+        return None;
+    }
+    lift_finger(g, &mut h, lose);
+    actions.push(PrefixAction::Lift(lose));
+    Some(Start {
+        hand: h,
+        actions,
+        cost: cost + timing.vertical + timing.handover,
+    })
 }
 
 fn others(k: usize) -> (usize, usize) {

@@ -1,6 +1,7 @@
 //! Shared helpers of the integration tests.
 #![allow(dead_code)]
 
+pub mod load;
 pub mod verify;
 
 use nalgebra::{Quaternion, UnitQuaternion};
@@ -52,10 +53,10 @@ pub fn in_cap(rng: &mut impl Rng, axis: &Vector3<f64>, angle: f64) -> Vector3<f6
 }
 
 /// A random valid two-finger state (SPEC §1.3): a force-closure pair with
-/// margin, contacts anywhere in the cones, fingertip contacts anywhere in a
-/// cap around the pole (as rolling leaves them), rolls anywhere within the
-/// limit, the free finger anywhere in its free-space shell; random object
-/// orientation.
+/// margin holding the configured load at rest (I1'), contacts anywhere in
+/// the cones, fingertip contacts anywhere in a cap around the pole (as
+/// rolling leaves them), rolls anywhere within the limit, the free finger
+/// anywhere in its free-space shell; random object orientation.
 pub fn random_two_finger_state(rng: &mut impl Rng, cfg: &HandConfig) -> HandState {
     let g = Geometry::new(cfg);
     let m = &cfg.model;
@@ -104,9 +105,26 @@ pub fn random_two_finger_state(rng: &mut impl Rng, cfg: &HandConfig) -> HandStat
                 (s.fingers[i].center - s.fingers[j].center).norm() >= g.min_center_distance + 1e-6
             })
         });
-        if clear {
+        // Valid includes holding the load (SPEC §1.3 I1') at rest.
+        if clear
+            && gait::executor::grip::GripModel::new(cfg)
+                .grip(&s, &Vector3::zeros())
+                .feasible
+        {
             return s;
         }
     }
 }
 pub mod run;
+
+/// The default configuration with a weightless object and no
+/// disturbance: no load to hold, so the planner only has the kinematic
+/// invariants (SPEC §1.3 I1–I5) — the regime the kinematic sweeps and the
+/// lifecycle tests check. Holding against gravity (I1') is checked by
+/// `planner_load.rs` and `executor_load.rs`.
+pub fn weightless() -> gait::HandConfig {
+    let mut cfg = gait::HandConfig::default();
+    cfg.load.object_mass = 0.0;
+    cfg.load.disturbance_force = 0.0;
+    cfg
+}

@@ -26,9 +26,12 @@ pub struct Args {
     /// embedded kinematic hand.
     #[arg(long, value_enum)]
     plant: Option<crate::plant::Kind>,
-    /// With `--plant`: the object has weight (the config's `[load]`);
-    /// without it daemon and plant both run with zero gravity.
-    #[arg(long, requires = "plant")]
+    /// The object has weight (the config's `[load]`); without it the
+    /// started daemon (and plant) run with zero gravity. Under the default
+    /// load the paper's second turn, about x, is refused
+    /// (LoadInfeasible): planned with gravity, full turns about horizontal
+    /// axes are not reached yet.
+    #[arg(long)]
     gravity: bool,
     /// Python interpreter for `--plant mujoco` [env: GAITD_PYTHON; default python3].
     #[arg(long)]
@@ -52,11 +55,14 @@ pub(crate) struct Embedded {
     pub(crate) opts: ConnectOptions,
 }
 
+/// The `[load]` of a demo without `--gravity`.
+const WEIGHTLESS: &str = "[load]\ngravity = [0.0, 0.0, 0.0]\n";
+
 /// The config of a daemon whose hand is the external plant `plant`.
 fn plant_config(plant: crate::plant::Kind, gravity: bool) -> String {
     let mut c = String::from("[plant]\nkind = \"shm\"\ntiming = \"lockstep\"\n");
     if !gravity {
-        c.push_str("[load]\ngravity = [0.0, 0.0, 0.0]\n");
+        c.push_str(WEIGHTLESS);
     }
     if plant == crate::plant::Kind::Mujoco {
         // Soft contacts: the object and the fingertips track the command
@@ -333,13 +339,16 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
                 .and_then(|p| p.parent().map(|d| d.join("gaitd")))
                 .unwrap_or_else(|| PathBuf::from("gaitd"))
         });
-        let extra = a
-            .plant
-            .map_or(String::new(), |p| plant_config(p, a.gravity));
+        let extra = match a.plant {
+            Some(p) => plant_config(p, a.gravity),
+            None if !a.gravity => WEIGHTLESS.to_owned(),
+            None => String::new(),
+        };
         match a.plant {
             None => println!(
-                "no gaitd running: starting an embedded one ({})",
-                bin.display()
+                "no gaitd running: starting an embedded one ({}), gravity {}",
+                bin.display(),
+                if a.gravity { "on" } else { "off" }
             ),
             Some(p) => println!(
                 "starting gaitd ({}) with an external {p:?} plant in lockstep, gravity {}",

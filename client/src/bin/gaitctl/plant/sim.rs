@@ -18,6 +18,8 @@ pub struct KinematicPlant {
     until_ns: Option<u64>,
     time_ns: u64,
     period_ns: u64,
+    /// |centre| of a fingertip touching the object, R + r \[m\].
+    contact_radius: f64,
 }
 
 fn quat(q: [f64; 4]) -> UnitQuaternion<f64> {
@@ -40,6 +42,7 @@ impl KinematicPlant {
             until_ns: seconds.map(|s| (s * 1e9) as u64),
             time_ns: 0,
             period_ns,
+            contact_radius: config.model.object_radius + config.model.fingertip_radius,
         }
     }
 }
@@ -52,7 +55,15 @@ impl PlantModel for KinematicPlant {
             f.center = Vector3::from(cf.position);
             f.orientation = quat(cf.orientation);
             f.roll = cf.roll;
-            f.mode = if cf.mode == PlantFingerMode::Grasping.code() {
+            // Grasping presses; a placing or lifting fingertip that the
+            // setpoint puts on the surface touches too (PLANT-GUIDE: the
+            // grip ramps in, or out, while it does).
+            let on_surface = (f.center.norm() - self.contact_radius).abs() < 1e-9;
+            let touching = cf.mode == PlantFingerMode::Grasping.code()
+                || ((cf.mode == PlantFingerMode::Placing.code()
+                    || cf.mode == PlantFingerMode::Lifting.code())
+                    && on_surface);
+            f.mode = if touching {
                 FingerMode::Grasping
             } else {
                 FingerMode::Free

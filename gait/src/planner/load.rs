@@ -1,0 +1,480 @@
+//! Planning under load (SPEC §1.3 I1', issue "Holding against gravity"):
+//! a closed-form *sufficient* test for the search and the exact check of a
+//! built plan.
+//!
+//! # The search's test ([`PairLoad`])
+//! For a soft pair with contact normals n1, n2 (angle θ, a = cos(θ/2),
+//! b = sin(θ/2)) take the frame ĉ (bisector), u (chord), ν = u × ĉ (normal
+//! of the plane through O and both contacts). With the squeeze F and the
+//! load part of [`crate::grasp::hold`] (load E through O, torque T the
+//! contacts supply), contact 1 carries, written out in that frame,
+//!
+//! ```text
+//! normal      N₁ = b F + a E_c/2 − E_u/(2b) + a T_ν/(2Rb)
+//! in plane    a F − b E_c/2 − T_ν/(2R)
+//! along ν     −E_ν/2 + T_c/(2Rb)
+//! torsion     τ = (R a E_ν + T_u)/(2b)
+//! ```
+//!
+//! and contact 2 the same with the signs of the E_u and T terms of N, of
+//! the T_ν term in plane and of T_c flipped (its in-plane force is
+//! −(a F − b E_c/2 + T_ν/(2R))). The torsion line is GRAVITY-NOTES' key
+//! identity: only torsion resists the load's moment about the chord.
+//! Everything is affine in the load. The weight and the acceleration
+//! torque about a known axis (both signs) enter exactly; the disturbance
+//! force d (|d| ≤ D, D the radius of the ball around the icosahedron of
+//! [`crate::grasp::hold`]), the disturbance torque and, for an unknown
+//! axis, I α enter through the norms of their columns (so N changes by at
+//! most ρ_N, the cone's left side by at most ρ). With the largest squeeze
+//! F for which no normal exceeds F_max, the test is
+//! μ (N₀ − ρ_N) − ‖(a F + in-plane₀, ν₀, τ₀ μ/μ_t)‖ − ρ ≥ 0 at both contacts,
+//! N₀ − ρ_N ≥ `min_grip`.
+//! That is [`PairLoad::slack`] ≥ 0; it implies the closed form of
+//! `grasp::hold` — and so the SOCP — holds the load with peak ≤ F_max
+//! (tested: `gait/tests/planner_load.rs`). It costs a few dozen flops, so
+//! the search evaluates it for every candidate pair; along a rotation by t
+//! about k the weight turns by −t in the pair's frame, and
+//! [`PairLoad::exit`] steps t to the first angle where the test fails.
+//!
+//! # The exact check of a plan ([`check_steps`])
+//! Every step is sampled (rotations every [`ROTATION_SAMPLE`], rolls 8
+//! times, still steps at their ends) and the grasp that carries the load —
+//! tracked through placements, handovers and lifts exactly as the executor
+//! does — is evaluated with the closed form of [`crate::executor::grip`],
+//! with the acceleration bound ±α_max along a rotation's axis. Both ends of
+//! every handover must hold (the blend between them then does). A plan that
+//! fails is not returned.
+
+use nalgebra::Vector3;
+
+use super::geometry::{Sinusoid, any_perpendicular};
+use super::plan::{Motion, Step};
+use crate::HandConfig;
+use crate::executor::grip::{Grip, GripModel, grasp_mask};
+use crate::grasp::hold::{Accel, ICOSAHEDRON_RATIO};
+use crate::state::HandState;
+
+/// Largest rotation between two exact checks of a Rotate step \[rad\] (3°).
+pub const ROTATION_SAMPLE: f64 = 3.0 * std::f64::consts::PI / 180.0;
+
+/// Samples per roll step in the exact check.
+const ROLL_SAMPLES: usize = 8;
+
+/// Step of [`PairLoad::exit`]'s scan \[rad\] (5°), refined by bisection
+/// to 0.02°.
+const EXIT_STEP: f64 = 5.0 * std::f64::consts::PI / 180.0;
+
+/// The search's closed-form load test for soft pairs (module docs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairLoad {
+    radius: f64,
+    mu: f64,
+    torsion_scale: f64,
+    min_grip: f64,
+    max_grip: f64,
+    weight: Vector3<f64>,
+    disturbance: f64,
+    torque: f64,
+    inertia_torque: f64,
+    /// Whether there is any load to hold beyond the squeeze floor (with
+    /// none, the test reduces to force closure and is skipped).
+    active: bool,
+}
+
+impl PairLoad {
+    /// From a validated configuration.
+    pub fn new(c: &HandConfig) -> Self {
+        let m = &c.model;
+        let l = &c.load;
+        let theta = m.friction_angle_deg.to_radians() - 0.5 * m.fc_margin_deg.to_radians();
+        let weight = Vector3::from(l.gravity) * l.object_mass;
+        let inertia = 0.4 * l.object_mass * m.object_radius * m.object_radius;
+        let inertia_torque = inertia * c.limits.object.acceleration;
+        Self {
+            radius: m.object_radius,
+            mu: theta.tan(),
+            torsion_scale: c.mu() / c.mu_torsion(),
+            min_grip: l.min_grip,
+            max_grip: l.max_grip,
+            weight,
+            disturbance: ICOSAHEDRON_RATIO * l.disturbance_force,
+            torque: ICOSAHEDRON_RATIO * l.disturbance_torque,
+            inertia_torque,
+            active: weight.norm() > 0.0
+                || l.disturbance_force > 0.0
+                || l.disturbance_torque > 0.0
+                || inertia_torque > 0.0,
+        }
+    }
+
+    /// Whether the test constrains anything.
+    pub fn active(&self) -> bool {
+        self.active
+    }
+
+    /// The pair's frame and the parts of the test that do not depend on
+    /// the weight's direction (rotating about `axis`, or at rest).
+    fn frame(
+        &self,
+        n1: &Vector3<f64>,
+        n2: &Vector3<f64>,
+        axis: Option<&Vector3<f64>>,
+    ) -> Option<PairFrame> {
+        let sum = n1 + n2;
+        let diff = n2 - n1;
+        let a = 0.5 * sum.norm();
+        let b = 0.5 * diff.norm();
+        if b < 1e-9 {
+            return None;
+        }
+        let u = diff / (2.0 * b);
+        let c_hat = if a > 1e-9 {
+            sum / (2.0 * a)
+        } else {
+            any_perpendicular(&u)
+        };
+        let nu = u.cross(&c_hat);
+        let r = self.radius;
+        let s = self.torsion_scale;
+        // Known: the acceleration torque about the axis (both signs).
+        // Unknown: the disturbance force (|d| ≤ D) and torque (by norm).
+        let known = axis.map_or(Vector3::zeros(), |k| {
+            Vector3::new(k.dot(&c_hat), k.dot(&u), k.dot(&nu)) * self.inertia_torque
+        });
+        let tq = self.torque;
+        let d = self.disturbance;
+        // Worst change of N, and of the cone's left side, per unit of the
+        // unknowns: the norm at the known load plus the map's norm, or the
+        // norm of the componentwise bounds (rows: in-plane, along ν,
+        // torsion); both hold, the smaller is used.
+        let rho_n = d * (0.25 * a * a + 0.25 / (b * b)).sqrt() + tq * a / (2.0 * r * b);
+        let rows = [
+            0.5 * b * d + tq * 0.5 / r,
+            0.5 * d + tq * 0.5 / (r * b),
+            s * r * a * d / (2.0 * b) + tq * 0.5 * s / b,
+        ];
+        let rho_need = d * (0.5 * b).max((0.25 + (s * r * a / (2.0 * b)).powi(2)).sqrt())
+            + tq * (0.5 / r).max(0.5 / (r * b)).max(0.5 * s / b);
+        Some(PairFrame {
+            a,
+            b,
+            axes: [c_hat, u, nu],
+            known,
+            rho_n,
+            rows,
+            rho_need,
+        })
+    }
+
+    /// The test's slack \[N\] for the weight components (ĉ, u, ν); with
+    /// `sign_only`, any negative value as soon as one is found.
+    fn slack_in(&self, p: &PairFrame, ec: f64, eu: f64, en: f64, sign_only: bool) -> f64 {
+        let (a, b) = (p.a, p.b);
+        let r = self.radius;
+        let s = self.torsion_scale;
+        // Quick reject: the torsion alone needs more than any normal can
+        // carry (μ N ≤ μ F_max).
+        let tors_low = s * (r * a * en.abs() - p.known.y.abs()) / (2.0 * b) - p.rows[2];
+        if sign_only && tors_low > self.mu * self.max_grip {
+            return -1.0;
+        }
+        let mut terms = [(0.0, 0.0, 0.0, 0.0); 4];
+        let mut f = f64::INFINITY;
+        // At rest both signs of the acceleration are the same case.
+        let signs = if p.known == Vector3::zeros() { 1 } else { 2 };
+        for (idx, sign) in [1.0, -1.0].into_iter().enumerate().take(signs) {
+            let t = p.known * sign;
+            let (tc, tu, tn) = (t.x, t.y, t.z);
+            let tors = s * (r * a * en + tu) / (2.0 * b);
+            for (c, sigma) in [1.0, -1.0].into_iter().enumerate() {
+                let n0 = 0.5 * a * ec - sigma * eu / (2.0 * b) + sigma * a * tn / (2.0 * r * b);
+                let in0 = -0.5 * b * ec - sigma * tn / (2.0 * r);
+                let along = -0.5 * en + sigma * tc / (2.0 * r * b);
+                terms[2 * idx + c] = (n0, in0, along, tors);
+                f = f.min((self.max_grip - n0 - p.rho_n) / b);
+            }
+        }
+        if f <= 0.0 {
+            return f;
+        }
+        let mut slack = f64::INFINITY;
+        for &(n0, in0, along, tors) in &terms[..2 * signs] {
+            let n = b * f + n0 - p.rho_n;
+            if n < self.min_grip {
+                return n - self.min_grip;
+            }
+            let x = [(a * f + in0).abs(), along.abs(), tors.abs()];
+            let by_norm = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt() + p.rho_need;
+            let by_rows = ((x[0] + p.rows[0]).powi(2)
+                + (x[1] + p.rows[1]).powi(2)
+                + (x[2] + p.rows[2]).powi(2))
+            .sqrt();
+            slack = slack.min(self.mu * n - by_norm.min(by_rows));
+            if sign_only && slack < 0.0 {
+                return slack;
+            }
+        }
+        slack
+    }
+
+    /// Slack \[N\] of the sufficient condition (module docs) for the soft
+    /// pair at unit normals `n1`, `n2` holding the weight `w` (hand frame),
+    /// while rotating about the unit `axis` at up to the acceleration
+    /// limit (`None`: at rest). ≥ 0: the pair holds the load.
+    pub fn slack_with(
+        &self,
+        n1: &Vector3<f64>,
+        n2: &Vector3<f64>,
+        w: &Vector3<f64>,
+        axis: Option<&Vector3<f64>>,
+    ) -> f64 {
+        match self.frame(n1, n2, axis) {
+            Some(p) => self.slack_in(
+                &p,
+                w.dot(&p.axes[0]),
+                w.dot(&p.axes[1]),
+                w.dot(&p.axes[2]),
+                false,
+            ),
+            None => f64::NEG_INFINITY,
+        }
+    }
+
+    /// [`PairLoad::slack_with`] for the configured weight.
+    pub fn slack(&self, n1: &Vector3<f64>, n2: &Vector3<f64>, axis: Option<&Vector3<f64>>) -> f64 {
+        if !self.active {
+            return f64::INFINITY;
+        }
+        self.slack_with(n1, n2, &self.weight, axis)
+    }
+
+    /// Whether the pair holds the load now (rotating about `axis`, or at
+    /// rest).
+    pub fn holds(&self, n1: &Vector3<f64>, n2: &Vector3<f64>, axis: Option<&Vector3<f64>>) -> bool {
+        if !self.active {
+            return true;
+        }
+        let w = &self.weight;
+        // Quick reject (most candidates): the torsion the weight's moment
+        // about the chord needs, less what the acceleration could give
+        // back, beyond what any normal can carry. |n1 × n2| = 2ab and the
+        // plane normal is ν = ±(n1 × n2)/(2ab).
+        let cross = n1.cross(n2);
+        let ab2 = cross.norm();
+        if ab2 > 1e-9 {
+            let a = 0.5 * (n1 + n2).norm();
+            let b = 0.5 * (n2 - n1).norm();
+            let en = w.dot(&cross).abs() / ab2;
+            let r = self.radius;
+            let slack_torque = axis.map_or(0.0, |_| self.inertia_torque) + self.torque;
+            let low =
+                self.torsion_scale * (r * a * (en - self.disturbance) - slack_torque) / (2.0 * b);
+            if low > self.mu * self.max_grip {
+                return false;
+            }
+        }
+        self.frame(n1, n2, axis).is_some_and(|p| {
+            self.slack_in(
+                &p,
+                w.dot(&p.axes[0]),
+                w.dot(&p.axes[1]),
+                w.dot(&p.axes[2]),
+                true,
+            ) >= 0.0
+        })
+    }
+
+    /// How far (rad, at most `limit`) the pair can rotate about the unit
+    /// `axis` and still hold the load: 0 if it does not now, `limit` if it
+    /// does all the way. Scans every 5° and bisects the first failure.
+    /// The pair turned by t sees the weight turned by −t: its components
+    /// in the pair's frame are sinusoids in t.
+    pub fn exit(
+        &self,
+        n1: &Vector3<f64>,
+        n2: &Vector3<f64>,
+        axis: &Vector3<f64>,
+        limit: f64,
+    ) -> f64 {
+        if !self.active {
+            return limit;
+        }
+        let Some(p) = self.frame(n1, n2, Some(axis)) else {
+            return 0.0;
+        };
+        // w · Rot(k, t) e = A + B cos t + C sin t for each frame axis e.
+        let waves = p.axes.map(|e| Sinusoid::new(axis, &e, &self.weight));
+        let ok = |t: f64| {
+            let (sin, cos) = t.sin_cos();
+            let c = waves.map(|w| w.a + w.b * cos + w.c * sin);
+            self.slack_in(&p, c[0], c[1], c[2], true) >= 0.0
+        };
+        if !ok(0.0) {
+            return 0.0;
+        }
+        // A full turn brings the weight back: one turn decides beyond it.
+        let span = limit.min(std::f64::consts::TAU);
+        let mut good = 0.0;
+        loop {
+            let t = (good + EXIT_STEP).min(span);
+            if !ok(t) {
+                let mut bad = t;
+                for _ in 0..8 {
+                    let mid = 0.5 * (good + bad);
+                    if ok(mid) {
+                        good = mid;
+                    } else {
+                        bad = mid;
+                    }
+                }
+                return good;
+            }
+            good = t;
+            if good >= span {
+                return limit;
+            }
+        }
+    }
+}
+
+/// A pair's frame (ĉ, u, ν), its a = cos(θ/2), b = sin(θ/2), the known
+/// acceleration torque in that frame and the bounds of the unknowns.
+#[derive(Debug, Clone, Copy)]
+struct PairFrame {
+    a: f64,
+    b: f64,
+    axes: [Vector3<f64>; 3],
+    known: Vector3<f64>,
+    rho_n: f64,
+    rows: [f64; 3],
+    rho_need: f64,
+}
+
+/// Where a plan's exact load check failed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoadViolation {
+    /// Step index.
+    pub step: usize,
+    /// Largest normal force needed there (+∞: no grip holds) \[N\].
+    pub peak: f64,
+}
+
+/// The largest forces along a plan (the samples of [`check_steps`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PlanForces {
+    /// Largest F* (normal force over all load scenarios) \[N\].
+    pub max_peak: f64,
+    /// Largest commanded (weight-only) normal force \[N\].
+    pub max_normal: f64,
+}
+
+/// The exact check of a built plan (module docs): every sample's carrying
+/// grasp holds the load within `load.max_grip`.
+pub fn check_steps(
+    grip: &GripModel,
+    max_acceleration: f64,
+    start: &HandState,
+    steps: &[Step],
+) -> Result<(), LoadViolation> {
+    let mut bad = None;
+    visit_steps(grip, max_acceleration, start, steps, |i, g| {
+        if !g.feasible && bad.is_none() {
+            bad = Some(LoadViolation {
+                step: i,
+                peak: g.peak,
+            });
+        }
+        bad.is_none()
+    });
+    bad.map_or(Ok(()), Err)
+}
+
+/// The largest forces the samples of [`check_steps`] need.
+pub fn plan_forces(
+    grip: &GripModel,
+    max_acceleration: f64,
+    start: &HandState,
+    steps: &[Step],
+) -> PlanForces {
+    let mut out = PlanForces::default();
+    visit_steps(grip, max_acceleration, start, steps, |_, g| {
+        out.max_peak = out.max_peak.max(g.peak);
+        out.max_normal = out
+            .max_normal
+            .max(g.normal.iter().copied().fold(0.0, f64::max));
+        true
+    });
+    out
+}
+
+/// Calls `f(step, grip)` for every sample of every step (module docs)
+/// until it returns false.
+fn visit_steps(
+    grip: &GripModel,
+    max_acceleration: f64,
+    start: &HandState,
+    steps: &[Step],
+    mut f: impl FnMut(usize, &Grip) -> bool,
+) {
+    let mut carrying = grasp_mask(start);
+    for (i, st) in steps.iter().enumerate() {
+        let d = st.dofs();
+        let at = |lam: f64| st.eval(&d.length.map(|l| l * lam), &[0.0; 3]).state;
+        match st.motion {
+            Motion::Rotate { axis, angle, .. } if angle > 0.0 => {
+                let n = (angle / ROTATION_SAMPLE).ceil().max(1.0) as usize;
+                let accel = Accel::About {
+                    axis,
+                    max: max_acceleration,
+                };
+                for k in 0..=n {
+                    let g = grip.carried_with(&at(k as f64 / n as f64), accel, carrying);
+                    if !f(i, &g) {
+                        return;
+                    }
+                }
+            }
+            Motion::Roll { .. } | Motion::RollSegment { .. } => {
+                // Rolling or spinning contacts: three hold as hard contacts
+                // (no pair of them on its own: a spinning one has no
+                // torsion), two as soft.
+                for k in 0..=ROLL_SAMPLES {
+                    let s = at(k as f64 / ROLL_SAMPLES as f64);
+                    let g = if (carrying & grasp_mask(&s)).count_ones() == 3 {
+                        grip.triple(&s, Accel::None)
+                    } else {
+                        grip.carried_with(&s, Accel::None, carrying)
+                    };
+                    if !f(i, &g) {
+                        return;
+                    }
+                }
+            }
+            _ => {
+                // Still grasp: the fingers that stay in contact throughout.
+                let end = at(1.0);
+                let set = carrying & grasp_mask(&st.start) & grasp_mask(&end);
+                if !f(i, &grip.carried_with(&st.start, Accel::None, set)) {
+                    return;
+                }
+            }
+        }
+        let end = st.eval(&d.length, &[0.0; 3]).state;
+        let grasp = grasp_mask(&end);
+        let joined = grasp & !grasp_mask(&st.start);
+        let take = st.handover.map_or(0, |h| h.take_mask());
+        carrying = (carrying | (joined & !take)) & grasp;
+        if carrying.count_ones() < 2 {
+            carrying = grasp;
+        }
+        if let Some(h) = st.handover.filter(|h| h.duration > 0.0) {
+            if !f(i, &grip.carried_with(&end, Accel::None, carrying)) {
+                return;
+            }
+            carrying = (carrying | h.take_mask()) & !h.release_mask();
+            if !f(i, &grip.carried_with(&end, Accel::None, carrying)) {
+                return;
+            }
+        }
+    }
+}
