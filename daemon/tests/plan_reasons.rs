@@ -37,6 +37,8 @@ fn each_planner_reason_reaches_the_event_and_the_status() {
         (PlanError::NoTwoFingerGrasp, 30, NO_FINGER),
         (PlanError::SearchExhausted, 19, NO_FINGER),
         (PlanError::Blocked { finger: 2 }, 31, 2),
+        (PlanError::LoadInfeasible { start: true }, 34, NO_FINGER),
+        (PlanError::LoadInfeasible { start: false }, 34, NO_FINGER),
     ];
     for (i, (error, code, finger)) in table.into_iter().enumerate() {
         let ns = Namespace::new(&format!("pr{i}"));

@@ -58,8 +58,7 @@ pub fn plan_error_code(e: PlanError) -> ReasonCode {
         PlanError::NoTwoFingerGrasp => ReasonCode::NoTwoFingerGrasp,
         PlanError::SearchExhausted => ReasonCode::NoPlan,
         PlanError::Blocked { .. } => ReasonCode::FingerBlocked,
-        // Issue 15: until the wire has a code of its own for it.
-        PlanError::LoadInfeasible { .. } => ReasonCode::NoPlan,
+        PlanError::LoadInfeasible { .. } => ReasonCode::LoadInfeasible,
     }
 }
 
