@@ -381,4 +381,19 @@ mod tests {
         let c = parse("[zenoh]\nlisten = [\"tls/0.0.0.0:7460\"]").unwrap();
         assert!(c.listens_beyond_loopback());
     }
+
+    #[test]
+    fn the_example_in_deploy_is_the_defaults_on_loopback() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../deploy/gaitd-bridge.toml");
+        let c = Config::load(&path).unwrap();
+        assert!(!c.listens_beyond_loopback(), "{:?}", c.zenoh.listen);
+        let d = Config::default();
+        assert_eq!(
+            (&c.gaitd, &c.zenoh, &c.bridge, &c.rate_limit),
+            (&d.gaitd, &d.zenoh, &d.bridge, &d.rate_limit),
+            "deploy/gaitd-bridge.toml documents values other than the defaults"
+        );
+        assert_eq!(c.role("operator"), Some(Role::Operator));
+        assert_eq!(c.role("dashboard"), Some(Role::Monitor));
+    }
 }

@@ -54,7 +54,7 @@ impl ConnArgs {
     }
 
     /// The TLS files of --remote.
-    fn tls_files(&self) -> gaitd_client::Result<TlsFiles> {
+    pub fn tls_files(&self) -> gaitd_client::Result<TlsFiles> {
         let from_pki = |ext: &str| {
             let dir = self.pki.as_ref()?;
             let name = if ext == "ca" {
