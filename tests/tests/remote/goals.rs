@@ -147,3 +147,45 @@ fn gaitctl_remote_status_reorient_hold_cancel_and_events() {
         "{out}"
     );
 }
+
+#[test]
+fn gaitctl_remote_bench_measures_the_bridge_beside_bare_zenoh() {
+    let pki = Pki::new("bench");
+    let d = TestDaemon::start("remote-bench");
+    let _local = d.client();
+    let b = TestBridge::start(&d, &pki, "");
+    let out = b
+        .gaitctl(&pki, "op")
+        .args([
+            "bench",
+            "--json",
+            "--remote-statuses",
+            "20",
+            "--remote-goals",
+            "3",
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_str(text.trim()).unwrap();
+    assert_eq!(v["remote"]["status_latency_us"]["n"], 20, "{v}");
+    assert_eq!(v["remote"]["goal_to_answer_us"]["n"], 3, "{v}");
+    // The bridge's certificate lies beside ca.pem: the reference is TLS too.
+    assert_eq!(v["bare_zenoh"]["transport"], "tls (mutual)", "{v}");
+    assert_eq!(v["bare_zenoh"]["pub_sub_one_way_us"]["n"], 20, "{v}");
+    assert_eq!(v["bare_zenoh"]["query_round_trip_us"]["n"], 100, "{v}");
+    for s in [
+        &v["remote"]["status_latency_us"],
+        &v["remote"]["goal_to_answer_us"],
+        &v["bare_zenoh"]["pub_sub_one_way_us"],
+        &v["bare_zenoh"]["query_round_trip_us"],
+    ] {
+        let (p50, max) = (s["p50"].as_f64().unwrap(), s["max"].as_f64().unwrap());
+        assert!(p50 > 0.0 && p50 <= max, "{v}");
+    }
+}
