@@ -37,6 +37,23 @@ install -m 0644 deploy/iceoryx2.toml /etc/gaitd/iceoryx2.toml
 install -m 0644 deploy/RT-TUNING.md /usr/local/share/doc/gaitd/RT-TUNING.md
 sed "s|/usr/local/bin/gaitd|$BIN_DIR/gaitd|" deploy/gaitd.service >/etc/systemd/system/gaitd.service
 
+# gaitd-bridge (remote clients over Zenoh), when built: installed, not
+# started. It needs certificates first (README, "Remote clients"), then
+#   systemctl enable --now gaitd-bridge.service
+if [ -x target/release/gaitd-bridge ]; then
+  install -m 0755 target/release/gaitd-bridge "$BIN_DIR/"
+  install -m 0644 README.md /usr/local/share/doc/gaitd/README.md
+  if [ -e /etc/gaitd/gaitd-bridge.toml ]; then
+    install -m 0644 deploy/gaitd-bridge.toml /etc/gaitd/gaitd-bridge.toml.example
+  else
+    install -m 0644 deploy/gaitd-bridge.toml /etc/gaitd/gaitd-bridge.toml
+  fi
+  install -d -m 0750 -o gaitd -g gaitd /etc/gaitd/pki
+  install -m 0755 deploy/gaitd-certs.sh "$BIN_DIR/gaitd-certs"
+  sed "s|/usr/local/bin/gaitd-bridge|$BIN_DIR/gaitd-bridge|g" deploy/gaitd-bridge.service \
+    >/etc/systemd/system/gaitd-bridge.service
+fi
+
 GAITD_IPC_CONFIG=/etc/gaitd/iceoryx2.toml "$BIN_DIR/gaitd" --config /etc/gaitd/gaitd.toml --check-config >/dev/null
 systemctl daemon-reload
 if [ "$START" -eq 1 ]; then

@@ -4,6 +4,9 @@ use crate::connection::Connection;
 use crate::error::{Error, Result};
 use crate::goal::GoalSpec;
 use crate::options::ConnectOptions;
+use crate::remote::RemoteError;
+#[cfg(feature = "remote")]
+use crate::remote::transport::{RemoteConnection, ReplyOutcome};
 use iceoryx2::config::Config;
 use shm_schema::ipc::IpcSettings;
 use shm_schema::{Answer, Command, Event, EventKind, GoalState, ReasonCode, Status, Verdict};
@@ -40,13 +43,25 @@ pub struct GoalTicket {
     pub tick: u64,
 }
 
+/// How a [`Client`] reaches the daemon.
+// One per client, built once: the size difference costs nothing.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug)]
+enum Transport {
+    /// iceoryx2 shared memory, same host.
+    Local(Connection),
+    /// Zenoh through gaitd-bridge.
+    #[cfg(feature = "remote")]
+    Remote(RemoteConnection),
+}
+
 /// A connection to a running gaitd. See the crate docs for an example.
 #[derive(Debug)]
 pub struct Client {
     opts: ConnectOptions,
     config: Config,
     settings: IpcSettings,
-    conn: Connection,
+    conn: Transport,
     client_id: u64,
     next_request: u64,
     next_goal: u64,
@@ -57,6 +72,10 @@ pub struct Client {
     outstanding: VecDeque<(u64, u64)>,
     reconnects: u64,
     bad_samples: u64,
+    /// Remote: requests that ended without an answer, and why.
+    failures: VecDeque<(u64, RemoteError)>,
+    /// Remote: the command key chunk of each outstanding request.
+    sent_names: VecDeque<(u64, &'static str)>,
 }
 
 fn random_u64() -> u64 {
@@ -86,16 +105,35 @@ impl Client {
     ///
     /// Fails with [`Error::NoDaemon`] when nothing answers in time and with
     /// [`Error::SchemaMismatch`] when the daemon speaks another schema version.
+    ///
+    /// With [`ConnectOptions::remote`], connects to gaitd-bridge instead
+    /// and fails with [`Error::Remote`] saying what to check (endpoint,
+    /// certificate, access control, no daemon behind the bridge).
     pub fn connect(opts: ConnectOptions) -> Result<Self> {
+        if opts.remote.is_some() {
+            return Self::connect_remote(opts);
+        }
         let (config, settings) = opts.resolve()?;
         let deadline = Instant::now() + opts.timeout;
-        let conn = Connection::open(&opts, &config, &settings, deadline)?;
-        let mut c = Self {
+        let conn = Transport::Local(Connection::open(&opts, &config, &settings, deadline)?);
+        let mut c = Self::with_transport(opts, config, settings, conn, random_u64() | 1);
+        c.wait_fresh_status(deadline)?;
+        Ok(c)
+    }
+
+    fn with_transport(
+        opts: ConnectOptions,
+        config: Config,
+        settings: IpcSettings,
+        conn: Transport,
+        client_id: u64,
+    ) -> Self {
+        Self {
             opts,
             config,
             settings,
             conn,
-            client_id: random_u64() | 1,
+            client_id,
             next_request: 1,
             next_goal: 1,
             last_status: None,
@@ -104,12 +142,73 @@ impl Client {
             outstanding: VecDeque::new(),
             reconnects: 0,
             bad_samples: 0,
+            failures: VecDeque::new(),
+            sent_names: VecDeque::new(),
+        }
+    }
+
+    #[cfg(not(feature = "remote"))]
+    fn connect_remote(_opts: ConnectOptions) -> Result<Self> {
+        Err(Error::Remote(RemoteError::NotBuilt))
+    }
+
+    /// The key prefix of a remote connection: explicit, `GAITD_PREFIX`,
+    /// or the default.
+    #[cfg(feature = "remote")]
+    fn remote_prefix(opts: &ConnectOptions) -> String {
+        opts.ipc
+            .service_prefix
+            .clone()
+            .or_else(|| std::env::var(shm_schema::ipc::ENV_PREFIX).ok())
+            .filter(|p| !p.is_empty())
+            .unwrap_or_else(|| crate::remote::protocol::DEFAULT_KEY_PREFIX.to_owned())
+    }
+
+    #[cfg(feature = "remote")]
+    fn connect_remote(opts: ConnectOptions) -> Result<Self> {
+        let Some(remote) = opts.remote.clone() else {
+            return Err(Error::Invalid("not a remote connection"));
         };
+        let prefix = Self::remote_prefix(&opts);
+        let deadline = Instant::now() + opts.timeout;
+        let conn = RemoteConnection::open(&remote, &prefix, opts.timeout, deadline)?;
+        let client_id = crate::remote::protocol::client_id_for(&conn.identity);
+        let settings = IpcSettings {
+            service_prefix: prefix,
+            root_path: String::new(),
+            file_prefix: String::new(),
+        };
+        let mut c = Self::with_transport(
+            opts,
+            Config::default(),
+            settings,
+            Transport::Remote(conn),
+            client_id,
+        );
+        // Goal ids are unique per client, and every session of an identity
+        // shares its client id: start somewhere no earlier session did.
+        c.next_goal = (random_u64() >> 33) + 1;
         c.wait_fresh_status(deadline)?;
         Ok(c)
     }
 
-    /// This client's id (random, non-zero, kept across reconnects).
+    /// Whether this client talks to gaitd through a bridge.
+    pub fn is_remote(&self) -> bool {
+        !matches!(self.conn, Transport::Local(_))
+    }
+
+    /// Remote: events the bridge published that never arrived here (Zenoh's
+    /// miss detection); always 0 for a local client.
+    pub fn missed_events(&self) -> u64 {
+        match &self.conn {
+            Transport::Local(_) => 0,
+            #[cfg(feature = "remote")]
+            Transport::Remote(r) => r.missed_events(),
+        }
+    }
+
+    /// This client's id (random, non-zero, kept across reconnects; remote:
+    /// the bridge's id for this client's identity).
     pub fn client_id(&self) -> u64 {
         self.client_id
     }
@@ -135,19 +234,37 @@ impl Client {
     }
 
     fn fresh(&self, s: &Status) -> bool {
-        let now = monotonic_ns();
-        now.saturating_sub(s.publish_time_ns) <= self.opts.max_status_age.as_nanos() as u64
+        match &self.conn {
+            Transport::Local(_) => {
+                let now = monotonic_ns();
+                now.saturating_sub(s.publish_time_ns) <= self.opts.max_status_age.as_nanos() as u64
+            }
+            // The daemon's clock is another host's: judge by arrival.
+            #[cfg(feature = "remote")]
+            Transport::Remote(r) => r
+                .status_age()
+                .is_some_and(|a| a <= self.opts.max_status_age),
+        }
     }
 
     /// Reads everything that arrived (status, events, our answers).
     fn pump(&mut self) -> Result<()> {
+        #[cfg(feature = "remote")]
+        if let Transport::Remote(_) = self.conn {
+            self.pump_remote();
+            return Ok(());
+        }
+        #[allow(irrefutable_let_patterns)] // without the `remote` feature
+        let Transport::Local(conn) = &mut self.conn else {
+            unreachable!("remote handled above");
+        };
         let ipc = |what| {
             move |e: iceoryx2::port::ReceiveError| Error::Ipc {
                 what,
                 why: format!("{e:?}"),
             }
         };
-        while let Some(e) = self.conn.events.receive().map_err(ipc("event receive"))? {
+        while let Some(e) = conn.events.receive().map_err(ipc("event receive"))? {
             let e = *e.payload();
             if e.check().is_err() {
                 self.bad_samples += 1;
@@ -158,7 +275,7 @@ impl Client {
             }
             self.events.push_back(e);
         }
-        while let Some(a) = self.conn.answers.receive().map_err(ipc("answer receive"))? {
+        while let Some(a) = conn.answers.receive().map_err(ipc("answer receive"))? {
             let a = *a.payload();
             // Answers to every client arrive here: keep ours.
             if self.outstanding.contains(&(a.client_id, a.request_id)) {
@@ -168,7 +285,7 @@ impl Client {
         // Status last: a caller polling for the next status sees it as
         // soon as it is read, not after two more (empty) receives. One
         // receive is enough: the subscriber's buffer holds only the newest.
-        if let Some(s) = self.conn.status.receive().map_err(ipc("status receive"))? {
+        if let Some(s) = conn.status.receive().map_err(ipc("status receive"))? {
             let s = *s.payload();
             match s.check() {
                 Ok(()) => self.last_status = Some(s),
@@ -176,6 +293,56 @@ impl Client {
             }
         }
         Ok(())
+    }
+
+    #[cfg(feature = "remote")]
+    fn pump_remote(&mut self) {
+        let Transport::Remote(r) = &mut self.conn else {
+            return;
+        };
+        let d = r.drain();
+        let (bridge, daemon) = r.alive();
+        let (endpoint, waited) = (r.endpoint.clone(), r.query_timeout());
+        self.bad_samples += d.bad_samples;
+        self.reconnects += d.bridge_returns;
+        for e in d.events {
+            if self.events.len() == EVENT_BACKLOG {
+                self.events.pop_front();
+            }
+            self.events.push_back(e);
+        }
+        for (id, outcome) in d.replies {
+            if !self.outstanding.iter().any(|&(_, r)| r == id) {
+                continue;
+            }
+            let failure = match outcome {
+                ReplyOutcome::Answer(a) => {
+                    self.answers.push_back(Answer {
+                        request_id: id,
+                        ..a
+                    });
+                    continue;
+                }
+                ReplyOutcome::Refused(r) => RemoteError::Refused(r),
+                ReplyOutcome::Bad(why) => RemoteError::BadReply(why),
+                ReplyOutcome::NoReply if bridge && daemon => RemoteError::NoAnswer {
+                    command: String::new(),
+                    identity: String::new(),
+                    waited,
+                },
+                ReplyOutcome::NoReply => RemoteError::Unreachable {
+                    endpoint: endpoint.clone(),
+                    why: "the connection to the bridge is lost (reconnecting)".into(),
+                },
+            };
+            if self.failures.len() == 64 {
+                self.failures.pop_front();
+            }
+            self.failures.push_back((id, failure));
+        }
+        if let Some(s) = d.status {
+            self.last_status = Some(s);
+        }
     }
 
     /// Blocks (on the daemon's notifications, not spinning) until `check`
@@ -197,13 +364,18 @@ impl Client {
                 return Err(Error::Timeout { what, waited });
             }
             let block = (deadline - now).min(MAX_BLOCK);
-            self.conn
-                .listener
-                .timed_wait(|_| {}, block)
-                .map_err(|e| Error::Ipc {
-                    what: "listener wait",
-                    why: format!("{e:?}"),
-                })?;
+            match &self.conn {
+                Transport::Local(conn) => {
+                    conn.listener
+                        .timed_wait(|_| {}, block)
+                        .map_err(|e| Error::Ipc {
+                            what: "listener wait",
+                            why: format!("{e:?}"),
+                        })?;
+                }
+                #[cfg(feature = "remote")]
+                Transport::Remote(r) => r.wait(block),
+            }
         }
     }
 
@@ -213,6 +385,8 @@ impl Client {
             Ok(c.last_status.filter(|s| c.fresh(s)))
         })
         .map_err(|e| match e {
+            #[cfg(feature = "remote")]
+            Error::Timeout { .. } if self.is_remote() => self.remote_silence(waited),
             Error::Timeout { .. } => Error::NoDaemon {
                 prefix: self.settings.service_prefix.clone(),
                 root: self.settings.root_path.clone(),
@@ -222,9 +396,36 @@ impl Client {
         })
     }
 
+    /// Why a remote connection shows no fresh status.
+    #[cfg(feature = "remote")]
+    fn remote_silence(&self, waited: Duration) -> Error {
+        let Transport::Remote(r) = &self.conn else {
+            return Error::Invalid("not remote");
+        };
+        Error::Remote(match r.alive() {
+            (false, _) => RemoteError::NoBridge {
+                endpoint: r.endpoint.clone(),
+                identity: r.identity.clone(),
+                prefix: r.prefix.clone(),
+                waited,
+            },
+            (true, false) => RemoteError::NoDaemonBehindBridge {
+                endpoint: r.endpoint.clone(),
+                waited,
+            },
+            (true, true) => RemoteError::BadReply(format!(
+                "the bridge at {} sees gaitd but sent no status within {waited:?}",
+                r.endpoint
+            )),
+        })
+    }
+
     /// Process id of the running daemon (its iceoryx2 node named `gaitd`
-    /// in this namespace), if one is alive.
+    /// in this namespace), if one is alive; `None` for a remote daemon.
     pub fn daemon_pid(&self) -> Option<i32> {
+        if self.is_remote() {
+            return None;
+        }
         use iceoryx2::node::{NodeState, NodeView};
         use iceoryx2::prelude::{CallbackProgression, Node};
         let mut pid = None;
@@ -251,9 +452,26 @@ impl Client {
     /// restarted), within `timeout`.
     pub fn reconnect(&mut self, timeout: Duration) -> Result<()> {
         let deadline = Instant::now() + timeout;
-        // A new node: creating it cleans up the dead daemon's node and ports.
-        let conn = Connection::open(&self.opts, &self.config, &self.settings, deadline)?;
-        self.conn = conn;
+        self.conn = match &self.opts.remote {
+            // A new node: creating it cleans up the dead daemon's node and ports.
+            None => Transport::Local(Connection::open(
+                &self.opts,
+                &self.config,
+                &self.settings,
+                deadline,
+            )?),
+            #[cfg(feature = "remote")]
+            // The old session stays until the new one is open (it may be
+            // reconnecting by itself meanwhile).
+            Some(remote) => Transport::Remote(RemoteConnection::open(
+                remote,
+                &self.settings.service_prefix,
+                self.opts.timeout,
+                deadline,
+            )?),
+            #[cfg(not(feature = "remote"))]
+            Some(_) => return Err(Error::Remote(RemoteError::NotBuilt)),
+        };
         self.last_status = None;
         self.answers.clear();
         self.outstanding.clear();
@@ -274,10 +492,36 @@ impl Client {
     /// returns its request id; does not wait. For well-formed commands use
     /// [`Client::reorient`], [`Client::cancel`], [`Client::hold`],
     /// [`Client::reset`]; this is for tools and tests that send anything.
+    ///
+    /// Remote: the command goes to the key of its kind (an unknown kind to
+    /// `reorient`); the bridge replaces `client_id` with this identity's.
     pub fn send_command(&mut self, mut cmd: Command) -> Result<u64> {
         cmd.request_id = self.next_request;
         self.next_request += 1;
-        let sample = self.conn.commands.loan_uninit().map_err(|e| Error::Ipc {
+        #[cfg(feature = "remote")]
+        if let Transport::Remote(r) = &self.conn {
+            use crate::remote::protocol as proto;
+            let name =
+                shm_schema::CommandKind::try_from(cmd.kind).map_or("reorient", proto::command_name);
+            r.send(
+                name,
+                cmd.to_bytes().to_vec(),
+                proto::COMMAND_SCHEMA,
+                cmd.request_id,
+            )?;
+            if self.outstanding.len() == 256 {
+                self.outstanding.pop_front();
+                self.sent_names.pop_front();
+            }
+            self.outstanding.push_back((cmd.client_id, cmd.request_id));
+            self.sent_names.push_back((cmd.request_id, name));
+            return Ok(cmd.request_id);
+        }
+        #[allow(irrefutable_let_patterns)] // without the `remote` feature
+        let Transport::Local(conn) = &self.conn else {
+            unreachable!("remote handled above");
+        };
+        let sample = conn.commands.loan_uninit().map_err(|e| Error::Ipc {
             what: "command loan",
             why: format!("{e:?}"),
         })?;
@@ -308,13 +552,75 @@ impl Client {
     pub fn wait_answer(&mut self, request_id: u64, timeout: Duration) -> Result<Answer> {
         let deadline = Instant::now() + timeout;
         let found = self.wait_until(deadline, "the daemon's answer", timeout, |c| {
+            if let Some(i) = c.failures.iter().position(|(r, _)| *r == request_id) {
+                let (_, why) = c.failures.remove(i).expect("found");
+                return Err(Error::Remote(c.name_failure(request_id, why)));
+            }
             Ok(c.answers
                 .iter()
                 .position(|a| a.request_id == request_id)
                 .and_then(|i| c.answers.remove(i)))
         });
+        #[cfg(feature = "remote")]
+        let found = match found {
+            Err(Error::Timeout { waited, .. }) if self.is_remote() => {
+                let no = RemoteError::NoAnswer {
+                    command: String::new(),
+                    identity: String::new(),
+                    waited,
+                };
+                Err(Error::Remote(self.name_failure(request_id, no)))
+            }
+            other => other,
+        };
         self.outstanding.retain(|&(_, r)| r != request_id);
+        self.sent_names.retain(|&(r, _)| r != request_id);
         found
+    }
+
+    /// Fills in the command name and identity of a [`RemoteError::NoAnswer`].
+    fn name_failure(&self, request_id: u64, why: RemoteError) -> RemoteError {
+        match why {
+            RemoteError::NoAnswer { waited, .. } => RemoteError::NoAnswer {
+                command: self
+                    .sent_names
+                    .iter()
+                    .find(|(r, _)| *r == request_id)
+                    .map_or("command", |(_, n)| n)
+                    .to_owned(),
+                identity: self.identity().unwrap_or_default().to_owned(),
+                waited,
+            },
+            other => other,
+        }
+    }
+
+    /// The identity of a remote client (its certificate's common name);
+    /// `None` for a local one.
+    pub fn identity(&self) -> Option<&str> {
+        match &self.conn {
+            Transport::Local(_) => None,
+            #[cfg(feature = "remote")]
+            Transport::Remote(r) => Some(&r.identity),
+        }
+    }
+
+    /// Remote only: sends `payload` as it is to command key `name`
+    /// (`reorient`, `cancel`, `hold`, `reset`, or anything) with encoding
+    /// schema `schema`, and waits for the reply. For tools and tests that
+    /// check what the bridge does with bad bytes.
+    #[cfg(feature = "remote")]
+    pub fn send_raw(
+        &mut self,
+        name: &str,
+        payload: &[u8],
+        schema: &str,
+        timeout: Duration,
+    ) -> Result<crate::remote::RawReply> {
+        match &self.conn {
+            Transport::Remote(r) => r.send_raw(name, payload, schema, timeout),
+            Transport::Local(_) => Err(Error::Invalid("send_raw needs a remote connection")),
+        }
     }
 
     /// Sends a command and waits for its answer, reconnecting once if the

@@ -66,6 +66,9 @@ pub enum Error {
     /// The daemon sent bytes that do not decode (another build, or corruption).
     #[error("undecodable data from the daemon: {0}")]
     BadData(#[from] UnknownCode),
+    /// A remote connection (through `gaitd-bridge`) failed.
+    #[error(transparent)]
+    Remote(#[from] crate::remote::RemoteError),
     /// A bad argument (e.g. a zero rotation axis).
     #[error("invalid argument: {0}")]
     Invalid(&'static str),

@@ -46,6 +46,21 @@
 //! A [`Client`] is bound to the thread that created it (iceoryx2 ports are
 //! not `Send`); create one per thread that talks to the daemon.
 //!
+//! A remote daemon (another host, through `gaitd-bridge` over Zenoh with
+//! mutual TLS) is reached with the same API: connect with
+//! [`ConnectOptions::remote`] (feature `remote`, on by default; see
+//! [`remote`]).
+//!
+//! ```no_run
+//! use gaitd_client::{Client, ConnectOptions, TlsFiles};
+//! # fn main() -> gaitd_client::Result<()> {
+//! let tls = TlsFiles::in_dir("/etc/gaitd/pki", "operator-1");
+//! let mut client = Client::connect(ConnectOptions::remote("tls/robot-1:7460", tls))?;
+//! println!("tick {}", client.wait_status(std::time::Duration::from_secs(1))?.tick);
+//! # Ok(())
+//! # }
+//! ```
+//!
 //! A daemon restart is handled: [`Client::command`] and the calls built on
 //! it reconnect once when the daemon's status went stale; any caller can
 //! also use [`Client::ensure_connected`] or [`Client::reconnect`].
@@ -56,11 +71,14 @@ mod error;
 mod goal;
 mod options;
 pub mod plant;
+pub mod remote;
+mod remote_options;
 
 pub use client::{Client, GoalTicket, Outcome, monotonic_ns};
 pub use error::{Error, Result};
 pub use goal::{GoalSpec, quat_from_axis_angle};
 pub use options::ConnectOptions;
+pub use remote::{RemoteError, RemoteOptions, TlsFiles};
 pub use shm_schema::{
     self, Answer, Command, DEFAULT_PREFIX, DaemonState, Event, EventKind, FaultCode, FingerPhase,
     GoalFrame, GoalState, GraspState, LimitKind, LimitOrder, Phase, ReasonCode, SCHEMA_VERSION,

@@ -1,6 +1,8 @@
-//! Where to find the daemon: service prefix and iceoryx2 namespace.
+//! Where to find the daemon: service prefix and iceoryx2 namespace, or a
+//! remote daemon's bridge.
 
 use crate::error::{Error, Result};
+use crate::remote_options::{RemoteOptions, TlsFiles};
 use iceoryx2::config::Config;
 use iceoryx2::prelude::{FilePath, SemanticString};
 use shm_schema::ipc::{IpcRequest, IpcSettings};
@@ -20,6 +22,10 @@ pub struct ConnectOptions {
     pub max_status_age: Duration,
     /// iceoryx2 node name of this client.
     pub node_name: String,
+    /// Talk to a remote daemon through `gaitd-bridge` (Zenoh, mutual TLS)
+    /// instead of iceoryx2; `ipc.service_prefix` is then the bridge's key
+    /// prefix (default `gaitd`). Needs the `remote` feature.
+    pub remote: Option<RemoteOptions>,
 }
 
 impl Default for ConnectOptions {
@@ -29,6 +35,7 @@ impl Default for ConnectOptions {
             timeout: Duration::from_secs(2),
             max_status_age: Duration::from_secs(1),
             node_name: "gaitd-client".into(),
+            remote: None,
         }
     }
 }
@@ -39,7 +46,26 @@ impl ConnectOptions {
         Self::default()
     }
 
-    /// Service-name prefix (default `gaitd`).
+    /// A remote daemon: the bridge at `endpoint` (`tls/HOST:PORT`), with
+    /// this client's TLS files (see [`TlsFiles::in_dir`]).
+    pub fn remote(endpoint: impl Into<String>, tls: TlsFiles) -> Self {
+        Self {
+            remote: Some(RemoteOptions::new(endpoint, tls)),
+            ..Self::default()
+        }
+    }
+
+    /// The identity used in a remote client's keys (default: the
+    /// certificate's common name). No effect on a local connection.
+    pub fn identity(mut self, name: impl Into<String>) -> Self {
+        if let Some(r) = &mut self.remote {
+            r.identity = Some(name.into());
+        }
+        self
+    }
+
+    /// Service-name prefix (default `gaitd`); for a remote connection, the
+    /// bridge's key prefix.
     pub fn prefix(mut self, prefix: impl Into<String>) -> Self {
         self.ipc.service_prefix = Some(prefix.into());
         self

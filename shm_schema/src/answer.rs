@@ -35,6 +35,28 @@ pub struct Answer {
 const _: () = assert!(core::mem::size_of::<Answer>() == 56);
 const _: () = assert!(core::mem::align_of::<Answer>() == 8);
 
+impl Answer {
+    /// Size of the payload in bytes.
+    pub const SIZE: usize = 56;
+
+    /// The payload that `bytes` encode (e.g. as received from a bridge).
+    /// Every bit pattern is a `Answer` (integers and floats only, no implicit
+    /// padding); check the codes with `check` before use.
+    pub fn from_bytes(bytes: &[u8; Self::SIZE]) -> Self {
+        // SAFETY: repr(C), exactly SIZE bytes of integers and floats without
+        // implicit padding: any bytes are a valid value; read_unaligned
+        // accepts the byte array's alignment of 1.
+        unsafe { core::ptr::read_unaligned(bytes.as_ptr().cast::<Answer>()) }
+    }
+
+    /// The payload's bytes as they travel (native endianness, as in shared memory).
+    pub fn to_bytes(&self) -> [u8; Self::SIZE] {
+        // SAFETY: same layout facts as in `from_bytes`; no padding means no
+        // uninitialised bytes are read.
+        unsafe { core::mem::transmute::<Answer, [u8; Self::SIZE]>(*self) }
+    }
+}
+
 /// A decoded [`Answer`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Verdict {
@@ -98,5 +120,16 @@ mod tests {
         assert_eq!(a.verdict(), Ok(Verdict::Accepted));
         let bad = Answer { code: 0, ..a };
         assert!(bad.verdict().is_err());
+    }
+
+    #[test]
+    fn bytes_round_trip() {
+        let c = Command::goal(3, 4, GoalFrame::Absolute, [1.0, 0.0, 0.0, 0.0]);
+        let a = Answer::new(&c, Verdict::Rejected(ReasonCode::DuplicateGoalId), 10, 99);
+        let b = a.to_bytes();
+        assert_eq!(Answer::from_bytes(&b), a);
+        // Offsets as LAYOUT.md documents them (little-endian hosts).
+        assert_eq!(u64::from_ne_bytes(b[16..24].try_into().unwrap()), 4);
+        assert_eq!(u32::from_ne_bytes(b[32..36].try_into().unwrap()), 12);
     }
 }

@@ -49,6 +49,28 @@ const _: () = assert!(core::mem::size_of::<Event>() == 88);
 const _: () = assert!(core::mem::align_of::<Event>() == 8);
 
 impl Event {
+    /// Size of the payload in bytes.
+    pub const SIZE: usize = 88;
+
+    /// The payload that `bytes` encode (e.g. as received from a bridge).
+    /// Every bit pattern is a `Event` (integers and floats only, no implicit
+    /// padding); check the codes with `check` before use.
+    pub fn from_bytes(bytes: &[u8; Self::SIZE]) -> Self {
+        // SAFETY: repr(C), exactly SIZE bytes of integers and floats without
+        // implicit padding: any bytes are a valid value; read_unaligned
+        // accepts the byte array's alignment of 1.
+        unsafe { core::ptr::read_unaligned(bytes.as_ptr().cast::<Event>()) }
+    }
+
+    /// The payload's bytes as they travel (native endianness, as in shared memory).
+    pub fn to_bytes(&self) -> [u8; Self::SIZE] {
+        // SAFETY: same layout facts as in `from_bytes`; no padding means no
+        // uninitialised bytes are read.
+        unsafe { core::mem::transmute::<Event, [u8; Self::SIZE]>(*self) }
+    }
+}
+
+impl Event {
     /// An event of `kind` with every other field 0 / none.
     pub const fn new(kind: EventKind) -> Self {
         Self {
@@ -117,5 +139,18 @@ mod tests {
         assert!(Event { finger: 3, ..e }.check().is_err());
         assert!(Event { kind: 0, ..e }.check().is_err());
         assert!(Event { state: 77, ..e }.check().is_err());
+    }
+
+    #[test]
+    fn bytes_round_trip() {
+        let e = Event {
+            seq: 7,
+            value: 1.5,
+            ..Event::new(EventKind::GoalTransition)
+        };
+        let b = e.to_bytes();
+        assert_eq!(Event::from_bytes(&b), e);
+        assert_eq!(u64::from_ne_bytes(b[0..8].try_into().unwrap()), 7);
+        assert_eq!(f64::from_ne_bytes(b[80..88].try_into().unwrap()), 1.5);
     }
 }

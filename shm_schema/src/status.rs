@@ -226,6 +226,28 @@ const _: () = assert!(core::mem::size_of::<Status>() == 1160);
 const _: () = assert!(core::mem::align_of::<Status>() == 8);
 
 impl Status {
+    /// Size of the payload in bytes.
+    pub const SIZE: usize = 1144;
+
+    /// The payload that `bytes` encode (e.g. as received from a bridge).
+    /// Every bit pattern is a `Status` (integers and floats only, no implicit
+    /// padding); check the codes with `check` before use.
+    pub fn from_bytes(bytes: &[u8; Self::SIZE]) -> Self {
+        // SAFETY: repr(C), exactly SIZE bytes of integers and floats without
+        // implicit padding: any bytes are a valid value; read_unaligned
+        // accepts the byte array's alignment of 1.
+        unsafe { core::ptr::read_unaligned(bytes.as_ptr().cast::<Status>()) }
+    }
+
+    /// The payload's bytes as they travel (native endianness, as in shared memory).
+    pub fn to_bytes(&self) -> [u8; Self::SIZE] {
+        // SAFETY: same layout facts as in `from_bytes`; no padding means no
+        // uninitialised bytes are read.
+        unsafe { core::mem::transmute::<Status, [u8; Self::SIZE]>(*self) }
+    }
+}
+
+impl Status {
     /// Checks every code in the status (a reader never trusts foreign bytes).
     pub fn check(&self) -> Result<(), UnknownCode> {
         DaemonState::try_from(self.daemon_state)?;
@@ -308,6 +330,20 @@ mod tests {
             assert_eq!(jitter_bucket(jitter_bucket_upper_ns(i) - 1), i);
             assert_eq!(jitter_bucket(jitter_bucket_upper_ns(i)), i + 1);
         }
+    }
+
+    #[test]
+    fn bytes_round_trip() {
+        let mut s = Status {
+            tick: 42,
+            commands: 9,
+            ..Status::default()
+        };
+        s.fingers[2].tip_error = 0.25;
+        let b = s.to_bytes();
+        assert_eq!(Status::from_bytes(&b), s);
+        assert_eq!(u64::from_ne_bytes(b[0..8].try_into().unwrap()), 42);
+        assert_eq!(u64::from_ne_bytes(b[1120..1128].try_into().unwrap()), 9);
     }
 
     #[test]

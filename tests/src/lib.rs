@@ -24,6 +24,13 @@ pub fn repo_root() -> PathBuf {
 ///
 /// Test binaries live in `target/<profile>/deps/`; the workspace binaries
 /// one level up.
+///
+/// `GAITD_TEST_BUILD_FLAGS` (whitespace-separated) is appended to that
+/// `cargo build`: `.ci/test` sets it to the flags of its own `cargo test`
+/// (`--all-features --tests`), so that the build resolves the same features
+/// as the test build (dev-dependencies included), finds everything fresh
+/// and compiles nothing a second time (Zenoh and the other dependencies
+/// whose features dev-dependencies widen).
 pub fn workspace_bin(name: &str) -> PathBuf {
     static BUILT: OnceLock<()> = OnceLock::new();
     let exe = std::env::current_exe().expect("test executable path");
@@ -37,6 +44,9 @@ pub fn workspace_bin(name: &str) -> PathBuf {
         let mut cmd = Command::new(cargo);
         cmd.current_dir(repo_root())
             .args(["build", "--quiet", "--workspace", "--bins"]);
+        if let Ok(flags) = std::env::var("GAITD_TEST_BUILD_FLAGS") {
+            cmd.args(flags.split_whitespace());
+        }
         if profile_dir.file_name().is_some_and(|n| n == "release") {
             cmd.arg("--release");
         }

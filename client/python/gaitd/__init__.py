@@ -9,6 +9,8 @@ Modules, by what they hold:
   root path, file prefix), resolved as the daemon resolves them;
 * :mod:`gaitd.client` — send goals, cancel, hold, reset; read the status
   and events; wait for a goal's outcome;
+* :mod:`gaitd.remote` — the same from another host, through gaitd-bridge
+  over Zenoh with mutual TLS (extra ``[remote]``);
 * :mod:`gaitd.plant` — the :class:`~gaitd.plant.Plant` base class: attach
   your own hand or simulator (PLANT-GUIDE.md);
 * :mod:`gaitd.setpoint` — checked setpoints and measurements, the plant's

@@ -1,6 +1,7 @@
 //! Connection flags and formatting shared by the subcommands.
 
-use gaitd_client::{Client, ConnectOptions, Event, EventKind, Status, Verdict};
+use gaitd_client::{Client, ConnectOptions, Event, EventKind, Status, TlsFiles, Verdict};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
@@ -22,6 +23,28 @@ pub struct ConnArgs {
     /// How long to wait for the daemon [s].
     #[arg(long, global = true, default_value_t = 2.0)]
     pub timeout: f64,
+    /// A remote gaitd: its gaitd-bridge at ENDPOINT (tls/HOST:PORT), over
+    /// Zenoh with mutual TLS, instead of iceoryx2 (--prefix is then the
+    /// bridge's key prefix).
+    #[arg(long, global = true, value_name = "ENDPOINT")]
+    pub remote: Option<String>,
+    /// With --remote: the directory of deploy/gaitd-certs.sh's files
+    /// (ca.pem, IDENTITY.pem, IDENTITY.key).
+    #[arg(long, global = true, value_name = "DIR")]
+    pub pki: Option<PathBuf>,
+    /// With --remote: the identity (the certificate's common name; with
+    /// --pki, the files' name).
+    #[arg(long, global = true)]
+    pub identity: Option<String>,
+    /// With --remote: the CA certificate (PEM) [default: --pki/ca.pem].
+    #[arg(long, global = true, value_name = "FILE")]
+    pub ca: Option<PathBuf>,
+    /// With --remote: this client's certificate (PEM) [default: --pki/IDENTITY.pem].
+    #[arg(long, global = true, value_name = "FILE")]
+    pub cert: Option<PathBuf>,
+    /// With --remote: this client's key (PEM) [default: --pki/IDENTITY.key].
+    #[arg(long, global = true, value_name = "FILE")]
+    pub key: Option<PathBuf>,
 }
 
 impl ConnArgs {
@@ -30,8 +53,56 @@ impl ConnArgs {
         Duration::from_secs_f64(self.timeout.max(0.0))
     }
 
+    /// The TLS files of --remote.
+    pub fn tls_files(&self) -> gaitd_client::Result<TlsFiles> {
+        let from_pki = |ext: &str| {
+            let dir = self.pki.as_ref()?;
+            let name = if ext == "ca" {
+                "ca.pem".to_owned()
+            } else {
+                format!("{}.{ext}", self.identity.as_deref()?)
+            };
+            Some(dir.join(name))
+        };
+        let pick = |given: &Option<PathBuf>, ext| given.clone().or_else(|| from_pki(ext));
+        match (
+            pick(&self.ca, "ca"),
+            pick(&self.cert, "pem"),
+            pick(&self.key, "key"),
+        ) {
+            (Some(ca), Some(cert), Some(key)) => Ok(TlsFiles::new(ca, cert, key)),
+            _ => Err(gaitd_client::Error::Invalid(
+                "--remote needs --pki DIR --identity NAME, or --ca, --cert and --key",
+            )),
+        }
+    }
+
+    /// The connect options these flags give.
+    pub fn options(&self) -> gaitd_client::Result<ConnectOptions> {
+        let mut o = match &self.remote {
+            Some(endpoint) => {
+                let mut o = ConnectOptions::remote(endpoint.clone(), self.tls_files()?);
+                if let Some(id) = &self.identity {
+                    o = o.identity(id.clone());
+                }
+                o
+            }
+            None => ConnectOptions::new(),
+        }
+        .timeout(self.timeout())
+        .node_name("gaitctl");
+        o.ipc.service_prefix = self.prefix.clone();
+        o.ipc.iceoryx2_config = self.ipc_config.clone();
+        o.ipc.root_path = self.ipc_root.clone();
+        o.ipc.file_prefix = self.ipc_file_prefix.clone();
+        Ok(o)
+    }
+
     /// Connects with these options.
     pub fn connect(&self) -> gaitd_client::Result<Client> {
+        if self.remote.is_some() {
+            return Client::connect(self.options()?);
+        }
         let mut o = ConnectOptions::new()
             .timeout(self.timeout())
             .node_name("gaitctl");

@@ -30,8 +30,15 @@ fn print(e: &shm_schema::Event, json: bool) {
 /// Runs the subcommand.
 pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let mut c = conn.connect()?;
-    // History arrives with the connection; give it a moment to land.
-    std::thread::sleep(Duration::from_millis(20));
+    if c.is_remote() {
+        // The bridge's history answers a query: print until it is quiet.
+        while let Some(e) = c.next_event(Duration::from_millis(300))? {
+            print(&e, a.json);
+        }
+    } else {
+        // History arrives with the connection; give it a moment to land.
+        std::thread::sleep(Duration::from_millis(20));
+    }
     for e in c.events()? {
         print(&e, a.json);
     }

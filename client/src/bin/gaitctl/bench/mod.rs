@@ -13,11 +13,15 @@
 //!   reference of the status latency;
 //! - [`report`]: the JSON result and the table, with the daemon's RSS;
 //! - [`plant`] (with `--plant-steps`, instead of the above): the plant
-//!   interface's lockstep latency, against a daemon gaitctl starts.
+//!   interface's lockstep latency, against a daemon gaitctl starts;
+//! - [`remote`] (with `--remote`, instead of the above): status latency and
+//!   goal → answer through gaitd-bridge, beside bare Zenoh.
 
 mod latency;
 mod plant;
 mod reference;
+#[cfg(feature = "remote")]
+mod remote;
 mod report;
 mod tick;
 
@@ -96,6 +100,14 @@ pub struct Args {
     /// daemon's `rt.fifo_priority`; 0: normal scheduling).
     #[arg(long, default_value_t = 80)]
     noise_priority: i32,
+    /// With --remote: statuses received through the bridge (at its
+    /// status rate, 100 Hz by default).
+    #[arg(long, default_value_t = 1000)]
+    remote_statuses: usize,
+    /// With --remote: goals sent through the bridge (paced at 9 per second,
+    /// under its default rate limit).
+    #[arg(long, default_value_t = 100)]
+    remote_goals: usize,
 }
 
 /// Pins the calling thread to `cpu` (placement decides latencies on a
@@ -162,6 +174,22 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         );
     }
     let timeout = conn.timeout();
+    #[cfg(feature = "remote")]
+    if c.is_remote() {
+        let tls = conn.tls_files()?;
+        let v = remote::run(
+            &mut c,
+            Some(&tls),
+            a.remote_statuses,
+            a.remote_goals,
+            timeout,
+        )?;
+        if !a.json {
+            remote::print_table(&v);
+        }
+        println!("{v}");
+        return Ok(ExitCode::SUCCESS);
+    }
     let first = c.wait_status(timeout)?;
     let period_ns = first.timing.period_ns.max(1);
     let goals = latency::goal_to_answer(&mut c, a.goals, period_ns, timeout)?;

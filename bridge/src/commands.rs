@@ -1,0 +1,258 @@
+//! remote clients → daemon: the command queryable (`P/cmd/*/*`), the rate
+//! limit, and the policy for clients that vanish.
+//!
+//! Zenoh calls the queryable and the liveliness subscriber on its own
+//! threads; they only hand their work to this module's thread through a
+//! bounded channel (a full channel answers `DaemonBusy` at once). This
+//! thread owns its own `gaitd_client::Client` and handles one command at a
+//! time: check ([`crate::checks`]), rate-limit, forward, reply.
+
+use crate::checks::{self, Check};
+use crate::config::{Config, Role};
+use crate::forward::local_options;
+use crate::presence::{self, Presence};
+use crate::rate::RateLimiter;
+use gaitd_client::remote::protocol::{self as proto, Refusal, RefusalCode};
+use gaitd_client::{Answer, Client, Error};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+use zenoh::Wait;
+use zenoh::bytes::Encoding;
+use zenoh::query::Query;
+use zenoh::sample::SampleKind;
+
+/// Work waiting for the command thread.
+enum Work {
+    Query(Query),
+    Token { key: String, present: bool },
+}
+
+/// Commands waiting at most (beyond, the bridge answers `DaemonBusy`).
+const QUEUE: usize = 64;
+
+fn refuse(q: &Query, r: &Refusal) {
+    let res = q
+        .reply_err(r.to_bytes())
+        .encoding(Encoding::from(proto::encoding_of(proto::REFUSAL_SCHEMA)))
+        .wait();
+    if let Err(e) = res {
+        tracing::debug!("refusal reply: {e}");
+    }
+}
+
+fn answer(q: &Query, a: &Answer) {
+    let res = q
+        .reply(q.key_expr().clone(), a.to_bytes().to_vec())
+        .encoding(Encoding::from(proto::encoding_of(proto::ANSWER_SCHEMA)))
+        .wait();
+    if let Err(e) = res {
+        tracing::debug!("answer reply: {e}");
+    }
+}
+
+/// The command side: declared on `session`, runs until `stop`.
+pub struct Commands<'a> {
+    cfg: &'a Config,
+    daemon: Option<Client>,
+    limiter: RateLimiter,
+    presence: Presence,
+    timeout: Duration,
+}
+
+impl<'a> Commands<'a> {
+    /// A command side for `cfg`.
+    pub fn new(cfg: &'a Config) -> Self {
+        Self {
+            cfg,
+            daemon: None,
+            limiter: RateLimiter::new(cfg.rate_limit.commands_per_second, cfg.rate_limit.burst),
+            presence: Presence::default(),
+            timeout: Duration::from_millis(cfg.bridge.command_timeout_ms),
+        }
+    }
+
+    /// Declares the queryable and the client-token subscriber, then
+    /// handles their work until `stop` is set.
+    pub fn run(mut self, session: &zenoh::Session, stop: &AtomicBool) -> anyhow::Result<()> {
+        let prefix = self.cfg.zenoh.key_prefix.clone();
+        let (tx, rx) = mpsc::sync_channel::<Work>(QUEUE);
+        let qtx = tx.clone();
+        let _queryable = session
+            .declare_queryable(format!("{prefix}/cmd/*/*"))
+            .callback(move |q| {
+                if let Err(mpsc::TrySendError::Full(Work::Query(q))) = qtx.try_send(Work::Query(q))
+                {
+                    refuse(
+                        &q,
+                        &Refusal::new(
+                            RefusalCode::DaemonBusy,
+                            "the bridge's command queue is full",
+                        ),
+                    );
+                }
+            })
+            .wait()
+            .map_err(|e| {
+                anyhow::anyhow!(
+                    "declaring the command queryable: {}",
+                    gaitd_client::remote::zenoh_text(e)
+                )
+            })?;
+        let _clients = session
+            .liveliness()
+            .declare_subscriber(proto::client_tokens(&prefix))
+            .history(true)
+            .callback(move |s| {
+                let present = s.kind() == SampleKind::Put;
+                // Blocking here only delays Zenoh's delivery of tokens; a
+                // vanished client must not be forgotten.
+                let _ = tx.send(Work::Token {
+                    key: s.key_expr().as_str().to_owned(),
+                    present,
+                });
+            })
+            .wait()
+            .map_err(|e| {
+                anyhow::anyhow!(
+                    "declaring the client-token subscriber: {}",
+                    gaitd_client::remote::zenoh_text(e)
+                )
+            })?;
+        while !stop.load(Ordering::Acquire) {
+            match rx.recv_timeout(Duration::from_millis(200)) {
+                Ok(Work::Query(q)) => self.handle(&q),
+                Ok(Work::Token { key, present }) => self.token(&key, present),
+                Err(mpsc::RecvTimeoutError::Timeout) => {}
+                Err(mpsc::RecvTimeoutError::Disconnected) => break,
+            }
+        }
+        Ok(())
+    }
+
+    /// The connection to gaitd, opened on first use (and again after a loss).
+    fn daemon(&mut self) -> Option<&mut Client> {
+        if self.daemon.is_none() {
+            match Client::connect(local_options(self.cfg, "gaitd-bridge-cmd")) {
+                Ok(c) => self.daemon = Some(c),
+                Err(e) => tracing::debug!("gaitd for commands: {e}"),
+            }
+        }
+        self.daemon.as_mut()
+    }
+
+    fn handle(&mut self, q: &Query) {
+        let key = q.key_expr().as_str().to_owned();
+        let encoding = q.encoding().map(|e| e.to_string());
+        let payload = q
+            .payload()
+            .map(|p| p.to_bytes().into_owned())
+            .unwrap_or_default();
+        let checked = match checks::check(self.cfg, &key, encoding.as_deref(), &payload) {
+            Check::Forward(c) => c,
+            Check::Reject(mut a) => {
+                tracing::info!(
+                    key,
+                    reason = a.reason,
+                    "invalid command rejected at the bridge"
+                );
+                a.instance = self.daemon.as_ref().map_or(0, Client::daemon_instance);
+                answer(q, &a);
+                return;
+            }
+            Check::Refuse(r) => {
+                tracing::info!(key, code = %r.code, "command refused: {}", r.message);
+                refuse(q, &r);
+                return;
+            }
+        };
+        let identity = proto::parse_command_key(&self.cfg.zenoh.key_prefix, &key)
+            .map_or("", |(i, _)| i)
+            .to_owned();
+        if !self.limiter.allow(&identity, Instant::now()) {
+            let r = &self.cfg.rate_limit;
+            refuse(
+                q,
+                &Refusal::new(
+                    RefusalCode::RateLimited,
+                    format!(
+                        "identity `{identity}` sends more than {} commands/s (burst {})",
+                        r.commands_per_second, r.burst
+                    ),
+                ),
+            );
+            return;
+        }
+        let timeout = self.timeout;
+        let Some(c) = self.daemon() else {
+            refuse(
+                q,
+                &Refusal::new(
+                    RefusalCode::NoDaemon,
+                    "no gaitd is running behind the bridge",
+                ),
+            );
+            return;
+        };
+        match c.command(checked.command, timeout) {
+            Ok(a) => answer(
+                q,
+                &Answer {
+                    request_id: checked.request_id,
+                    ..a
+                },
+            ),
+            Err(e) => {
+                let (code, msg) = match &e {
+                    Error::Busy => (RefusalCode::DaemonBusy, e.to_string()),
+                    Error::Timeout { .. } => (
+                        RefusalCode::DaemonTimeout,
+                        format!("gaitd did not answer within {timeout:?}"),
+                    ),
+                    _ => (
+                        RefusalCode::NoDaemon,
+                        format!("gaitd is not reachable: {e}"),
+                    ),
+                };
+                if code == RefusalCode::NoDaemon {
+                    self.daemon = None;
+                }
+                refuse(q, &Refusal::new(code, msg));
+            }
+        }
+    }
+
+    fn token(&mut self, key: &str, present: bool) {
+        let Some((identity, session)) = proto::parse_client_token(&self.cfg.zenoh.key_prefix, key)
+        else {
+            return;
+        };
+        let identity = identity.to_owned();
+        tracing::info!(identity, session, present, "remote client");
+        let Some(lost) = self.presence.update(&identity, session, present) else {
+            return;
+        };
+        if self.cfg.role(&lost) != Some(Role::Operator) {
+            return;
+        }
+        let policy = self.cfg.bridge.on_client_lost;
+        let timeout = self.timeout;
+        let Some(c) = self.daemon() else {
+            return;
+        };
+        let status = c.latest_status().ok().flatten();
+        let Some(cmd) = presence::on_lost(policy, &lost, status.as_ref()) else {
+            return;
+        };
+        tracing::warn!(
+            identity = lost,
+            ?policy,
+            goal = cmd.goal_id,
+            "operator vanished with its goal running"
+        );
+        match c.command(cmd, timeout) {
+            Ok(a) => tracing::info!(verdict = ?a.verdict(), "client-lost policy applied"),
+            Err(e) => tracing::warn!("client-lost policy: {e}"),
+        }
+    }
+}

@@ -1,0 +1,567 @@
+"""A remote client of gaitd: through ``gaitd-bridge`` over Zenoh with mutual TLS.
+
+The counterpart of the Rust client's remote transport (``gaitd_client::remote``),
+with the same methods as :class:`gaitd.client.Client`. Needs the ``remote``
+extra (PyPI ``eclipse-zenoh``, pinned to the version of the Rust crate the
+bridge is built with). The wire contract is ``bridge/PROTOCOL.md``:
+
+* ``P/status`` — :class:`~gaitd.schema.Status` bytes, downsampled by the bridge;
+* ``P/events`` — :class:`~gaitd.schema.Event` bytes, an advanced publisher
+  (history for late joiners, miss detection);
+* ``P/cmd/<identity>/<command>`` — a query with the :class:`~gaitd.schema.Command`
+  bytes, answered with the :class:`~gaitd.schema.Answer` bytes or a refusal;
+* ``P/alive/bridge``, ``P/alive/daemon`` — liveliness tokens;
+  ``P/clients/<identity>/<session>`` — this client's token.
+
+``<identity>`` is the common name of this client's certificate; the bridge
+derives the ``client_id`` from it (:func:`client_id_for`) and ignores the one
+in a command. Payload encodings are ``application/octet-stream;<type name>``.
+
+Example::
+
+    from gaitd.remote import RemoteClient
+    with RemoteClient.connect("tls/robot-1:7460", ca="pki/ca.pem",
+                              cert="pki/operator-1.pem", key="pki/operator-1.key") as c:
+        print(c.wait_status().tick)
+        reply = c.turn((0, 0, 1), math.pi / 2)
+        print(c.wait_outcome(reply.goal_id, timeout=30))
+"""
+
+from __future__ import annotations
+
+import collections
+import enum
+import json
+import math
+import os
+import ssl
+import threading
+import time
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any, TypeVar
+
+from .client import EVENT_BACKLOG, ClientError, NoDaemon, Outcome, Reply, Timeout, _answer_ok, _event_ok, _status_ok
+from .schema import (
+    Answer,
+    AnswerCode,
+    Command,
+    CommandKind,
+    Event,
+    EventKind,
+    GoalFrame,
+    GoalState,
+    ReasonCode,
+    Status,
+)
+
+#: The eclipse-zenoh release matching the Rust crate of the bridge.
+ZENOH_VERSION = "1.10.2"
+#: Default key prefix.
+DEFAULT_KEY_PREFIX = "gaitd"
+#: Encoding of every payload: this prefix, ``;`` and the payload's type name.
+ENCODING_PREFIX = "application/octet-stream"
+#: Schema of the bridge's error replies.
+REFUSAL_SCHEMA = "gaitd-bridge::Refusal.v1"
+#: Command key chunks by kind.
+COMMAND_NAMES = {
+    CommandKind.Goal: "reorient",
+    CommandKind.Cancel: "cancel",
+    CommandKind.Hold: "hold",
+    CommandKind.Reset: "reset",
+}
+
+_T = TypeVar("_T")
+
+
+class RefusalCode(enum.IntEnum):
+    """Why the bridge refused a command (``gaitd_client::remote::protocol::RefusalCode``)."""
+
+    WrongSize = 1
+    WrongSchema = 2
+    WrongKey = 3
+    RateLimited = 4
+    NoDaemon = 5
+    DaemonBusy = 6
+    DaemonTimeout = 7
+    NotOperator = 8
+
+
+class RemoteError(ClientError):
+    """A remote connection problem (endpoint, certificate, access control)."""
+
+
+class Refused(RemoteError):
+    """The bridge refused the command before the daemon saw it."""
+
+    def __init__(self, code: RefusalCode, message: str):
+        super().__init__(f"the bridge refused the command: {message} ({code.name})")
+        self.code = code
+        self.message = message
+
+
+class NoAnswer(RemoteError):
+    """A command query ended without a reply: access control dropped it (a monitor), or overload."""
+
+
+class NoBridge(RemoteError):
+    """Connected, but no bridge is visible under the prefix (wrong prefix, or an unknown identity)."""
+
+
+class NoDaemonBehindBridge(NoDaemon, RemoteError):
+    """The bridge is up, but no gaitd runs behind it."""
+
+
+def zenoh():
+    """The ``zenoh`` module, or a clear error naming the extra to install."""
+    try:
+        import zenoh as z
+    except ImportError as e:  # pragma: no cover - depends on the environment
+        raise RemoteError(
+            f"the remote client needs eclipse-zenoh=={ZENOH_VERSION}: pip install 'gaitd[remote]'"
+        ) from e
+    return z
+
+
+def encoding_of(type_name: str) -> str:
+    """``application/octet-stream;<type name>``."""
+    return f"{ENCODING_PREFIX};{type_name}"
+
+
+def client_id_for(identity: str) -> int:
+    """The bridge's ``client_id`` of an identity: FNV-1a 64 of ``gaitd-remote/<identity>``, top bit set."""
+    h = 0xCBF29CE484222325
+    for b in b"gaitd-remote/" + identity.encode():
+        h ^= b
+        h = (h * 0x100000001B3) & 0xFFFF_FFFF_FFFF_FFFF
+    return h | (1 << 63)
+
+
+def common_name(cert_path: str) -> str:
+    """The subject common name of a PEM certificate (the identity the bridge sees)."""
+    try:
+        info = ssl._ssl._test_decode_cert(cert_path)  # type: ignore[attr-defined]
+    except (OSError, ssl.SSLError) as e:
+        raise RemoteError(f"client certificate {cert_path}: {e}") from e
+    for rdn in info.get("subject", ()):
+        for key, value in rdn:
+            if key == "commonName":
+                return str(value)
+    raise RemoteError(f"client certificate {cert_path}: no common name (CN)")
+
+
+def parse_endpoint(endpoint: str) -> tuple[str, str]:
+    """``(locator, host:port)`` of ``tls/HOST:PORT`` or ``HOST:PORT``; other protocols are refused."""
+    proto, sep, rest = endpoint.partition("/")
+    if not sep:
+        proto, rest = "tls", endpoint
+    if proto != "tls":
+        raise RemoteError(f"bad bridge endpoint {endpoint!r}: the bridge only accepts tls/HOST:PORT (mutual TLS)")
+    host, _, port = rest.rpartition(":")
+    if not host or not port.isdigit() or not 0 < int(port) < 65536 or any(c in rest for c in "?#/"):
+        raise RemoteError(f"bad bridge endpoint {endpoint!r}: expected tls/HOST:PORT")
+    return f"tls/{rest}", rest
+
+
+def _check_file(what: str, path: str) -> None:
+    try:
+        with open(path, "rb") as f:
+            head = f.read(4096)
+    except OSError as e:
+        raise RemoteError(f"{what} {path}: {e.strerror}") from e
+    if b"-----BEGIN " not in head:
+        raise RemoteError(f"{what} {path}: not a PEM file")
+
+
+class RemoteClient:
+    """A connection to gaitd through gaitd-bridge (same methods as :class:`gaitd.client.Client`)."""
+
+    def __init__(
+        self,
+        endpoint: str,
+        ca: str,
+        cert: str,
+        key: str,
+        prefix: str | None,
+        identity: str | None,
+        timeout: float,
+        max_status_age: float,
+        lease: float,
+    ):
+        self.locator, self._address = parse_endpoint(endpoint)
+        for what, path in (("CA certificate", ca), ("client certificate", cert), ("client key", key)):
+            _check_file(what, path)
+        self.identity = identity or common_name(cert)
+        self.prefix = prefix or os.environ.get("GAITD_PREFIX") or DEFAULT_KEY_PREFIX
+        self.client_id = client_id_for(self.identity)
+        self.timeout = timeout
+        self.max_status_age = max_status_age
+        self.bad_samples = 0
+        self.missed_events = 0
+        self.reconnects = 0
+        self._next_request = 1
+        # Every session of an identity shares its client id: goal ids start where none did.
+        self._next_goal = (int.from_bytes(os.urandom(4), "little") >> 1) + 1
+        self._cond = threading.Condition()
+        self._status: Status | None = None
+        self._status_at: float | None = None
+        self._status_seq = 0
+        self._events: collections.deque[Event] = collections.deque(maxlen=EVENT_BACKLOG)
+        self._last_event: tuple[int, int] | None = None
+        self._bridge = False
+        self._bridge_seen = False
+        self._daemon = False
+        self._pending: dict[int, tuple[str, Any]] = {}
+        self._open(ca, cert, key, lease)
+
+    # ------------------------------------------------------------------ connection
+
+    @classmethod
+    def connect(
+        cls,
+        endpoint: str,
+        ca: str,
+        cert: str,
+        key: str,
+        prefix: str | None = None,
+        identity: str | None = None,
+        timeout: float = 2.0,
+        max_status_age: float = 1.0,
+        lease: float = 3.0,
+    ) -> RemoteClient:
+        """Opens a session to the bridge at ``endpoint`` and waits for a fresh status, within ``timeout`` [s]."""
+        return cls(endpoint, ca, cert, key, prefix, identity, timeout, max_status_age, lease)
+
+    def _config(self, ca: str, cert: str, key: str, lease: float) -> Any:
+        conf = {
+            "mode": "client",
+            "connect": {
+                "endpoints": [self.locator],
+                "timeout_ms": max(1, int(self.timeout * 1000)),
+                "exit_on_failure": True,
+                "retry": {"period_init_ms": 200, "period_max_ms": 1000, "period_increase_factor": 1.5},
+            },
+            "listen": {"endpoints": []},
+            "scouting": {"multicast": {"enabled": False}, "gossip": {"enabled": False}},
+            "transport": {
+                "link": {
+                    "protocols": ["tls"],
+                    "tx": {"lease": int(min(max(lease, 0.5), 600.0) * 1000), "keep_alive": 4},
+                    "tls": {
+                        "root_ca_certificate": ca,
+                        "connect_certificate": cert,
+                        "connect_private_key": key,
+                        "enable_mtls": True,
+                        "verify_name_on_connect": True,
+                    },
+                },
+                "shared_memory": {"enabled": False},
+            },
+        }
+        return zenoh().Config.from_json5(json.dumps(conf))
+
+    def _wait_reachable(self, deadline: float) -> None:
+        import socket
+
+        host, _, port = self._address.rpartition(":")
+        host = host.strip("[]")
+        while True:
+            try:
+                socket.create_connection((host, int(port)), timeout=max(0.05, deadline - time.monotonic())).close()
+                return
+            except OSError as e:
+                if time.monotonic() >= deadline:
+                    raise RemoteError(
+                        f"nothing listens at {self.locator} ({e.strerror or e}): is gaitd-bridge running there?"
+                    ) from e
+                time.sleep(0.1)
+
+    def _open(self, ca: str, cert: str, key: str, lease: float) -> None:
+        z = zenoh()
+        from zenoh import ext
+
+        deadline = time.monotonic() + self.timeout
+        self._wait_reachable(deadline)
+        try:
+            self._session = z.open(self._config(ca, cert, key, lease))
+        except z.ZError as e:
+            raise RemoteError(
+                f"the bridge at {self.locator} refused the TLS session: its CA did not sign this client's "
+                f"certificate, the certificate expired, or the bridge's certificate does not match the host "
+                f"name ({str(e).split(' at /')[0]})"
+            ) from e
+        p = self.prefix
+        self._subs = [
+            self._session.declare_subscriber(f"{p}/status", self._on_status),
+            self._session.liveliness().declare_subscriber(f"{p}/alive/*", self._on_alive, history=True),
+        ]
+        events = ext.declare_advanced_subscriber(
+            self._session,
+            f"{p}/events",
+            self._on_event,
+            history=ext.HistoryConfig(detect_late_publishers=True, max_samples=256),
+            recovery=ext.RecoveryConfig(heartbeat=True),
+        )
+        self._misses = events.sample_miss_listener(self._on_miss)
+        self._subs.append(events)
+        self._token = self._session.liveliness().declare_token(f"{p}/clients/{self.identity}/{self._session.zid()}")
+        self._wait_fresh_status(max(0.0, deadline - time.monotonic()))
+
+    def close(self) -> None:
+        """Undeclares everything and closes the session."""
+        session = getattr(self, "_session", None)
+        if session is None:
+            return
+        for s in [*getattr(self, "_subs", []), getattr(self, "_misses", None), getattr(self, "_token", None)]:
+            if s is not None:
+                try:
+                    s.undeclare()
+                except Exception:  # noqa: BLE001 - closing anyway
+                    pass
+        session.close()
+        self._session = None
+
+    def __enter__(self) -> RemoteClient:
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()
+
+    # ------------------------------------------------------------------ callbacks (Zenoh's threads)
+
+    @staticmethod
+    def _bytes_of(sample: Any, cls: type) -> bytes | None:
+        b = sample.payload.to_bytes()
+        if str(sample.encoding) != encoding_of(cls.type_name()) or len(b) != ctypes_size(cls):
+            return None
+        return b
+
+    def _on_status(self, sample: Any) -> None:
+        b = self._bytes_of(sample, Status)
+        with self._cond:
+            s = Status.from_buffer_copy(b) if b is not None else None
+            if s is not None and _status_ok(s):
+                self._status, self._status_at = s, time.monotonic()
+                self._status_seq += 1
+            else:
+                self.bad_samples += 1
+            self._cond.notify_all()
+
+    def _on_event(self, sample: Any) -> None:
+        b = self._bytes_of(sample, Event)
+        with self._cond:
+            e = Event.from_buffer_copy(b) if b is not None else None
+            if e is None or not _event_ok(e):
+                self.bad_samples += 1
+            else:
+                key = (e.instance, e.seq)
+                last = self._last_event
+                # The bridge's history repeats events after it restarts.
+                if last is None or last[0] != key[0] or key[1] > last[1]:
+                    self._last_event = key
+                    self._events.append(e)
+            self._cond.notify_all()
+
+    def _on_miss(self, miss: Any) -> None:
+        with self._cond:
+            self.missed_events += int(miss.nb)
+
+    def _on_alive(self, sample: Any) -> None:
+        up = sample.kind == zenoh().SampleKind.PUT
+        key = str(sample.key_expr)
+        with self._cond:
+            if key == f"{self.prefix}/alive/bridge":
+                if up and not self._bridge and self._bridge_seen:
+                    self.reconnects += 1
+                self._bridge_seen |= up
+                self._bridge = up
+            elif key == f"{self.prefix}/alive/daemon":
+                self._daemon = up
+            self._cond.notify_all()
+
+    # ------------------------------------------------------------------ waiting
+
+    def _wait_until(self, timeout: float, what: str, check: Callable[[], _T | None]) -> _T:
+        deadline = time.monotonic() + timeout
+        with self._cond:
+            while True:
+                v = check()
+                if v is not None:
+                    return v
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    raise Timeout(f"timed out after {timeout:g} s waiting for {what}")
+                self._cond.wait(min(left, 0.1))
+
+    def _fresh(self) -> bool:
+        return self._status_at is not None and time.monotonic() - self._status_at <= self.max_status_age
+
+    def _wait_fresh_status(self, timeout: float) -> Status:
+        try:
+            return self._wait_until(timeout, "a fresh status", lambda: self._status if self._fresh() else None)
+        except Timeout as e:
+            if not self._bridge:
+                raise NoBridge(
+                    f"connected to {self.locator} as {self.identity!r}, but no gaitd-bridge with key prefix "
+                    f"{self.prefix!r} answered within {timeout:g} s: wrong prefix, or the bridge's access control "
+                    "does not know this identity"
+                ) from e
+            if not self._daemon:
+                raise NoDaemonBehindBridge(
+                    f"gaitd-bridge at {self.locator} is up, but no gaitd is running behind it"
+                ) from e
+            raise
+
+    def daemon_alive(self) -> bool:
+        """Whether a status arrived recently."""
+        with self._cond:
+            return self._fresh()
+
+    def latest_status(self) -> Status | None:
+        """The newest status received so far, without waiting."""
+        with self._cond:
+            return self._status
+
+    def wait_status(self, timeout: float = 1.0) -> Status:
+        """Waits for a status newer than the one seen last."""
+        with self._cond:
+            seen = self._status_seq
+        return self._wait_until(timeout, "a new status", lambda: self._status if self._status_seq != seen else None)
+
+    def events(self) -> Iterator[Event]:
+        """Every event received so far (oldest first), without waiting."""
+        with self._cond:
+            taken = list(self._events)
+            self._events.clear()
+        yield from taken
+
+    def next_event(self, timeout: float = 1.0) -> Event | None:
+        """The next event, or None after ``timeout``."""
+        try:
+            return self._wait_until(timeout, "an event", lambda: self._events.popleft() if self._events else None)
+        except Timeout:
+            return None
+
+    # ------------------------------------------------------------------ commands
+
+    def send_command(self, cmd: Command, name: str | None = None, schema: str | None = None) -> int:
+        """Sends ``cmd`` (only ``request_id`` filled in) to its command key and returns the request id.
+
+        ``name`` overrides the key chunk and ``schema`` the encoding's type name (tests of bad bytes).
+        """
+        cmd.request_id = self._next_request
+        self._next_request += 1
+        if name is None:
+            try:
+                name = COMMAND_NAMES[CommandKind(cmd.kind)]
+            except ValueError:
+                name = "reorient"
+        return self._query(name, bytes(cmd), schema or Command.type_name(), cmd.request_id)
+
+    def send_raw(self, name: str, payload: bytes, schema: str) -> int:
+        """Sends any bytes to command key ``name`` with encoding schema ``schema``; returns a request id."""
+        rid = self._next_request
+        self._next_request += 1
+        return self._query(name, payload, schema, rid)
+
+    def _query(self, name: str, payload: bytes, schema: str, rid: int) -> int:
+        replies = self._session.get(
+            f"{self.prefix}/cmd/{self.identity}/{name}",
+            payload=payload,
+            encoding=zenoh().Encoding(encoding_of(schema)),
+            timeout=max(1.0, self.timeout),
+        )
+        self._pending[rid] = (name, replies)
+        return rid
+
+    def wait_answer(self, request_id: int, timeout: float | None = None) -> Reply:
+        """The answer to ``request_id``; raises :class:`Refused` or :class:`NoAnswer` otherwise."""
+        name, replies = self._pending.pop(request_id)
+        for reply in replies:  # ends when the query is finalised (or times out)
+            if reply.ok is not None:
+                s = reply.ok
+                b = s.payload.to_bytes()
+                if str(s.encoding) != encoding_of(Answer.type_name()) or len(b) != ctypes_size(Answer):
+                    raise RemoteError(f"undecodable answer from the bridge ({s.encoding}, {len(b)} bytes)")
+                a = Answer.from_buffer_copy(b)
+                if not _answer_ok(a):
+                    raise RemoteError("undecodable answer codes from the bridge")
+                return Reply(a.code == AnswerCode.Accepted, ReasonCode(a.reason), a.goal_id, a.tick, request_id)
+            err = reply.err
+            b = err.payload.to_bytes()
+            if str(err.encoding) == encoding_of(REFUSAL_SCHEMA) and len(b) >= 4:
+                code = int.from_bytes(b[:4], "little")
+                if code in RefusalCode._value2member_map_:
+                    raise Refused(RefusalCode(code), b[4:].decode(errors="replace"))
+            raise RemoteError(f"undecodable error reply from the bridge ({err.encoding})")
+        with self._cond:
+            bridge, daemon = self._bridge, self._daemon
+        if bridge and daemon:
+            raise NoAnswer(
+                f"the bridge did not answer {name!r} from identity {self.identity!r} although it is up: its "
+                "access control does not let this identity send commands (a monitor certificate?), or the "
+                "daemon is overloaded"
+            )
+        raise RemoteError(f"the connection to the bridge at {self.locator} is lost (reconnecting)")
+
+    def command(self, cmd: Command, timeout: float | None = None) -> Reply:
+        """Sends a command and waits for its answer."""
+        return self.wait_answer(self.send_command(cmd), timeout)
+
+    def goal(
+        self,
+        target: Sequence[float],
+        frame: GoalFrame = GoalFrame.Absolute,
+        goal_id: int | None = None,
+        timeout: float | None = None,
+    ) -> Reply:
+        """Sends a reorientation goal (a new goal id unless given) and waits for its answer."""
+        if goal_id is None:
+            goal_id = self._next_goal
+            self._next_goal += 1
+        c = Command(kind=CommandKind.Goal, frame=frame, client_id=self.client_id, goal_id=goal_id)
+        for i, v in enumerate(target):
+            c.target[i] = float(v)
+        return self.command(c, timeout)
+
+    def turn(self, axis: Sequence[float], angle: float, timeout: float | None = None) -> Reply:
+        """Turns the object by ``angle`` [rad] about the hand-frame ``axis``."""
+        n = math.sqrt(sum(a * a for a in axis))
+        return self.goal((angle, axis[0] / n, axis[1] / n, axis[2] / n), GoalFrame.AxisAngle, timeout=timeout)
+
+    def cancel(self, goal_id: int = 0, timeout: float | None = None) -> Reply:
+        """Cancels ``goal_id`` (0: whichever goal is active)."""
+        return self.command(Command(kind=CommandKind.Cancel, client_id=self.client_id, goal_id=goal_id), timeout)
+
+    def hold(self, timeout: float | None = None) -> Reply:
+        """Stops any motion and holds the grasp."""
+        return self.command(Command(kind=CommandKind.Hold, client_id=self.client_id), timeout)
+
+    def reset(self, timeout: float | None = None) -> Reply:
+        """Clears a fault."""
+        return self.command(Command(kind=CommandKind.Reset, client_id=self.client_id), timeout)
+
+    def wait_outcome(self, goal_id: int, timeout: float = 60.0) -> Outcome:
+        """Waits until this client's goal ``goal_id`` reaches a terminal state (events, else status)."""
+        me = self.client_id
+
+        def check() -> Outcome | None:
+            for e in self._events:
+                if (
+                    e.kind == EventKind.GoalTransition
+                    and (e.client_id, e.goal_id) == (me, goal_id)
+                    and GoalState(e.state).terminal
+                ):
+                    return Outcome(goal_id, GoalState(e.state), ReasonCode(e.reason))
+            s = self._status
+            if s is not None and (s.goal.client_id, s.goal.goal_id) == (me, goal_id) and GoalState(s.goal.state).terminal:
+                return Outcome(goal_id, GoalState(s.goal.state), ReasonCode(s.goal.reason))
+            return None
+
+        return self._wait_until(timeout, f"goal {goal_id}'s outcome", check)
+
+
+def ctypes_size(cls: type) -> int:
+    """Size of a payload type in bytes."""
+    import ctypes
+
+    return ctypes.sizeof(cls)

@@ -1,0 +1,48 @@
+#!/usr/bin/env python3
+"""A remote client through gaitd-bridge (``gaitd.remote``): reads the status, sends a goal, waits for it.
+
+Run by ``tests/tests/remote/python.rs``, which asserts on the one JSON object
+printed last. Usage::
+
+    remote_goal.py ENDPOINT PKI_DIR IDENTITY PREFIX
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import time
+
+from gaitd.remote import RemoteClient
+from gaitd.schema import DaemonState
+
+
+def main() -> int:
+    endpoint, pki, name, prefix = sys.argv[1:5]
+    with RemoteClient.connect(
+        endpoint, f"{pki}/ca.pem", f"{pki}/{name}.pem", f"{pki}/{name}.key", prefix=prefix, timeout=10.0
+    ) as c:
+        first = c.wait_status(5.0)
+        time.sleep(0.2)
+        later = c.wait_status(5.0)
+        reply = c.turn((0.0, 0.0, 1.0), math.pi / 4, timeout=10.0)
+        outcome = c.wait_outcome(reply.goal_id, timeout=60.0) if reply.accepted else None
+        print(
+            json.dumps(
+                {
+                    "daemon_state": DaemonState(first.daemon_state).name,
+                    "status_ticks_advance": later.tick > first.tick,
+                    "accepted": reply.accepted,
+                    "reason": reply.reason.name,
+                    "outcome": outcome.state.name if outcome else None,
+                    "client_id": f"{c.client_id:x}",
+                    "bad_samples": c.bad_samples,
+                }
+            )
+        )
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

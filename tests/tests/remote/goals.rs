@@ -1,0 +1,191 @@
+//! A goal through the bridge, a cancel, the late joiner's history, and
+//! `gaitctl --remote` from the command line.
+
+use crate::support::{Pki, T, TestBridge};
+use gaitd_client::remote::protocol::client_id_for;
+use gaitd_client::{EventKind, GoalSpec, GoalState, ReasonCode, Verdict};
+use gaitd_tests::TestDaemon;
+use std::time::{Duration, Instant};
+
+const LONG: Duration = Duration::from_secs(90);
+
+fn wait_state(c: &mut gaitd_client::Client, goal: u64, state: GoalState) {
+    let t0 = Instant::now();
+    loop {
+        let s = c.wait_status(T).unwrap();
+        if s.goal.goal_id == goal && s.goal.state == state.code() {
+            return;
+        }
+        assert!(t0.elapsed() < Duration::from_secs(20), "never {state:?}");
+    }
+}
+
+#[test]
+fn a_remote_goal_succeeds_a_cancel_stops_one_and_a_late_joiner_gets_the_history() {
+    let pki = Pki::new("goals");
+    let d = TestDaemon::start("remote-goals");
+    let _local = d.client();
+    let b = TestBridge::start(&d, &pki, "");
+    let mut op = b.client(&pki, "op");
+    assert!(op.is_remote());
+    assert_eq!(op.identity(), Some("op"));
+    assert_eq!(op.client_id(), client_id_for("op"));
+    assert_eq!(op.daemon_pid(), None);
+
+    // A goal through the bridge, to its end.
+    let first = op
+        .reorient(
+            &GoalSpec::turn([0.0, 0.0, 1.0], std::f64::consts::FRAC_PI_2).unwrap(),
+            T,
+        )
+        .unwrap();
+    assert_eq!(first.verdict, Verdict::Accepted);
+    let o = op.wait_outcome(first.goal_id, LONG).unwrap();
+    assert_eq!(
+        (o.state, o.reason),
+        (GoalState::Succeeded, ReasonCode::Reached)
+    );
+
+    // A long one, canceled while it runs.
+    let second = op
+        .reorient(&GoalSpec::turn([1.0, 0.0, 0.0], 3.0).unwrap(), T)
+        .unwrap();
+    assert_eq!(second.verdict, Verdict::Accepted);
+    wait_state(&mut op, second.goal_id, GoalState::Executing);
+    assert_eq!(op.cancel(None, T).unwrap(), Verdict::Accepted);
+    let o = op.wait_outcome(second.goal_id, LONG).unwrap();
+    assert_eq!(
+        (o.state, o.reason),
+        (GoalState::Canceled, ReasonCode::CanceledByClient)
+    );
+    assert_eq!(op.bad_samples(), 0);
+
+    // A monitor that connects now gets the recent events from the
+    // bridge's cache: both goals' transitions, sent before it existed.
+    let mut late = b.client(&pki, "dash");
+    let me = client_id_for("op");
+    let ended = |events: &[gaitd_client::Event], goal: u64, state: GoalState| {
+        events.iter().any(|e| {
+            e.kind() == Ok(EventKind::GoalTransition)
+                && (e.client_id, e.goal_id) == (me, goal)
+                && e.state == state.code()
+        })
+    };
+    let mut seen = Vec::new();
+    let t0 = Instant::now();
+    while !(ended(&seen, first.goal_id, GoalState::Succeeded)
+        && ended(&seen, second.goal_id, GoalState::Canceled))
+    {
+        assert!(
+            t0.elapsed() < Duration::from_secs(20),
+            "the late joiner never got the history ({} events):\n{}",
+            seen.len(),
+            b.log()
+        );
+        if let Some(e) = late.next_event(Duration::from_millis(200)).unwrap() {
+            seen.push(e);
+        }
+    }
+    // In order, without repeats.
+    let seqs: Vec<u64> = seen.iter().map(|e| e.seq).collect();
+    assert!(seqs.windows(2).all(|w| w[0] < w[1]), "{seqs:?}");
+    assert_eq!(late.bad_samples(), 0);
+}
+
+#[test]
+fn gaitctl_remote_status_reorient_hold_cancel_and_events() {
+    let pki = Pki::new("cli");
+    let d = TestDaemon::start("remote-cli");
+    let _local = d.client();
+    let b = TestBridge::start(&d, &pki, "");
+    let run = |name: &str, args: &[&str]| {
+        let out = b.gaitctl(&pki, name).args(args).output().unwrap();
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        (out.status.code(), text, err)
+    };
+    let (rc, out, err) = run("dash", &["status", "--json"]);
+    assert_eq!(rc, Some(0), "{err}");
+    let s: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(s["daemon_state"], "Running");
+
+    let (rc, out, err) = run(
+        "op",
+        &[
+            "reorient",
+            "--axis",
+            "0,0,1",
+            "--angle-deg",
+            "30",
+            "--relative",
+            "--wait",
+        ],
+    );
+    assert_eq!(rc, Some(0), "{out}{err}");
+    assert!(out.contains("Succeeded (Reached)"), "{out}");
+
+    let (rc, out, err) = run("op", &["hold"]);
+    assert_eq!((rc, out.trim()), (Some(0), "hold: accepted"), "{err}");
+    let (rc, out, _) = run("op", &["cancel"]);
+    assert_eq!(
+        (rc, out.trim()),
+        (Some(1), "cancel: rejected (NoActiveGoal)")
+    );
+
+    let (rc, out, err) = run("dash", &["events", "--json", "--follow", "--duration", "1"]);
+    assert_eq!(rc, Some(0), "{err}");
+    let transitions: Vec<serde_json::Value> = out
+        .lines()
+        .filter_map(|l| serde_json::from_str(l).ok())
+        .filter(|e: &serde_json::Value| e["kind"] == "GoalTransition")
+        .collect();
+    assert!(
+        transitions
+            .iter()
+            .any(|e| e["state"] == "Succeeded"
+                && e["client_id"] == format!("{:x}", client_id_for("op"))),
+        "{out}"
+    );
+}
+
+#[test]
+fn gaitctl_remote_bench_measures_the_bridge_beside_bare_zenoh() {
+    let pki = Pki::new("bench");
+    let d = TestDaemon::start("remote-bench");
+    let _local = d.client();
+    let b = TestBridge::start(&d, &pki, "");
+    let out = b
+        .gaitctl(&pki, "op")
+        .args([
+            "bench",
+            "--json",
+            "--remote-statuses",
+            "20",
+            "--remote-goals",
+            "3",
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_str(text.trim()).unwrap();
+    assert_eq!(v["remote"]["status_latency_us"]["n"], 20, "{v}");
+    assert_eq!(v["remote"]["goal_to_answer_us"]["n"], 3, "{v}");
+    // The bridge's certificate lies beside ca.pem: the reference is TLS too.
+    assert_eq!(v["bare_zenoh"]["transport"], "tls (mutual)", "{v}");
+    assert_eq!(v["bare_zenoh"]["pub_sub_one_way_us"]["n"], 20, "{v}");
+    assert_eq!(v["bare_zenoh"]["query_round_trip_us"]["n"], 100, "{v}");
+    for s in [
+        &v["remote"]["status_latency_us"],
+        &v["remote"]["goal_to_answer_us"],
+        &v["bare_zenoh"]["pub_sub_one_way_us"],
+        &v["bare_zenoh"]["query_round_trip_us"],
+    ] {
+        let (p50, max) = (s["p50"].as_f64().unwrap(), s["max"].as_f64().unwrap());
+        assert!(p50 > 0.0 && p50 <= max, "{v}");
+    }
+}

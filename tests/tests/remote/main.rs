@@ -1,0 +1,18 @@
+//! Remote clients end to end (issue 16), in one test binary (Zenoh links
+//! once): gaitd, gaitd-bridge and the remote clients are separate
+//! processes on loopback, talking Zenoh with mutual TLS.
+//!
+//! - [`goals`]: a goal succeeds, a cancel stops one, a late joiner gets the
+//!   recent events; `gaitctl --remote` for status, reorient, hold, cancel,
+//!   events;
+//! - [`security`]: certificates from another CA and unknown identities are
+//!   refused, a monitor cannot command (the daemon never sees it), bad
+//!   bytes are rejected with a reason;
+//! - [`reconnect`]: the bridge killed and restarted, the client resumes;
+//! - [`python`]: `gaitd.remote.RemoteClient` sends a goal and reads status.
+
+mod goals;
+mod python;
+mod reconnect;
+mod security;
+mod support;
