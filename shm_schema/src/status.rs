@@ -227,7 +227,7 @@ const _: () = assert!(core::mem::align_of::<Status>() == 8);
 
 impl Status {
     /// Size of the payload in bytes.
-    pub const SIZE: usize = 1144;
+    pub const SIZE: usize = 1160;
 
     /// The payload that `bytes` encode (e.g. as received from a bridge).
     /// Every bit pattern is a `Status` (integers and floats only, no implicit
@@ -343,7 +343,7 @@ mod tests {
         let b = s.to_bytes();
         assert_eq!(Status::from_bytes(&b), s);
         assert_eq!(u64::from_ne_bytes(b[0..8].try_into().unwrap()), 42);
-        assert_eq!(u64::from_ne_bytes(b[1120..1128].try_into().unwrap()), 9);
+        assert_eq!(u64::from_ne_bytes(b[1136..1144].try_into().unwrap()), 9);
     }
 
     #[test]
