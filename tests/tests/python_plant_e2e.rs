@@ -125,6 +125,15 @@ fn reach(
     let o = c
         .wait_outcome(ticket.goal_id, GOAL)
         .unwrap_or_else(|e| panic!("{what}: {e}\n{}\n{}", d.log(), plant.log()));
+    if o.state != GoalState::Succeeded {
+        // Which fault (the status keeps it while in safe hold).
+        let s = c.wait_status(T).unwrap();
+        println!(
+            "{what}: {:?}, fault {:?}",
+            o.state,
+            shm_schema::FaultCode::try_from(s.fault).map_or("?", |f| f.name())
+        );
+    }
     assert_eq!(
         (o.state, o.reason),
         (GoalState::Succeeded, ReasonCode::Reached),

@@ -87,6 +87,12 @@ impl<'a> Builder<'a> {
         let time = self.handover_time;
         if let Some(last) = self.steps.last_mut() {
             match &mut last.handover {
+                // Placed and lifted at once (the unwind's relocation under
+                // load): it never carries, so no grip passes either way.
+                Some(h) if h.take == Some(finger) && h.release.is_none() => {
+                    last.duration -= h.duration;
+                    last.handover = None;
+                }
                 Some(h) => h.release = Some(finger),
                 None => {
                     last.handover = Some(Handover {
