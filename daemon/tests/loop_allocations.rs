@@ -343,7 +343,13 @@ fn plans_cross_the_loop_without_allocation() {
 /// or free on the loop thread.
 #[test]
 fn the_loop_does_not_allocate_with_the_gait_controller() {
-    let ns = Namespace::new("g");
+    // Weightless: the goals below include turns about horizontal axes that
+    // the planner refuses under load, and the schedule was made for
+    // weightless speeds. The load path (grip under gravity every tick,
+    // handovers) is counted by the external-plant and lockstep tests.
+    let mut ns = Namespace::new("g");
+    ns.cfg.load.object_mass = 0.0;
+    ns.cfg.load.disturbance_force = 0.0;
     let hand = ns.cfg.hand();
     let trace_dir = std::env::temp_dir().join(format!("gaitd-alloc-traces-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&trace_dir);
@@ -543,10 +549,11 @@ fn the_loop_does_not_allocate_with_an_external_plant() {
     ];
     let (mut succeeded, mut placed, mut active, mut k) = (0, 0, 0u64, 0usize);
     let mut next = 100;
-    while active < 30_000 {
+    // Goals 15 s apart: under load a goal takes ~11 s (median).
+    while active < 45_000 {
         if active == next {
             k += 1;
-            next += 9000;
+            next += 15_000;
             let (frame, q) = targets[k % targets.len()];
             g.client.send(Command::goal(5, k as u64 + 1, frame, q));
         }
