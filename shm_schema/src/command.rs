@@ -60,7 +60,7 @@ pub const fn limit_bit(kind: LimitKind, order: LimitOrder) -> u32 {
 /// A command from a client: a reorientation goal, cancel, hold or reset
 /// (SPEC §6.4, §7.3). Fields a command kind does not use must be zero.
 ///
-/// Type name `gaitd::Command.v2`, 144 bytes, alignment 8.
+/// Type name `gaitd::Command.v3`, 144 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::Command.v3")]

@@ -6,7 +6,7 @@ use iceoryx2::prelude::ZeroCopySend;
 /// Something that happened: goal transitions, gait events, faults, overruns
 /// (SPEC §7.3). Fields a kind does not use are 0 (`finger`: `NO_FINGER`).
 ///
-/// Type name `gaitd::Event.v2`, 88 bytes, alignment 8.
+/// Type name `gaitd::Event.v3`, 88 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::Event.v3")]

@@ -81,7 +81,7 @@ pub mod plant_state {
 
 /// One fingertip's setpoint.
 ///
-/// Type name `gaitd::PlantFingerCommand.v2`, 152 bytes, alignment 8.
+/// Type name `gaitd::PlantFingerCommand.v3`, 152 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::PlantFingerCommand.v3")]
@@ -108,7 +108,7 @@ pub struct PlantFingerCommand {
 
 /// The daemon's setpoint for the plant, one per tick.
 ///
-/// Type name `gaitd::PlantCommand.v2`, 560 bytes, alignment 8.
+/// Type name `gaitd::PlantCommand.v3`, 560 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::PlantCommand.v3")]
@@ -138,7 +138,7 @@ pub struct PlantCommand {
 
 /// One fingertip as measured.
 ///
-/// Type name `gaitd::PlantFingerMeasurement.v2`, 128 bytes, alignment 8.
+/// Type name `gaitd::PlantFingerMeasurement.v3`, 128 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::PlantFingerMeasurement.v3")]
@@ -163,7 +163,7 @@ pub struct PlantFingerMeasurement {
 
 /// What the plant measured, one per plant step (lockstep) or sample.
 ///
-/// Type name `gaitd::PlantMeasurement.v2`, 512 bytes, alignment 8.
+/// Type name `gaitd::PlantMeasurement.v3`, 512 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::PlantMeasurement.v3")]
