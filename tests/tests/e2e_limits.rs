@@ -169,7 +169,7 @@ fn a_goal_without_a_plan_carries_the_planners_reason() {
     // (under load the refusal is LoadInfeasible: plan_reasons.rs).
     let mut d = TestDaemon::new(
         "noplan",
-        "[planner]\nmax_expansions = 1\n[load]\ngravity = [0.0, 0.0, 0.0]\ndisturbance_force = 0.0\n",
+        "[planner]\nmax_expansions = 1\n[load]\nobject_mass = 0.0\ngravity = [0.0, 0.0, 0.0]\ndisturbance_force = 0.0\n",
     );
     d.spawn();
     let mut c = d.client();
