@@ -51,6 +51,14 @@ fn answer(q: &Query, a: &Answer) {
     }
 }
 
+/// The command side's Zenoh declarations and the channel their callbacks
+/// feed (dropping it undeclares them).
+pub struct Declared {
+    _queryable: zenoh::query::Queryable<()>,
+    _clients: zenoh::pubsub::Subscriber<()>,
+    rx: mpsc::Receiver<Work>,
+}
+
 /// The command side: declared on `session`, runs until `stop`.
 pub struct Commands<'a> {
     cfg: &'a Config,
@@ -72,13 +80,14 @@ impl<'a> Commands<'a> {
         }
     }
 
-    /// Declares the queryable and the client-token subscriber, then
-    /// handles their work until `stop` is set.
-    pub fn run(mut self, session: &zenoh::Session, stop: &AtomicBool) -> anyhow::Result<()> {
-        let prefix = self.cfg.zenoh.key_prefix.clone();
+    /// Declares the queryable and the client-token subscriber on
+    /// `session`. Called before the bridge's liveliness token, so that a
+    /// client that sees the bridge finds its queryable too.
+    pub fn declare(session: &zenoh::Session, cfg: &Config) -> anyhow::Result<Declared> {
+        let prefix = cfg.zenoh.key_prefix.clone();
         let (tx, rx) = mpsc::sync_channel::<Work>(QUEUE);
         let qtx = tx.clone();
-        let _queryable = session
+        let queryable = session
             .declare_queryable(format!("{prefix}/cmd/*/*"))
             .callback(move |q| {
                 if let Err(mpsc::TrySendError::Full(Work::Query(q))) = qtx.try_send(Work::Query(q))
@@ -99,7 +108,7 @@ impl<'a> Commands<'a> {
                     gaitd_client::remote::zenoh_text(e)
                 )
             })?;
-        let _clients = session
+        let clients = session
             .liveliness()
             .declare_subscriber(proto::client_tokens(&prefix))
             .history(true)
@@ -119,8 +128,17 @@ impl<'a> Commands<'a> {
                     gaitd_client::remote::zenoh_text(e)
                 )
             })?;
+        Ok(Declared {
+            _queryable: queryable,
+            _clients: clients,
+            rx,
+        })
+    }
+
+    /// Handles the work of `declared` until `stop` is set.
+    pub fn run(mut self, declared: Declared, stop: &AtomicBool) -> anyhow::Result<()> {
         while !stop.load(Ordering::Acquire) {
-            match rx.recv_timeout(Duration::from_millis(200)) {
+            match declared.rx.recv_timeout(Duration::from_millis(200)) {
                 Ok(Work::Query(q)) => self.handle(&q),
                 Ok(Work::Token { key, present }) => self.token(&key, present),
                 Err(mpsc::RecvTimeoutError::Timeout) => {}

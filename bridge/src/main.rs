@@ -78,6 +78,9 @@ fn run(args: &Args) -> anyhow::Result<()> {
     }
     let z = session::open(&cfg)?;
     let prefix = &cfg.zenoh.key_prefix;
+    // Everything a client uses is declared before the token that tells
+    // clients the bridge is there.
+    let declared = Commands::declare(&z, &cfg)?;
     let _alive = z
         .liveliness()
         .declare_token(gaitd_client::remote::protocol::bridge_token_key(prefix))
@@ -89,7 +92,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
     let result = std::thread::scope(|s| {
         let commands = std::thread::Builder::new()
             .name("commands".into())
-            .spawn_scoped(s, || Commands::new(&cfg).run(&z, &STOP))
+            .spawn_scoped(s, || Commands::new(&cfg).run(declared, &STOP))
             .context("spawning the command thread")?;
         let forwarded = forward::run(&cfg, &z, &STOP);
         STOP.store(true, Ordering::Release);

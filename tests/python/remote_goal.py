@@ -20,14 +20,20 @@ from gaitd.schema import DaemonState
 
 def main() -> int:
     endpoint, pki, name, prefix = sys.argv[1:5]
+    t0 = time.monotonic()
+    stamps = {}
     with RemoteClient.connect(
         endpoint, f"{pki}/ca.pem", f"{pki}/{name}.pem", f"{pki}/{name}.key", prefix=prefix, timeout=10.0
     ) as c:
+        stamps["connected_s"] = time.monotonic() - t0
         first = c.wait_status(5.0)
         time.sleep(0.2)
         later = c.wait_status(5.0)
+        stamps["status_s"] = time.monotonic() - t0
         reply = c.turn((0.0, 0.0, 1.0), math.pi / 4, timeout=10.0)
+        stamps["answer_s"] = time.monotonic() - t0
         outcome = c.wait_outcome(reply.goal_id, timeout=60.0) if reply.accepted else None
+        stamps["outcome_s"] = time.monotonic() - t0
         print(
             json.dumps(
                 {
@@ -38,6 +44,8 @@ def main() -> int:
                     "outcome": outcome.state.name if outcome else None,
                     "client_id": f"{c.client_id:x}",
                     "bad_samples": c.bad_samples,
+                    # Seconds since start, for a slow run's diagnosis.
+                    **{k: round(v, 3) for k, v in stamps.items()},
                 }
             )
         )

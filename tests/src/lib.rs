@@ -44,6 +44,27 @@ pub fn workspace_bin(name: &str) -> PathBuf {
         let mut cmd = Command::new(cargo);
         cmd.current_dir(repo_root())
             .args(["build", "--quiet", "--workspace", "--bins"]);
+        // Not the variables cargo set for this test: build scripts that
+        // watch one (ring's watches CARGO_MANIFEST_DIR) would count as
+        // changed and rebuild, with everything above them (TLS, Zenoh),
+        // here and again in the next outer `cargo test`.
+        for (k, _) in std::env::vars_os() {
+            let k = k.to_string_lossy();
+            if k.starts_with("CARGO_PKG_")
+                || k.starts_with("CARGO_BIN_EXE_")
+                || matches!(
+                    k.as_ref(),
+                    "CARGO_MANIFEST_DIR"
+                        | "CARGO_MANIFEST_PATH"
+                        | "CARGO_CRATE_NAME"
+                        | "CARGO_PRIMARY_PACKAGE"
+                        | "CARGO_TARGET_TMPDIR"
+                        | "CARGO_RUSTC_CURRENT_DIR"
+                )
+            {
+                cmd.env_remove(k.as_ref());
+            }
+        }
         if let Ok(flags) = std::env::var("GAITD_TEST_BUILD_FLAGS") {
             cmd.args(flags.split_whitespace());
         }
@@ -345,6 +366,56 @@ pub fn oracle_python() -> PathBuf {
         p.display()
     );
     p
+}
+
+/// Runs `cmd` to completion like [`Command::output`], but at most `limit`:
+/// a child still running then is killed and the test fails with what it had
+/// printed, so a hung client cannot hang the test run.
+pub fn output_within(cmd: &mut Command, limit: std::time::Duration) -> std::process::Output {
+    use std::io::Read;
+    use std::process::Stdio;
+    let mut child = cmd
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot start {cmd:?}: {e}"));
+    // Drained on their own threads: a child blocked on a full pipe would
+    // otherwise never exit.
+    let drain = |mut r: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut b = Vec::new();
+            let _ = r.read_to_end(&mut b);
+            b
+        })
+    };
+    let out = drain(Box::new(child.stdout.take().expect("piped stdout")));
+    let err = drain(Box::new(child.stderr.take().expect("piped stderr")));
+    let t0 = std::time::Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().expect("try_wait") {
+            break Some(s);
+        }
+        if t0.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    let stdout = out.join().unwrap_or_default();
+    let stderr = err.join().unwrap_or_default();
+    let Some(status) = status else {
+        panic!(
+            "{cmd:?} still running after {limit:?}, killed\n--- stdout ---\n{}\n--- stderr ---\n{}",
+            String::from_utf8_lossy(&stdout),
+            String::from_utf8_lossy(&stderr)
+        );
+    };
+    std::process::Output {
+        status,
+        stdout,
+        stderr,
+    }
 }
 
 /// Replays the `gait-trajectory/1` trace `trace` of a 0.1 kg object in

@@ -5,6 +5,8 @@ use crate::support::{Pki, T, TestBridge};
 use gaitd_client::remote::protocol::client_id_for;
 use gaitd_client::{EventKind, GoalSpec, GoalState, ReasonCode, Verdict};
 use gaitd_tests::TestDaemon;
+use std::io::{BufRead, BufReader};
+use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 const LONG: Duration = Duration::from_secs(90);
@@ -22,10 +24,13 @@ fn wait_state(c: &mut gaitd_client::Client, goal: u64, state: GoalState) {
 
 #[test]
 fn a_remote_goal_succeeds_a_cancel_stops_one_and_a_late_joiner_gets_the_history() {
+    let _one = crate::support::one_at_a_time();
     let pki = Pki::new("goals");
     let d = TestDaemon::start("remote-goals");
     let _local = d.client();
-    let b = TestBridge::start(&d, &pki, "");
+    // A cache deep enough for both goals' transitions even when a loaded
+    // machine makes the debug daemon report Overrun events meanwhile.
+    let b = TestBridge::start(&d, &pki, "event_cache = 2048");
     let mut op = b.client(&pki, "op");
     assert!(op.is_remote());
     assert_eq!(op.identity(), Some("op"));
@@ -43,12 +48,16 @@ fn a_remote_goal_succeeds_a_cancel_stops_one_and_a_late_joiner_gets_the_history(
     let o = op.wait_outcome(first.goal_id, LONG).unwrap();
     assert_eq!(
         (o.state, o.reason),
-        (GoalState::Succeeded, ReasonCode::Reached)
+        (GoalState::Succeeded, ReasonCode::Reached),
+        "--- bridge log ---\n{}",
+        b.log()
     );
 
     // A long one, canceled while it runs.
     let second = op
-        .reorient(&GoalSpec::turn([1.0, 0.0, 0.0], 3.0).unwrap(), T)
+        // About z: the default config carries a 0.1 kg object, and long
+        // turns about horizontal axes are refused under load.
+        .reorient(&GoalSpec::turn([0.0, 0.0, 1.0], 3.0).unwrap(), T)
         .unwrap();
     assert_eq!(second.verdict, Verdict::Accepted);
     wait_state(&mut op, second.goal_id, GoalState::Executing);
@@ -94,6 +103,7 @@ fn a_remote_goal_succeeds_a_cancel_stops_one_and_a_late_joiner_gets_the_history(
 
 #[test]
 fn gaitctl_remote_status_reorient_hold_cancel_and_events() {
+    let _one = crate::support::one_at_a_time();
     let pki = Pki::new("cli");
     let d = TestDaemon::start("remote-cli");
     let _local = d.client();
@@ -108,6 +118,30 @@ fn gaitctl_remote_status_reorient_hold_cancel_and_events() {
     assert_eq!(rc, Some(0), "{err}");
     let s: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
     assert_eq!(s["daemon_state"], "Running");
+
+    // A follower started before the goal sees its transitions live (the
+    // bridge's history alone may have been filled by the daemon's Overrun
+    // events on a loaded machine by the time it joins).
+    let mut follower = b
+        .gaitctl(&pki, "dash")
+        .args(["events", "--json", "--follow", "--duration", "120"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let lines = follower.stdout.take().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel::<String>();
+    let reader = std::thread::spawn(move || {
+        for l in BufReader::new(lines).lines().map_while(Result::ok) {
+            if tx.send(l).is_err() {
+                break;
+            }
+        }
+    });
+    // It says on stderr when it has printed the history and follows.
+    let mut err_lines = BufReader::new(follower.stderr.take().unwrap()).lines();
+    let said = err_lines.next().and_then(Result::ok).unwrap_or_default();
+    assert_eq!(said, "(following events; Ctrl-C to stop)");
 
     let (rc, out, err) = run(
         "op",
@@ -132,24 +166,39 @@ fn gaitctl_remote_status_reorient_hold_cancel_and_events() {
         (Some(1), "cancel: rejected (NoActiveGoal)")
     );
 
-    let (rc, out, err) = run("dash", &["events", "--json", "--follow", "--duration", "1"]);
-    assert_eq!(rc, Some(0), "{err}");
-    let transitions: Vec<serde_json::Value> = out
-        .lines()
-        .filter_map(|l| serde_json::from_str(l).ok())
-        .filter(|e: &serde_json::Value| e["kind"] == "GoalTransition")
-        .collect();
+    let op_id = format!("{:x}", client_id_for("op"));
+    let t0 = Instant::now();
+    let mut seen = Vec::new();
+    let succeeded = loop {
+        let Ok(l) = rx.recv_timeout(Duration::from_secs(1)) else {
+            if t0.elapsed() > LONG {
+                break false;
+            }
+            continue;
+        };
+        let Ok(e) = serde_json::from_str::<serde_json::Value>(&l) else {
+            continue;
+        };
+        if e["kind"] == "GoalTransition" {
+            if e["state"] == "Succeeded" && e["client_id"] == op_id {
+                break true;
+            }
+            seen.push(l);
+        }
+    };
+    let _ = follower.kill();
+    let _ = follower.wait();
+    drop(rx);
+    let _ = reader.join();
     assert!(
-        transitions
-            .iter()
-            .any(|e| e["state"] == "Succeeded"
-                && e["client_id"] == format!("{:x}", client_id_for("op"))),
-        "{out}"
+        succeeded,
+        "no Succeeded transition of op's goal; saw {seen:?}"
     );
 }
 
 #[test]
 fn gaitctl_remote_bench_measures_the_bridge_beside_bare_zenoh() {
+    let _one = crate::support::one_at_a_time();
     let pki = Pki::new("bench");
     let d = TestDaemon::start("remote-bench");
     let _local = d.client();

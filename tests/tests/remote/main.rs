@@ -9,8 +9,11 @@
 //!   refused, a monitor cannot command (the daemon never sees it), bad
 //!   bytes are rejected with a reason;
 //! - [`reconnect`]: the bridge killed and restarted, the client resumes;
+//! - [`cli`]: `gaitctl --remote watch` and `reset`, a monitor's reset
+//!   refused, the TLS flags' mistakes as one-line messages;
 //! - [`python`]: `gaitd.remote.RemoteClient` sends a goal and reads status.
 
+mod cli;
 mod goals;
 mod python;
 mod reconnect;

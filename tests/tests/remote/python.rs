@@ -4,8 +4,9 @@
 //! `zenoh` (`pip install -e 'client/python[remote]'`).
 
 use crate::support::{Pki, TestBridge};
-use gaitd_tests::{TestDaemon, oracle_python, repo_root};
+use gaitd_tests::{TestDaemon, oracle_python, output_within, repo_root};
 use std::process::Command;
+use std::time::Duration;
 
 fn python() -> Command {
     let mut c = Command::new(oracle_python());
@@ -15,6 +16,7 @@ fn python() -> Command {
 
 #[test]
 fn a_remote_python_client_sends_a_goal_and_reads_status() {
+    let _one = crate::support::one_at_a_time();
     let check = "remote Python client (gaitd.remote)";
     match python().args(["-c", "import zenoh"]).output() {
         Ok(o) if o.status.success() => {}
@@ -37,11 +39,13 @@ fn a_remote_python_client_sends_a_goal_and_reads_status() {
     let d = TestDaemon::start("remote-python");
     let _local = d.client();
     let b = TestBridge::start(&d, &pki, "");
-    let out = python()
-        .arg(repo_root().join("tests/python/remote_goal.py"))
-        .args([&b.endpoint, &pki.dir.display().to_string(), "op", &b.prefix])
-        .output()
-        .unwrap();
+    // The script's own waits add up to about 90 s; a hang fails here.
+    let out = output_within(
+        python()
+            .arg(repo_root().join("tests/python/remote_goal.py"))
+            .args([&b.endpoint, &pki.dir.display().to_string(), "op", &b.prefix]),
+        Duration::from_secs(150),
+    );
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
@@ -55,6 +59,7 @@ fn a_remote_python_client_sends_a_goal_and_reads_status() {
         .find(|l| l.starts_with('{'))
         .unwrap_or("");
     let v: serde_json::Value = serde_json::from_str(line).unwrap();
+    println!("remote_goal.py: {v}");
     assert_eq!(v["accepted"], true, "{v}");
     assert_eq!(v["outcome"], "Succeeded", "{v}");
     assert!(v["status_ticks_advance"].as_bool().unwrap(), "{v}");

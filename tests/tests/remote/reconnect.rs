@@ -26,6 +26,7 @@ fn status_resumes(c: &mut Client, after: u64, b: &TestBridge) -> u64 {
 
 #[test]
 fn the_bridge_killed_and_restarted_the_client_reconnects_by_itself() {
+    let _one = crate::support::one_at_a_time();
     let pki = Pki::new("restart");
     let d = TestDaemon::start("remote-restart");
     let _local = d.client();

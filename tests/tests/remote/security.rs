@@ -1,5 +1,5 @@
-//! Who may do what: a certificate from another CA is refused at the TLS
-//! session, an identity the bridge does not know sees nothing, a monitor
+//! Who may do what: a certificate from another CA, or none, is refused at
+//! the TLS session, an identity the bridge does not know sees nothing, a monitor
 //! cannot command (and the daemon never sees the attempt), and bad bytes
 //! from an operator are rejected with a reason before the daemon.
 
@@ -28,6 +28,7 @@ fn saw_client(local: &mut Client, client_id: u64) -> bool {
 
 #[test]
 fn certificates_of_another_ca_and_unknown_identities_are_refused() {
+    let _one = crate::support::one_at_a_time();
     let pki = Pki::new("certs");
     let d = TestDaemon::start("remote-certs");
     let b = TestBridge::start(&d, &pki, "");
@@ -56,6 +57,25 @@ fn certificates_of_another_ca_and_unknown_identities_are_refused() {
     );
     assert!(e.to_string().contains("[[identity]]"), "{e}");
 
+    // No client certificate at all (a bare Zenoh session that trusts our
+    // CA but presents nothing): the bridge's TLS listener demands one, so
+    // no session opens.
+    let json = serde_json::json!({
+        "mode": "client",
+        "connect": { "endpoints": [&b.endpoint], "timeout_ms": 3000, "exit_on_failure": true },
+        "listen": { "endpoints": [] },
+        "scouting": { "multicast": { "enabled": false }, "gossip": { "enabled": false } },
+        "transport": { "link": { "protocols": ["tls"], "tls": {
+            "root_ca_certificate": pki.dir.join("ca.pem").display().to_string(),
+            "verify_name_on_connect": true,
+        } } },
+    });
+    let config = zenoh::Config::from_json5(&json.to_string()).unwrap();
+    assert!(
+        zenoh::Wait::wait(zenoh::open(config)).is_err(),
+        "a session without a client certificate was opened"
+    );
+
     // The bridge is unharmed: its operator still connects.
     let mut op = b.client(&pki, "op");
     assert_eq!(op.hold(T).unwrap(), Verdict::Accepted);
@@ -63,6 +83,7 @@ fn certificates_of_another_ca_and_unknown_identities_are_refused() {
 
 #[test]
 fn a_monitor_cannot_command_and_the_daemon_never_sees_it() {
+    let _one = crate::support::one_at_a_time();
     let pki = Pki::new("monitor");
     let d = TestDaemon::start("remote-monitor");
     let mut local = d.client();
@@ -127,6 +148,7 @@ fn refused(r: RawReply, code: RefusalCode) -> String {
 
 #[test]
 fn bad_bytes_are_rejected_with_a_reason_and_the_daemon_is_unaffected() {
+    let _one = crate::support::one_at_a_time();
     let pki = Pki::new("bytes");
     let d = TestDaemon::start("remote-bytes");
     let mut local = d.client();

@@ -13,6 +13,15 @@ use std::process::{Child, Command, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
+/// One remote test at a time: each runs a daemon, a bridge and several
+/// Zenoh clients, and in parallel on two cores (debug builds) they starve
+/// each other until queries time out. Held for the whole test.
+pub fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    // A failed test poisons the lock; the next one may still run.
+    LOCK.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// Connect and command timeout of the test clients.
 pub const T: Duration = Duration::from_secs(10);
 

@@ -100,17 +100,7 @@ impl ConnArgs {
 
     /// Connects with these options.
     pub fn connect(&self) -> gaitd_client::Result<Client> {
-        if self.remote.is_some() {
-            return Client::connect(self.options()?);
-        }
-        let mut o = ConnectOptions::new()
-            .timeout(self.timeout())
-            .node_name("gaitctl");
-        o.ipc.service_prefix = self.prefix.clone();
-        o.ipc.iceoryx2_config = self.ipc_config.clone();
-        o.ipc.root_path = self.ipc_root.clone();
-        o.ipc.file_prefix = self.ipc_file_prefix.clone();
-        Client::connect(o)
+        Client::connect(self.options()?)
     }
 }
 

@@ -43,6 +43,8 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         print(&e, a.json);
     }
     if a.follow {
+        // On stderr, so that piped events stay one JSON object per line.
+        eprintln!("(following events; Ctrl-C to stop)");
         let end = a
             .duration
             .map(|d| Instant::now() + Duration::from_secs_f64(d));
