@@ -40,7 +40,18 @@ fn gaitctl_remote_watch_and_reset_and_the_tls_flags_mistakes() {
         "{err}"
     );
     // A monitor's reset never reaches the daemon: an error, not a verdict.
-    let (rc, out, err) = run(b.gaitctl(&pki, "dash").arg("reset"));
+    let (rc, out, err) = run(Command::new(workspace_bin("gaitctl"))
+        .args(["--remote", &b.endpoint, "--pki"])
+        .arg(&pki.dir)
+        .args([
+            "--identity",
+            "dash",
+            "--prefix",
+            &b.prefix,
+            "--timeout",
+            "2",
+            "reset",
+        ]));
     assert_eq!(rc, Some(2), "{out}{err}");
     assert!(out.is_empty(), "{out}");
     assert!(
