@@ -311,10 +311,10 @@ fn others(k: usize) -> (usize, usize) {
     }
 }
 
-/// The two fingers other than `lose` (i, j), the
-/// unit normal w of their plane and the half angle each must roll to open
-/// their separation to a force-closure angle plus `extra`; `None` when
-/// they are (anti)parallel or already far enough apart.
+/// The two fingers other than `lose` (i, j), the unit normal w of their
+/// plane and the half angle each must roll to open their separation to a
+/// force-closure angle plus `extra`; `None` when they are (anti)parallel
+/// or already far enough apart.
 fn opening(
     g: &Geometry,
     hand: &HandState,

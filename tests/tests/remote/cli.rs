@@ -2,18 +2,9 @@
 //! a monitor's `reset` refused, and the mistakes a user makes with the TLS
 //! flags, each a one-line message and exit code 2 (never a backtrace).
 
-use crate::support::{Pki, TestBridge};
+use crate::support::{Pki, TestBridge, run};
 use gaitd_tests::{TestDaemon, workspace_bin};
 use std::process::Command;
-
-fn run(c: &mut Command) -> (Option<i32>, String, String) {
-    let out = c.output().unwrap();
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 #[test]
 fn gaitctl_remote_watch_and_reset_and_the_tls_flags_mistakes() {
@@ -40,18 +31,7 @@ fn gaitctl_remote_watch_and_reset_and_the_tls_flags_mistakes() {
         "{err}"
     );
     // A monitor's reset never reaches the daemon: an error, not a verdict.
-    let (rc, out, err) = run(Command::new(workspace_bin("gaitctl"))
-        .args(["--remote", &b.endpoint, "--pki"])
-        .arg(&pki.dir)
-        .args([
-            "--identity",
-            "dash",
-            "--prefix",
-            &b.prefix,
-            "--timeout",
-            "2",
-            "reset",
-        ]));
+    let (rc, out, err) = run(b.gaitctl_waiting(&pki, "dash", 2).arg("reset"));
     assert_eq!(rc, Some(2), "{out}{err}");
     assert!(out.is_empty(), "{out}");
     assert!(

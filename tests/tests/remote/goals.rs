@@ -1,7 +1,7 @@
 //! A goal through the bridge, a cancel, the late joiner's history, and
 //! `gaitctl --remote` from the command line.
 
-use crate::support::{Pki, T, TestBridge};
+use crate::support::{self, Pki, T, TestBridge};
 use gaitd_client::remote::protocol::client_id_for;
 use gaitd_client::{EventKind, GoalSpec, GoalState, ReasonCode, Verdict};
 use gaitd_tests::TestDaemon;
@@ -108,12 +108,7 @@ fn gaitctl_remote_status_reorient_hold_cancel_and_events() {
     let d = TestDaemon::start("remote-cli");
     let _local = d.client();
     let b = TestBridge::start(&d, &pki, "");
-    let run = |name: &str, args: &[&str]| {
-        let out = b.gaitctl(&pki, name).args(args).output().unwrap();
-        let text = String::from_utf8_lossy(&out.stdout).into_owned();
-        let err = String::from_utf8_lossy(&out.stderr).into_owned();
-        (out.status.code(), text, err)
-    };
+    let run = |name: &str, args: &[&str]| support::run(b.gaitctl(&pki, name).args(args));
     let (rc, out, err) = run("dash", &["status", "--json"]);
     assert_eq!(rc, Some(0), "{err}");
     let s: serde_json::Value = serde_json::from_str(out.trim()).unwrap();

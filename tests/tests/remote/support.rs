@@ -85,6 +85,16 @@ impl Drop for Pki {
     }
 }
 
+/// Runs `c` to completion: its exit code, stdout and stderr.
+pub fn run(c: &mut Command) -> (Option<i32>, String, String) {
+    let out = c.output().unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
 /// A TCP port nobody listens on right now (the OS's pick).
 pub fn free_port() -> u16 {
     std::net::TcpListener::bind("127.0.0.1:0")
@@ -216,8 +226,13 @@ impl TestBridge {
         }
     }
 
-    /// `gaitctl --remote … --identity NAME` for this bridge.
+    /// `gaitctl --remote … --identity NAME` for this bridge (10 s timeout).
     pub fn gaitctl(&self, pki: &Pki, name: &str) -> Command {
+        self.gaitctl_waiting(pki, name, 10)
+    }
+
+    /// [`TestBridge::gaitctl`] with a `--timeout` of `secs`.
+    pub fn gaitctl_waiting(&self, pki: &Pki, name: &str, secs: u32) -> Command {
         let mut c = Command::new(workspace_bin("gaitctl"));
         c.arg("--remote")
             .arg(&self.endpoint)
@@ -228,7 +243,7 @@ impl TestBridge {
             .arg("--prefix")
             .arg(&self.prefix)
             .arg("--timeout")
-            .arg("10");
+            .arg(secs.to_string());
         c
     }
 }
