@@ -7,6 +7,7 @@
 //! thread owns its own `gaitd_client::Client` and handles one command at a
 //! time: check ([`crate::checks`]), rate-limit, forward, reply.
 
+use crate::answered::Answered;
 use crate::checks::{self, Check};
 use crate::config::{Config, Role};
 use crate::forward::local_options;
@@ -65,7 +66,10 @@ pub struct Commands<'a> {
     daemon: Option<Client>,
     limiter: RateLimiter,
     presence: Presence,
+    answered: Answered,
     timeout: Duration,
+    /// How long an operator may be gone before the policy applies.
+    grace: Duration,
 }
 
 impl<'a> Commands<'a> {
@@ -76,7 +80,9 @@ impl<'a> Commands<'a> {
             daemon: None,
             limiter: RateLimiter::new(cfg.rate_limit.commands_per_second, cfg.rate_limit.burst),
             presence: Presence::default(),
+            answered: Answered::default(),
             timeout: Duration::from_millis(cfg.bridge.command_timeout_ms),
+            grace: Duration::from_millis(cfg.bridge.client_lost_grace_ms),
         }
     }
 
@@ -90,6 +96,7 @@ impl<'a> Commands<'a> {
         let queryable = session
             .declare_queryable(format!("{prefix}/cmd/*/*"))
             .callback(move |q| {
+                tracing::debug!(key = q.key_expr().as_str(), "command query");
                 if let Err(mpsc::TrySendError::Full(Work::Query(q))) = qtx.try_send(Work::Query(q))
                 {
                     refuse(
@@ -138,12 +145,13 @@ impl<'a> Commands<'a> {
     /// Handles the work of `declared` until `stop` is set.
     pub fn run(mut self, declared: Declared, stop: &AtomicBool) -> anyhow::Result<()> {
         while !stop.load(Ordering::Acquire) {
-            match declared.rx.recv_timeout(Duration::from_millis(200)) {
+            match declared.rx.recv_timeout(self.idle()) {
                 Ok(Work::Query(q)) => self.handle(&q),
                 Ok(Work::Token { key, present }) => self.token(&key, present),
                 Err(mpsc::RecvTimeoutError::Timeout) => {}
                 Err(mpsc::RecvTimeoutError::Disconnected) => break,
             }
+            self.expire();
         }
         Ok(())
     }
@@ -160,6 +168,16 @@ impl<'a> Commands<'a> {
     }
 
     fn handle(&mut self, q: &Query) {
+        let t0 = Instant::now();
+        self.handle_query(q);
+        tracing::debug!(
+            key = q.key_expr().as_str(),
+            us = t0.elapsed().as_micros() as u64,
+            "command handled"
+        );
+    }
+
+    fn handle_query(&mut self, q: &Query) {
         let key = q.key_expr().as_str().to_owned();
         let encoding = q.encoding().map(|e| e.to_string());
         let payload = q
@@ -187,6 +205,17 @@ impl<'a> Commands<'a> {
         let identity = proto::parse_command_key(&self.cfg.zenoh.key_prefix, &key)
             .map_or("", |(i, _)| i)
             .to_owned();
+        // A request sent again (its reply lost with a dropped link): the
+        // same answer, and the daemon does not get it twice.
+        if let Some(a) = self.answered.get(&identity, &checked.command) {
+            tracing::info!(
+                identity,
+                request_id = checked.request_id,
+                "request sent again: answered as before, not forwarded"
+            );
+            answer(q, &a);
+            return;
+        }
         if !self.limiter.allow(&identity, Instant::now()) {
             let r = &self.cfg.rate_limit;
             refuse(
@@ -213,13 +242,14 @@ impl<'a> Commands<'a> {
             return;
         };
         match c.command(checked.command, timeout) {
-            Ok(a) => answer(
-                q,
-                &Answer {
+            Ok(a) => {
+                let a = Answer {
                     request_id: checked.request_id,
                     ..a
-                },
-            ),
+                };
+                self.answered.insert(&identity, &checked.command, a);
+                answer(q, &a);
+            }
             Err(e) => {
                 let (code, msg) = match &e {
                     Error::Busy => (RefusalCode::DaemonBusy, e.to_string()),
@@ -247,10 +277,36 @@ impl<'a> Commands<'a> {
         };
         let identity = identity.to_owned();
         tracing::info!(identity, session, present, "remote client");
-        let Some(lost) = self.presence.update(&identity, session, present) else {
-            return;
-        };
-        if self.cfg.role(&lost) != Some(Role::Operator) {
+        if self
+            .presence
+            .update(&identity, session, present, Instant::now())
+        {
+            tracing::info!(identity, "remote client back within the grace period");
+        }
+    }
+
+    /// Applies the client-lost policy to identities gone for the grace period.
+    fn expire(&mut self) {
+        for lost in self.presence.lost(Instant::now(), self.grace) {
+            self.lost(&lost);
+        }
+    }
+
+    /// How long the thread may wait for work before [`Self::expire`] is due.
+    fn idle(&self) -> Duration {
+        let poll = Duration::from_millis(200);
+        self.presence.next_due(self.grace).map_or(poll, |t| {
+            t.saturating_duration_since(Instant::now()).min(poll)
+        })
+    }
+
+    fn lost(&mut self, lost: &str) {
+        tracing::info!(
+            identity = lost,
+            grace_ms = self.grace.as_millis() as u64,
+            "remote client lost"
+        );
+        if self.cfg.role(lost) != Some(Role::Operator) {
             return;
         }
         let policy = self.cfg.bridge.on_client_lost;
@@ -259,7 +315,7 @@ impl<'a> Commands<'a> {
             return;
         };
         let status = c.latest_status().ok().flatten();
-        let Some(cmd) = presence::on_lost(policy, &lost, status.as_ref()) else {
+        let Some(cmd) = presence::on_lost(policy, lost, status.as_ref()) else {
             return;
         };
         tracing::warn!(

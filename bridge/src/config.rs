@@ -115,8 +115,13 @@ pub struct BridgeSection {
     pub heartbeat_ms: u64,
     /// How long a command waits for the daemon's answer \[ms\].
     pub command_timeout_ms: u64,
-    /// When a remote operator's last session vanishes.
+    /// When a remote operator's last session has been gone for
+    /// `client_lost_grace_ms`.
     pub on_client_lost: ClientLostPolicy,
+    /// How long an operator's last session may be gone before
+    /// `on_client_lost` applies: a link that drops and reconnects within
+    /// it (Zenoh does at once) does not stop the goal \[ms\].
+    pub client_lost_grace_ms: u64,
 }
 
 impl Default for BridgeSection {
@@ -127,6 +132,7 @@ impl Default for BridgeSection {
             heartbeat_ms: 500,
             command_timeout_ms: 1000,
             on_client_lost: ClientLostPolicy::Cancel,
+            client_lost_grace_ms: 1000,
         }
     }
 }
@@ -247,6 +253,12 @@ impl Config {
                 "must be in 10..=60000",
             ));
         }
+        if b.client_lost_grace_ms > 60_000 {
+            return Err(invalid(
+                "bridge.client_lost_grace_ms",
+                "must be in 0..=60000",
+            ));
+        }
         let r = &self.rate_limit;
         if !(r.commands_per_second > 0.0 && r.commands_per_second.is_finite()) {
             return Err(invalid("rate_limit.commands_per_second", "must be > 0"));
@@ -354,6 +366,10 @@ mod tests {
             ("[zenoh]\nkey_prefix = \"a/*\"", "zenoh.key_prefix"),
             ("[bridge]\nstatus_rate_hz = 0", "bridge.status_rate_hz"),
             ("[bridge]\nevent_cache = 0", "bridge.event_cache"),
+            (
+                "[bridge]\nclient_lost_grace_ms = 60001",
+                "bridge.client_lost_grace_ms",
+            ),
             ("[rate_limit]\nburst = 0", "rate_limit.burst"),
             (
                 "[[identity]]\nname = \"a/b\"\nrole = \"operator\"",

@@ -10,7 +10,9 @@
 //! - events → `P/events`, an advanced publisher with a cache for late
 //!   joiners and miss detection ([`forward`]);
 //! - commands ← queryable `P/cmd/<identity>/<command>`, replying the
-//!   daemon's `Answer` or a refusal ([`commands`], [`checks`]);
+//!   daemon's `Answer` or a refusal ([`commands`], [`checks`]); a request
+//!   sent again after a dropped link gets the answer already given
+//!   ([`answered`]);
 //! - liveliness tokens `P/alive/bridge`, `P/alive/daemon` (while gaitd
 //!   publishes), and the clients' `P/clients/<identity>/<session>`: when an
 //!   operator's last session vanishes, `[bridge] on_client_lost` applies
@@ -24,6 +26,7 @@
 //! [`gaitd_client::remote::protocol`] is the contract and
 //! `bridge/PROTOCOL.md` describes it for other languages.
 
+pub mod answered;
 pub mod checks;
 pub mod commands;
 pub mod config;

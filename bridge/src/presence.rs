@@ -1,35 +1,69 @@
 //! Which remote clients are there: their liveliness tokens
 //! (`P/clients/<identity>/<session>`), counted per identity, and what to do
-//! when an identity's last session vanishes ([`ClientLostPolicy`]).
+//! when an identity's last session has been gone for the grace period
+//! ([`ClientLostPolicy`]).
+//!
+//! The grace period is there because a token also vanishes when a link
+//! drops and Zenoh reconnects the same session at once (milliseconds later):
+//! such a blip must not stop the operator's goal. A client that is really
+//! gone is lost after its lease plus the grace.
 
 use crate::config::ClientLostPolicy;
 use gaitd_client::remote::protocol as proto;
 use shm_schema::{Command, GoalState, Status};
 use std::collections::{HashMap, HashSet};
+use std::time::{Duration, Instant};
 
-/// Sessions present, by identity.
+/// Sessions present, by identity, and identities whose last session
+/// vanished (since when).
 #[derive(Debug, Default)]
 pub struct Presence {
     sessions: HashMap<String, HashSet<String>>,
+    vanished: HashMap<String, Instant>,
 }
 
 impl Presence {
-    /// A token appeared (`true`) or vanished; returns the identity whose
-    /// last session just vanished, if that is what happened.
-    pub fn update(&mut self, identity: &str, session: &str, present: bool) -> Option<String> {
+    /// A token appeared (`true`) or vanished at `now`. An identity whose
+    /// last session vanishes is remembered until [`Presence::lost`] reports
+    /// it or one of its sessions comes back (returns `true` then: it is
+    /// back within the grace period).
+    pub fn update(&mut self, identity: &str, session: &str, present: bool, now: Instant) -> bool {
         if present {
             self.sessions
                 .entry(identity.to_owned())
                 .or_default()
                 .insert(session.to_owned());
-            return None;
+            return self.vanished.remove(identity).is_some();
         }
-        let set = self.sessions.get_mut(identity)?;
-        if !set.remove(session) || !set.is_empty() {
-            return None;
+        let Some(set) = self.sessions.get_mut(identity) else {
+            return false;
+        };
+        if set.remove(session) && set.is_empty() {
+            self.sessions.remove(identity);
+            self.vanished.insert(identity.to_owned(), now);
         }
-        self.sessions.remove(identity);
-        Some(identity.to_owned())
+        false
+    }
+
+    /// The identities gone for at least `grace` at `now` (each reported
+    /// once), in name order.
+    pub fn lost(&mut self, now: Instant, grace: Duration) -> Vec<String> {
+        let mut due: Vec<String> = self
+            .vanished
+            .iter()
+            .filter(|(_, t)| now.saturating_duration_since(**t) >= grace)
+            .map(|(id, _)| id.clone())
+            .collect();
+        due.sort();
+        for id in &due {
+            self.vanished.remove(id);
+        }
+        due
+    }
+
+    /// When the next vanished identity is due, given `grace`.
+    pub fn next_due(&self, grace: Duration) -> Option<Instant> {
+        self.vanished.values().map(|t| *t + grace).min()
     }
 
     /// Sessions of `identity` present now.
@@ -68,15 +102,42 @@ mod tests {
     use shm_schema::CommandKind;
 
     #[test]
-    fn the_last_session_counts() {
+    fn the_last_session_counts_after_the_grace_period() {
+        let t0 = Instant::now();
+        let at = |ms| t0 + Duration::from_millis(ms);
+        let grace = Duration::from_millis(1000);
         let mut p = Presence::default();
-        assert_eq!(p.update("op", "s1", true), None);
-        assert_eq!(p.update("op", "s2", true), None);
+        assert!(!p.update("op", "s1", true, at(0)));
+        assert!(!p.update("op", "s2", true, at(0)));
         assert_eq!(p.sessions("op"), 2);
-        assert_eq!(p.update("op", "s1", false), None);
-        assert_eq!(p.update("op", "s1", false), None);
-        assert_eq!(p.update("op", "s2", false), Some("op".into()));
-        assert_eq!(p.update("ghost", "s", false), None);
+        assert!(!p.update("op", "s1", false, at(10)));
+        assert!(!p.update("op", "s1", false, at(10)));
+        assert_eq!(p.lost(at(5000), grace), Vec::<String>::new());
+        assert!(!p.update("op", "s2", false, at(100)));
+        assert_eq!(p.next_due(grace), Some(at(1100)));
+        assert_eq!(p.lost(at(1099), grace), Vec::<String>::new());
+        assert_eq!(p.lost(at(1100), grace), vec!["op".to_owned()]);
+        // Reported once.
+        assert_eq!(p.lost(at(9000), grace), Vec::<String>::new());
+        assert_eq!(p.next_due(grace), None);
+        assert!(!p.update("ghost", "s", false, at(0)));
+        assert_eq!(p.lost(at(9000), grace), Vec::<String>::new());
+    }
+
+    #[test]
+    fn a_session_back_within_the_grace_period_is_not_lost() {
+        let t0 = Instant::now();
+        let at = |ms| t0 + Duration::from_millis(ms);
+        let grace = Duration::from_millis(1000);
+        let mut p = Presence::default();
+        p.update("op", "s1", true, at(0));
+        p.update("op", "s1", false, at(100));
+        // The same session, reconnected by Zenoh 3 ms later.
+        assert!(p.update("op", "s1", true, at(103)));
+        assert_eq!(p.lost(at(5000), grace), Vec::<String>::new());
+        // Gone for good this time.
+        p.update("op", "s1", false, at(6000));
+        assert_eq!(p.lost(at(7000), grace), vec!["op".to_owned()]);
     }
 
     #[test]

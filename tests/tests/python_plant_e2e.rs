@@ -391,17 +391,65 @@ fn to_object(q: [f64; 4], p: [f64; 3]) -> [f64; 3] {
     [0, 1, 2].map(|i| v[i] + 2.0 * w * t[i] + 2.0 * tt[i])
 }
 
+/// One daemon (lockstep, shm plant, the default load) and its MuJoCo plant.
+struct GravityRun {
+    d: TestDaemon,
+    plant: PlantProcess,
+    c: Client,
+    report: std::path::PathBuf,
+}
+
+impl GravityRun {
+    fn start(k: usize) -> Self {
+        let mut d = shm_daemon_loaded(&format!("py-gravity-{k}"), "", PHYSICS_FEEDBACK);
+        let report = d.dir.join("plant-report.json");
+        let plant = mujoco_plant(&d, &report);
+        let c = connect_when_measured(&mut d, &plant);
+        Self {
+            d,
+            plant,
+            c,
+            report,
+        }
+    }
+
+    /// Stops the plant; checks that the daemon survived and the plant ran
+    /// and refused no command; returns the object centre's largest drift
+    /// the plant reported \[m\].
+    fn finish(mut self) -> f64 {
+        let status = self.plant.stop(Duration::from_secs(20));
+        let rep: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&self.report).expect("plant report"))
+                .unwrap();
+        assert!(self.d.running(), "gaitd survived:\n{}", self.d.log());
+        assert!(
+            status.is_some_and(|s| s.success()),
+            "plant exit {status:?}:\n{}",
+            self.plant.log()
+        );
+        assert_eq!(
+            rep["rejected"], 0,
+            "plant refused commands: {}",
+            rep["last_rejection"]
+        );
+        rep["max_object_drift_m"].as_f64().unwrap_or(f64::NAN)
+    }
+}
+
 /// Closed loop with gravity (issue "Holding against gravity"): the default
 /// load (0.1 kg under gravity, the configuration's μ, torsion and mass in
 /// the MuJoCo scene), the paper start's full turn about z, then
-/// `GAITD_GRAVITY_GOALS` (default 10) seeded random goals, one daemon and
-/// one plant, until the first goal not reached within 1° as the simulator
-/// measures (after a fault the daemon refuses goals until a reset). Printed
-/// per goal: the measured error, and per contact the largest slip over the
-/// object's surface and the largest commanded and measured normal forces.
-/// A figure, not yet pass/fail (measured: 3 of 4 reached, then a
+/// `GAITD_GRAVITY_GOALS` (default 10) seeded random goals, each from where
+/// the last one ended. A goal not reached within 1° as the simulator
+/// measures (a fault, a drop) is counted and the daemon and the plant are
+/// started afresh from the paper start for the next goal; a goal the
+/// daemon refuses (a typed rejection, e.g. LoadInfeasible) is counted as
+/// refused. Printed per goal: the outcome, the measured error, and per
+/// contact the largest slip over the object's surface and the largest
+/// commanded and measured normal forces. A figure, not yet pass/fail
+/// (measured 2026-12-01 with the old harness: 3 of 4 reached, then a
 /// ContactLost fault with the object swung 112° during a handover);
-/// checked: every goal ends, the daemon survives, the plant ran and
+/// checked: every goal ends, every daemon survives, every plant ran and
 /// refused no command.
 #[test]
 fn gravity_goals_on_the_mujoco_plant_are_counted() {
@@ -409,25 +457,30 @@ fn gravity_goals_on_the_mujoco_plant_are_counted() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(10);
-    let mut d = shm_daemon_loaded("py-gravity-goals", "", PHYSICS_FEEDBACK);
-    let report = d.dir.join("plant-report.json");
-    let mut plant = mujoco_plant(&d, &report);
-    let mut c = connect_when_measured(&mut d, &plant);
-    let start = c.wait_status(T).unwrap().measured_object_q;
     let mut goals = vec![(
         GoalSpec::turn([0.0, 0.0, 1.0], std::f64::consts::TAU).unwrap(),
-        start,
+        None,
         "paper: full turn about z".to_owned(),
     )];
     for (i, q) in random_goals(n, 0x15_6A17).into_iter().enumerate() {
-        goals.push((GoalSpec::absolute(q), q, format!("random goal {i}")));
+        goals.push((GoalSpec::absolute(q), Some(q), format!("random goal {i}")));
     }
     let t0 = Instant::now();
-    let (mut reached, mut worst, mut failed) = (0, 0.0f64, Vec::new());
+    let (mut runs, mut drift) = (1, 0.0f64);
+    let mut run = GravityRun::start(0);
+    let start = run.c.wait_status(T).unwrap().measured_object_q;
+    let (mut reached, mut worst) = (0, 0.0f64);
+    let (mut failed, mut refused) = (Vec::new(), Vec::new());
     let mut all = ContactFigures::default();
     for (goal, expect, what) in &goals {
+        let expect = expect.unwrap_or(start);
+        let c = &mut run.c;
         let ticket = c.reorient(goal, T).expect("send goal");
-        assert_eq!(ticket.verdict, Verdict::Accepted, "{what}");
+        if ticket.verdict != Verdict::Accepted {
+            println!("gravity, {what}: refused ({:?})", ticket.verdict);
+            refused.push(what.clone());
+            continue;
+        }
         let mut fig = ContactFigures::default();
         let deadline = Instant::now() + GOAL;
         loop {
@@ -441,56 +494,49 @@ fn gravity_goals_on_the_mujoco_plant_are_counted() {
             assert!(Instant::now() < deadline, "{what}: no end");
         }
         let o = c.wait_outcome(ticket.goal_id, T).unwrap();
-        let s = settled(&mut c);
-        let err = angle(s.measured_object_q, *expect).to_degrees();
+        let s = settled(c);
+        let err = angle(s.measured_object_q, expect).to_degrees();
         let ok = o.state == GoalState::Succeeded && s.fault == 0 && err < GRAVITY_TOL_DEG;
-        reached += usize::from(ok);
-        worst = worst.max(err);
         for k in 0..3 {
             all.slip[k] = all.slip[k].max(fig.slip[k]);
             all.commanded[k] = all.commanded[k].max(fig.commanded[k]);
             all.measured[k] = all.measured[k].max(fig.measured[k]);
         }
         println!(
-            "gravity, {what}: {:?} ({:?}), measured error {err:.3}°, gaits {}; slip per contact {:.2?} mm, \
-             largest grip commanded {:.2?} N, measured {:.2?} N",
+            "gravity, {what}: {:?} ({:?}), fault {}, measured error {err:.3}°, gaits {}; slip per \
+             contact {:.2?} mm, largest grip commanded {:.2?} N, measured {:.2?} N",
             o.state,
             o.reason,
+            shm_schema::FaultCode::try_from(s.fault).map_or("?", |f| f.name()),
             s.goal.gaits_done,
             fig.slip.map(|x| x * 1e3),
             fig.commanded,
             fig.measured
         );
-        if !ok {
+        if ok {
+            reached += 1;
+            worst = worst.max(err);
+        } else {
+            // Random goals are absolute: the next one starts afresh.
             failed.push(what.clone());
-            break;
+            drift = drift.max(std::mem::replace(&mut run, GravityRun::start(runs)).finish());
+            runs += 1;
         }
     }
-    let status = plant.stop(Duration::from_secs(20));
-    let rep: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&report).expect("plant report")).unwrap();
-    let drift = rep["max_object_drift_m"].as_f64().unwrap_or(f64::NAN);
+    drift = drift.max(run.finish());
     println!(
         "gravity on, 0.1 kg, MuJoCo closed loop: {reached}/{} goals reached within {GRAVITY_TOL_DEG}° \
-         (worst {worst:.3}°) in {:.0} s wall; slip per contact up to {:.2?} mm; largest grip commanded \
-         {:.2?} N, measured {:.2?} N; object centre moved up to {:.2} mm",
+         (worst reached {worst:.3}°), {} not reached, {} refused, in {:.0} s wall over {runs} \
+         daemon+plant runs; slip per contact up to {:.2?} mm; largest grip commanded {:.2?} N, \
+         measured {:.2?} N; object centre moved up to {:.2} mm",
         goals.len(),
+        failed.len(),
+        refused.len(),
         t0.elapsed().as_secs_f64(),
         all.slip.map(|x| x * 1e3),
         all.commanded,
         all.measured,
         drift * 1e3
     );
-    println!("gravity on: first goal not reached: {failed:?}");
-    assert!(d.running(), "gaitd survived:\n{}", d.log());
-    assert!(
-        status.is_some_and(|s| s.success()),
-        "plant exit {status:?}:\n{}",
-        plant.log()
-    );
-    assert_eq!(
-        rep["rejected"], 0,
-        "plant refused commands: {}",
-        rep["last_rejection"]
-    );
+    println!("gravity on: not reached: {failed:?}; refused: {refused:?}");
 }

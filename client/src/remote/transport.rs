@@ -64,6 +64,10 @@ struct InboxState {
     bridge_seen: bool,
     daemon: bool,
     bridge_returns: u64,
+    /// The link to the bridge is up (Zenoh's transport events).
+    linked: bool,
+    /// Times it went down.
+    link_drops: u64,
 }
 
 /// Shared between Zenoh's callbacks and the client's thread.
@@ -174,6 +178,8 @@ pub(crate) struct Drained {
     pub replies: Vec<(u64, ReplyOutcome)>,
     pub bad_samples: u64,
     pub bridge_returns: u64,
+    /// Times the link to the bridge went down since the last drain.
+    pub link_drops: u64,
 }
 
 /// A raw command query's result (see [`Client::send_raw`](crate::Client::send_raw)).
@@ -225,6 +231,7 @@ pub(crate) struct RemoteConnection {
     _events: zenoh_ext::AdvancedSubscriber<()>,
     _misses: zenoh_ext::SampleMissListener<()>,
     _alive: zenoh::pubsub::Subscriber<()>,
+    _transports: zenoh::session::TransportEventsListener<()>,
     _token: zenoh::liveliness::LivelinessToken,
 }
 
@@ -398,6 +405,24 @@ impl RemoteConnection {
             })
             .wait()
             .map_err(zerr)?;
+        // The link itself: the bridge's token does not always blink when
+        // Zenoh reconnects at once, a transport event does.
+        let ib = inbox.clone();
+        let transports = session
+            .info()
+            .transport_events_listener()
+            .history(true)
+            .callback(move |e| {
+                let up = e.kind() == SampleKind::Put;
+                ib.update(|st| {
+                    if st.linked && !up {
+                        st.link_drops += 1;
+                    }
+                    st.linked = up;
+                });
+            })
+            .wait()
+            .map_err(zerr)?;
         let zid = session.zid().to_string();
         let token = session
             .liveliness()
@@ -416,6 +441,7 @@ impl RemoteConnection {
             _events: events,
             _misses: misses,
             _alive: alive,
+            _transports: transports,
             _token: token,
         })
     }
@@ -435,6 +461,7 @@ impl RemoteConnection {
             replies: s.replies.drain(..).collect(),
             bad_samples: std::mem::take(&mut s.bad_samples),
             bridge_returns: std::mem::take(&mut s.bridge_returns),
+            link_drops: std::mem::take(&mut s.link_drops),
         }
     }
 
@@ -451,6 +478,11 @@ impl RemoteConnection {
     /// How long ago the last status arrived.
     pub fn status_age(&self) -> Option<Duration> {
         self.inbox.lock().status_at.map(|t| t.elapsed())
+    }
+
+    /// Whether the session has a link to its router (the bridge) now.
+    pub fn linked(&self) -> bool {
+        self.inbox.lock().linked
     }
 
     /// Whether the bridge's and the daemon's liveliness tokens are visible.

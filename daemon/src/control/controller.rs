@@ -200,4 +200,13 @@ pub trait Controller {
     /// at `now`: called first in the tick, before its commands (the
     /// embedded hand needs none).
     fn feed_plant(&mut self, _sample: &crate::plant::PlantSample, _now: Nanos) {}
+
+    /// Lockstep: whether the next tick must wait for a plan in flight, so
+    /// that every plan arrives at the same tick in every run. The loop then
+    /// holds the plant's measurement and waits between ticks (heartbeats
+    /// and the watchdog go on), not inside one: a tick's compute time never
+    /// includes planning.
+    fn awaits_plan(&self) -> bool {
+        false
+    }
 }

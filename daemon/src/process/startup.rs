@@ -432,6 +432,8 @@ impl Daemon {
             ticks = summary.ticks,
             missed = summary.overruns,
             at_rest = summary.at_rest,
+            plan_waits = summary.plan_waits,
+            plan_wait_max_ms = summary.plan_wait_max as f64 * 1e-6,
             "stopped: final status published"
         );
         self.writer.join();

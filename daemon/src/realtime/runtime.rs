@@ -121,6 +121,10 @@ pub struct Summary {
     pub overruns: u64,
     /// Whether the controller reached rest before the final status.
     pub at_rest: bool,
+    /// Lockstep: ticks held for a plan ([`Controller::awaits_plan`]).
+    pub plan_waits: u64,
+    /// Lockstep: the longest of those holds (wall clock) \[ns\].
+    pub plan_wait_max: Nanos,
 }
 
 struct Watchdog {
@@ -164,7 +168,24 @@ struct LockstepPace {
     last_progress: Nanos,
     next_beat: Nanos,
     timed_out: bool,
+    /// A measurement held while the controller waits for a plan
+    /// ([`Controller::awaits_plan`]).
+    held: Option<Held>,
 }
+
+/// A lockstep measurement held for a plan.
+#[derive(Debug, Clone, Copy)]
+struct Held {
+    sample: PlantSample,
+    /// When it was first held (wall clock).
+    since: Nanos,
+    /// Passes that waited on it.
+    passes: u64,
+}
+
+/// How long a lockstep tick is held for a plan before it runs without it
+/// (the plan then arrives at a later tick, as in real time) \[ns\].
+const LOCKSTEP_PLAN_WAIT: Nanos = 10_000_000_000;
 
 impl ControlOutput {
     /// A still hand at `hand`, before the controller's first tick.
@@ -315,6 +336,8 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             ticks: self.tick,
             overruns: self.stats.overruns(),
             at_rest,
+            plan_waits: self.stats.plan_waits(),
+            plan_wait_max: self.stats.plan_wait_max(),
         }
     }
 
@@ -331,6 +354,7 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             last_progress: now,
             next_beat: now + self.settings.period,
             timed_out: false,
+            held: None,
         };
         while !stop.load(Ordering::Acquire) {
             self.lockstep_once();
@@ -339,8 +363,10 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
 
     /// One pass of the lockstep loop ([`Runtime::run`]): waits at most a
     /// period for the plant, then runs a tick on a new measurement (or on
-    /// the timeout, once, to fault), or publishes a heartbeat. Returns
-    /// whether a tick ran.
+    /// the timeout, once, to fault), or publishes a heartbeat. While the
+    /// controller awaits a plan ([`Controller::awaits_plan`]) the new
+    /// measurement is held and the loop beats instead, for at most 10 s
+    /// (then the tick runs without the plan). Returns whether a tick ran.
     pub fn lockstep_once(&mut self) -> bool {
         let timeout = self.lockstep.unwrap_or(u64::MAX);
         let period = self.settings.period;
@@ -354,11 +380,48 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             .map(|p| p.drain(now))
             .unwrap_or_default();
         if let Some(m) = sample.newest.filter(|m| m.seq != self.plant_seq) {
-            // The plant's clock is the daemon's clock.
             self.plant_seq = m.seq;
             self.pace.last_progress = now;
             self.pace.timed_out = false;
-            self.step_with(m.time_ns, &sample);
+            self.pace.held = Some(match self.pace.held {
+                // (A plant that sent again meanwhile: its newest counts.)
+                Some(h) => Held {
+                    sample: PlantSample {
+                        received: h.sample.received.saturating_add(sample.received),
+                        ..sample
+                    },
+                    ..h
+                },
+                None => Held {
+                    sample,
+                    since: now,
+                    passes: 0,
+                },
+            });
+        }
+        if let Some(held) = self.pace.held.as_mut() {
+            let waited = now.saturating_sub(held.since);
+            if self.controller.awaits_plan() && waited < LOCKSTEP_PLAN_WAIT {
+                // Waiting for the planner, not for the plant.
+                held.passes += 1;
+                self.pace.last_progress = now;
+                if now >= self.pace.next_beat {
+                    self.pace.next_beat = now + period;
+                    self.heartbeat(now);
+                }
+                return false;
+            }
+            let held = *held;
+            self.pace.held = None;
+            if held.passes > 0 {
+                self.stats.record_plan_wait(waited);
+            }
+            // The plant's clock is the daemon's clock.
+            let t = held
+                .sample
+                .newest
+                .map_or(self.status.time_ns + period, |m| m.time_ns);
+            self.step_with(t, &held.sample);
             self.pace.next_beat = self.clock.now() + period;
             true
         } else if self.plant_seq != 0
@@ -402,6 +465,8 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             self.outbox.push(Outbound::Status(self.status));
         }
         self.outbox.tick_done(now, now + self.settings.period);
+        // The loop is alive: a missing plant is a fault, not a hang.
+        self.feed_watchdog(now);
     }
 
     /// One tick for wake-up `w` (all four phases). With an external plant
@@ -450,10 +515,11 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         }
         self.outbox
             .tick_done(w.deadline, self.ticker.next_deadline());
-        self.feed_watchdog(w.now);
         self.shared.ticks.store(self.tick, Ordering::Relaxed);
         // 4. stats (wall clock: in lockstep `w.now` is the plant's time)
         let end = self.clock.now();
+        // (Wall clock too: the watchdog's deadlines are, whatever the plant's time.)
+        self.feed_watchdog(end);
         let start = if self.lockstep.is_some() {
             wall_start
         } else {

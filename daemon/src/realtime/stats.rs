@@ -23,6 +23,8 @@ pub struct LoopStats {
     compute_p99: Nanos,
     jitter_p99: Nanos,
     period: Nanos,
+    plan_waits: u64,
+    plan_wait_max: Nanos,
 }
 
 impl LoopStats {
@@ -39,7 +41,26 @@ impl LoopStats {
             compute_p99: 0,
             jitter_p99: 0,
             period,
+            plan_waits: 0,
+            plan_wait_max: 0,
         }
+    }
+
+    /// Records a lockstep tick held for `waited` ns for a plan (outside
+    /// the tick: never part of its compute time).
+    pub fn record_plan_wait(&mut self, waited: Nanos) {
+        self.plan_waits += 1;
+        self.plan_wait_max = self.plan_wait_max.max(waited);
+    }
+
+    /// Lockstep ticks held for a plan so far.
+    pub fn plan_waits(&self) -> u64 {
+        self.plan_waits
+    }
+
+    /// The longest hold for a plan so far \[ns\].
+    pub fn plan_wait_max(&self) -> Nanos {
+        self.plan_wait_max
     }
 
     /// Records a wake-up: its jitter and the periods missed before it.

@@ -9,12 +9,17 @@
 //!   refused, a monitor cannot command (the daemon never sees it), bad
 //!   bytes are rejected with a reason;
 //! - [`reconnect`]: the bridge killed and restarted, the client resumes;
+//! - [`cut`]: a link dropped with a command in flight: sent again,
+//!   answered once;
+//! - [`lost`]: an operator killed while its goal runs, the bridge cancels it;
 //! - [`cli`]: `gaitctl --remote watch` and `reset`, a monitor's reset
 //!   refused, the TLS flags' mistakes as one-line messages;
 //! - [`python`]: `gaitd.remote.RemoteClient` sends a goal and reads status.
 
 mod cli;
+mod cut;
 mod goals;
+mod lost;
 mod python;
 mod reconnect;
 mod security;

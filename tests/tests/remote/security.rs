@@ -224,3 +224,36 @@ fn bad_bytes_are_rejected_with_a_reason_and_the_daemon_is_unaffected() {
     }
     assert_eq!(daemon_counts(&mut local).0, before.0 + 1);
 }
+
+#[test]
+fn a_request_sent_again_gets_the_same_answer_and_reaches_the_daemon_once() {
+    let _one = crate::support::one_at_a_time();
+    let pki = Pki::new("again");
+    let d = TestDaemon::start("remote-again");
+    let mut local = d.client();
+    let b = TestBridge::start(&d, &pki, "");
+    let mut op = b.client(&pki, "op");
+    let (before, _) = daemon_counts(&mut local);
+    // As a client sends it again after a dropped link: same request id.
+    let mut send = |request_id: u64| {
+        let mut cmd = Command::from_bytes(&hold_bytes());
+        cmd.request_id = request_id;
+        match op
+            .send_raw("hold", &cmd.to_bytes(), COMMAND_SCHEMA, T)
+            .unwrap()
+        {
+            RawReply::Answer(a) => a,
+            other => panic!("{other:?}"),
+        }
+    };
+    let (first, again) = (send(77), send(77));
+    assert_eq!(first.verdict().unwrap(), Verdict::Accepted);
+    assert_eq!(first.request_id, 77);
+    assert_eq!(again, first);
+    // Another request id is another command.
+    assert_eq!(send(78).request_id, 78);
+    std::thread::sleep(Duration::from_millis(300));
+    let (after, _) = daemon_counts(&mut local);
+    assert_eq!(after, before + 2, "the daemon got the repeated request");
+    assert!(b.log().contains("request sent again"), "{}", b.log());
+}

@@ -85,6 +85,22 @@ impl Drop for Pki {
     }
 }
 
+/// Logs the in-process clients' Zenoh session to stderr with the filter in
+/// `GAITD_TEST_CLIENT_LOG` (e.g. `zenoh_transport=debug`), if set: with
+/// the bridge's (`GAITD_TEST_BRIDGE_LOG`) it shows which side closed a link.
+pub fn client_log() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        if let Ok(filter) = std::env::var("GAITD_TEST_CLIENT_LOG") {
+            let _ = tracing_subscriber::fmt()
+                .with_env_filter(tracing_subscriber::EnvFilter::new(filter))
+                .with_writer(std::io::stderr)
+                .with_ansi(false)
+                .try_init();
+        }
+    });
+}
+
 /// Runs `c` to completion: its exit code, stdout and stderr.
 pub fn run(c: &mut Command) -> (Option<i32>, String, String) {
     let out = c.output().unwrap();
@@ -165,7 +181,12 @@ impl TestBridge {
         let child = Command::new(workspace_bin("gaitd-bridge"))
             .arg("--config")
             .arg(&self.config)
-            .env("RUST_LOG", "info,zenoh=warn")
+            // GAITD_TEST_BRIDGE_LOG: another filter to diagnose with
+            // (e.g. `info,zenoh_transport=debug` for why a session closed).
+            .env(
+                "RUST_LOG",
+                std::env::var("GAITD_TEST_BRIDGE_LOG").unwrap_or_else(|_| "info,zenoh=warn".into()),
+            )
             .stdout(Stdio::null())
             .stderr(log)
             .spawn()
@@ -217,6 +238,7 @@ impl TestBridge {
 
     /// A connected remote client (panics with the bridge's log if not).
     pub fn client(&self, pki: &Pki, name: &str) -> Client {
+        client_log();
         match Client::connect(self.options(pki, name)) {
             Ok(c) => c,
             Err(e) => panic!(
@@ -251,5 +273,16 @@ impl TestBridge {
 impl Drop for TestBridge {
     fn drop(&mut self) {
         self.kill();
+        // A failing test shows what the bridge saw, whatever failed (and
+        // every test does when diagnosing with GAITD_TEST_BRIDGE_LOG).
+        if std::thread::panicking() || std::env::var_os("GAITD_TEST_BRIDGE_LOG").is_some() {
+            use std::io::Write;
+            let text = format!(
+                "--- bridge log ({}) ---\n{}",
+                self.log.display(),
+                self.log()
+            );
+            let _ = std::io::stderr().write_all(text.as_bytes());
+        }
     }
 }

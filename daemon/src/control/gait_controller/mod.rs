@@ -320,6 +320,10 @@ impl Controller for GaitController {
         }
     }
 
+    fn awaits_plan(&self) -> bool {
+        self.planning.awaits_reply()
+    }
+
     fn tick(&mut self, ctx: &mut TickContext<'_>, out: &mut ControlOutput) {
         self.planning.pump(&mut self.exec, true);
         let (m, fresh) = match self.reading.take() {

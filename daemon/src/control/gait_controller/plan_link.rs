@@ -24,14 +24,11 @@ pub struct PlanShuttle {
     leaked: u64,
     /// Requests submitted and not yet answered.
     in_flight: u32,
-    /// Lockstep: wait for every plan at the tick after its request, so a
-    /// run is reproducible bit for bit (the plant waits for us anyway).
+    /// Lockstep: every plan is delivered at the tick after its request, so
+    /// a run is reproducible bit for bit (the plant waits for us anyway).
+    /// The loop waits for it between ticks ([`PlanShuttle::awaits_reply`]).
     deterministic: bool,
 }
-
-/// How long a lockstep tick waits for a plan before going on without it
-/// (the plan then arrives at a later tick, as in real time).
-const PLAN_WAIT: std::time::Duration = std::time::Duration::from_secs(10);
 
 impl std::fmt::Debug for PlanShuttle {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -60,6 +57,12 @@ impl PlanShuttle {
         self.deterministic = true;
     }
 
+    /// Lockstep: a request is in flight and its reply is not there yet, so
+    /// the next tick should wait (the loop does, between ticks).
+    pub fn awaits_reply(&self) -> bool {
+        self.deterministic && self.in_flight > 0 && !self.link.reply_ready()
+    }
+
     /// Plans leaked so far (expected 0: see [`PlanShuttle::retire`]).
     pub fn leaked(&self) -> u64 {
         self.leaked
@@ -84,9 +87,10 @@ impl PlanShuttle {
     }
 
     /// Retries waiting retirements, submits the executor's plan request
-    /// and delivers every finished plan to it. `at_tick_start`: in
-    /// lockstep, the first pump of a tick waits (bounded) for the plans
-    /// requested in the tick before, so they arrive at a fixed tick.
+    /// and delivers every finished plan to it. In lockstep plans are only
+    /// delivered by the first pump of a tick (`at_tick_start`), which the
+    /// loop held until they were ready: a plan requested at tick N arrives
+    /// at tick N + 1 however fast the planner is. Never waits.
     pub fn pump(&mut self, exec: &mut Executor, at_tick_start: bool) {
         for k in 0..RETIRE_SLOTS {
             let p = self.retiring[k].take();
@@ -102,11 +106,8 @@ impl PlanShuttle {
                 Err(_) => exec.plan_unavailable(req.goal),
             }
         }
-        if self.deterministic && at_tick_start && self.in_flight > 0 {
-            let t0 = std::time::Instant::now();
-            while !self.link.reply_ready() && t0.elapsed() < PLAN_WAIT {
-                std::thread::sleep(std::time::Duration::from_micros(20));
-            }
+        if self.deterministic && !at_tick_start {
+            return;
         }
         while let Some(reply) = self.link.poll() {
             self.in_flight = self.in_flight.saturating_sub(1);
