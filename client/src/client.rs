@@ -5,8 +5,14 @@ use crate::error::{Error, Result};
 use crate::goal::GoalSpec;
 use crate::options::ConnectOptions;
 use crate::remote::RemoteError;
+use crate::remote::inflight::InFlight;
 #[cfg(feature = "remote")]
-use crate::remote::transport::{RemoteConnection, ReplyOutcome};
+use crate::remote::transport::RemoteConnection;
+#[cfg(feature = "remote")]
+use remote_side::lost;
+
+#[cfg(feature = "remote")]
+mod remote_side;
 use iceoryx2::config::Config;
 use shm_schema::ipc::IpcSettings;
 use shm_schema::{Answer, Command, Event, EventKind, GoalState, ReasonCode, Status, Verdict};
@@ -74,37 +80,9 @@ pub struct Client {
     bad_samples: u64,
     /// Remote: requests that ended without an answer, and why.
     failures: VecDeque<(u64, RemoteError)>,
-    /// Remote: the command key chunk, the command and the send time of
-    /// each outstanding request.
-    sent_names: VecDeque<(u64, &'static str, Command, Instant)>,
-    /// Remote: requests whose query ended without a reply because the link
-    /// to the bridge dropped, to be sent again (once, same request id) when
-    /// the bridge is back; and those sent again.
-    resend: VecDeque<u64>,
-    #[cfg_attr(not(feature = "remote"), allow(dead_code))]
-    resent: VecDeque<u64>,
-    /// Remote: requests whose query ended early without a reply while the
-    /// link looked up, and when.
-    #[cfg_attr(not(feature = "remote"), allow(dead_code))]
-    unanswered: VecDeque<(u64, Instant)>,
-}
-
-/// How long a query that ended early without a reply, the link up, waits
-/// for a link drop to be reported before it counts as unanswered.
-#[cfg(feature = "remote")]
-const UNANSWERED_WAIT: Duration = Duration::from_millis(200);
-
-/// The least time between two sends of one request.
-#[cfg(feature = "remote")]
-const RESEND_PAUSE: Duration = Duration::from_millis(50);
-
-/// A query that ended without a reply while the bridge was out of sight.
-#[cfg(feature = "remote")]
-fn lost(endpoint: &str) -> RemoteError {
-    RemoteError::Unreachable {
-        endpoint: endpoint.to_owned(),
-        why: "the connection to the bridge is lost (reconnecting)".into(),
-    }
+    /// Remote: the requests in flight, and which to send again after a
+    /// dropped link.
+    inflight: InFlight,
 }
 
 fn random_u64() -> u64 {
@@ -180,10 +158,7 @@ impl Client {
             reconnects: 0,
             bad_samples: 0,
             failures: VecDeque::new(),
-            sent_names: VecDeque::new(),
-            resend: VecDeque::new(),
-            resent: VecDeque::new(),
-            unanswered: VecDeque::new(),
+            inflight: InFlight::default(),
         }
     }
 
@@ -335,155 +310,6 @@ impl Client {
         Ok(())
     }
 
-    #[cfg(feature = "remote")]
-    fn pump_remote(&mut self) {
-        let Transport::Remote(r) = &mut self.conn else {
-            return;
-        };
-        let d = r.drain();
-        let (bridge, daemon) = r.alive();
-        let linked = r.linked();
-        let waited = r.query_timeout();
-        self.bad_samples += d.bad_samples;
-        self.reconnects += d.bridge_returns;
-        // The link dropped (PROTOCOL.md, "Known issue"): every request
-        // still in flight may have lost its query or its reply with it.
-        // Each is sent again when the link is back, with the same request
-        // id: the bridge answers a repeated one as before, without sending
-        // it to the daemon twice.
-        if d.link_drops > 0 {
-            for &(id, _, _, at) in &self.sent_names {
-                // (Older than a query's timeout: no longer in flight.
-                // Answered: nothing lost.)
-                let in_flight = at.elapsed() < waited;
-                let answered = self.answers.iter().any(|a| a.request_id == id);
-                if in_flight && !answered && !self.resend.contains(&id) {
-                    self.resend.push_back(id);
-                }
-            }
-            self.unanswered.clear();
-        }
-        for e in d.events {
-            if self.events.len() == EVENT_BACKLOG {
-                self.events.pop_front();
-            }
-            self.events.push_back(e);
-        }
-        for (id, outcome) in d.replies {
-            if !self.outstanding.iter().any(|&(_, r)| r == id) {
-                continue;
-            }
-            let failure = match outcome {
-                ReplyOutcome::Answer(a) => {
-                    self.answers.push_back(Answer {
-                        request_id: id,
-                        ..a
-                    });
-                    continue;
-                }
-                ReplyOutcome::Refused(r) => RemoteError::Refused(r),
-                ReplyOutcome::Bad(why) => RemoteError::BadReply(why),
-                // Sent again (below): the new query's reply decides.
-                ReplyOutcome::NoReply if self.resend.contains(&id) => continue,
-                // Ended early with everything in sight: a link drop may not
-                // have been reported yet; decided in UNANSWERED_WAIT.
-                ReplyOutcome::NoReply
-                    if bridge && daemon && linked && self.ended_early(id, waited) =>
-                {
-                    self.unanswered.push_back((id, Instant::now()));
-                    continue;
-                }
-                ReplyOutcome::NoReply if bridge && daemon && linked => RemoteError::NoAnswer {
-                    command: String::new(),
-                    identity: String::new(),
-                    waited,
-                },
-                // The link is down: sent again when it is back.
-                ReplyOutcome::NoReply => {
-                    self.resend.push_back(id);
-                    continue;
-                }
-            };
-            self.fail(id, failure);
-        }
-        if let Some(s) = d.status {
-            self.last_status = Some(s);
-        }
-        while let Some(&(id, at)) = self.unanswered.front() {
-            if at.elapsed() < UNANSWERED_WAIT {
-                break;
-            }
-            self.unanswered.pop_front();
-            let no = RemoteError::NoAnswer {
-                command: String::new(),
-                identity: String::new(),
-                waited,
-            };
-            self.fail(id, no);
-        }
-        if bridge && daemon {
-            self.send_again();
-        }
-    }
-
-    /// Whether request `id`'s query ended well before its timeout `waited`.
-    #[cfg(feature = "remote")]
-    fn ended_early(&self, id: u64, waited: Duration) -> bool {
-        self.sent_names
-            .iter()
-            .find(|(r, ..)| *r == id)
-            .is_some_and(|&(.., at)| at.elapsed() < waited.mul_f64(0.9))
-    }
-
-    /// Sends the requests in `resend` again once the link to the bridge is
-    /// up, each at most every [`RESEND_PAUSE`].
-    #[cfg(feature = "remote")]
-    fn send_again(&mut self) {
-        use crate::remote::protocol as proto;
-        let Transport::Remote(r) = &self.conn else {
-            return;
-        };
-        if self.resend.is_empty() || !r.linked() {
-            return;
-        }
-        let mut later = VecDeque::new();
-        while let Some(id) = self.resend.pop_front() {
-            let Some(sent) = self.sent_names.iter_mut().find(|(r, ..)| *r == id) else {
-                continue;
-            };
-            if sent.3.elapsed() < RESEND_PAUSE {
-                later.push_back(id);
-                continue;
-            }
-            sent.3 = Instant::now();
-            let (name, cmd) = (sent.1, sent.2);
-            if !self.resent.contains(&id) {
-                if self.resent.len() == 256 {
-                    self.resent.pop_front();
-                }
-                self.resent.push_back(id);
-            }
-            if r.send(name, cmd.to_bytes().to_vec(), proto::COMMAND_SCHEMA, id)
-                .is_err()
-            {
-                if self.failures.len() == 64 {
-                    self.failures.pop_front();
-                }
-                self.failures.push_back((id, lost(&r.endpoint)));
-            }
-        }
-        self.resend = later;
-    }
-
-    /// Records why request `id` ended without an answer.
-    #[cfg(feature = "remote")]
-    fn fail(&mut self, id: u64, why: RemoteError) {
-        if self.failures.len() == 64 {
-            self.failures.pop_front();
-        }
-        self.failures.push_back((id, why));
-    }
-
     /// Blocks (on the daemon's notifications, not spinning) until `check`
     /// yields a value or `deadline` passes.
     fn wait_until<T>(
@@ -532,30 +358,6 @@ impl Client {
                 waited,
             },
             other => other,
-        })
-    }
-
-    /// Why a remote connection shows no fresh status.
-    #[cfg(feature = "remote")]
-    fn remote_silence(&self, waited: Duration) -> Error {
-        let Transport::Remote(r) = &self.conn else {
-            return Error::Invalid("not remote");
-        };
-        Error::Remote(match r.alive() {
-            (false, _) => RemoteError::NoBridge {
-                endpoint: r.endpoint.clone(),
-                identity: r.identity.clone(),
-                prefix: r.prefix.clone(),
-                waited,
-            },
-            (true, false) => RemoteError::NoDaemonBehindBridge {
-                endpoint: r.endpoint.clone(),
-                waited,
-            },
-            (true, true) => RemoteError::BadReply(format!(
-                "the bridge at {} sees gaitd but sent no status within {waited:?}",
-                r.endpoint
-            )),
         })
     }
 
@@ -650,11 +452,10 @@ impl Client {
             )?;
             if self.outstanding.len() == 256 {
                 self.outstanding.pop_front();
-                self.sent_names.pop_front();
             }
             self.outstanding.push_back((cmd.client_id, cmd.request_id));
-            self.sent_names
-                .push_back((cmd.request_id, name, cmd, Instant::now()));
+            self.inflight
+                .sent(cmd.request_id, name, cmd, Instant::now());
             return Ok(cmd.request_id);
         }
         #[allow(irrefutable_let_patterns)] // without the `remote` feature
@@ -705,7 +506,7 @@ impl Client {
         let found = match (found, &self.conn) {
             // Still waiting for the bridge to come back.
             (Err(Error::Timeout { .. }), Transport::Remote(r))
-                if self.resend.contains(&request_id) || self.resent.contains(&request_id) =>
+                if self.inflight.hit_by_a_drop(request_id) =>
             {
                 Err(Error::Remote(lost(&r.endpoint)))
             }
@@ -720,9 +521,7 @@ impl Client {
             (other, _) => other,
         };
         self.outstanding.retain(|&(_, r)| r != request_id);
-        self.sent_names.retain(|&(r, ..)| r != request_id);
-        self.resend.retain(|&r| r != request_id);
-        self.unanswered.retain(|&(r, _)| r != request_id);
+        self.inflight.done(request_id);
         found
     }
 
@@ -731,10 +530,9 @@ impl Client {
         match why {
             RemoteError::NoAnswer { waited, .. } => RemoteError::NoAnswer {
                 command: self
-                    .sent_names
-                    .iter()
-                    .find(|(r, ..)| *r == request_id)
-                    .map_or("command", |(_, n, ..)| n)
+                    .inflight
+                    .name(request_id)
+                    .unwrap_or("command")
                     .to_owned(),
                 identity: self.identity().unwrap_or_default().to_owned(),
                 waited,

@@ -24,6 +24,7 @@
 //! with or without the `remote` feature.
 
 mod error;
+pub(crate) mod inflight;
 pub mod protocol;
 #[cfg(feature = "remote")]
 pub mod tls;
