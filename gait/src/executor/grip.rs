@@ -13,7 +13,9 @@
 //! the three cannot, the best pair among them with the third at zero). A
 //! grasping finger outside the set touches without force: a finger just
 //! placed, before its grip ramps in, or one about to lift, after its grip
-//! ramped out. During a handover (`load.handover_time`, the object still)
+//! ramped out. A finger marked spinning in the set ([`spin_bit`]) pushes
+//! along its normal only while the other two carry the rest
+//! ([`HoldModel::spinning`]). During a handover (`load.handover_time`, the object still)
 //! the forces pass from one set to the next as the convex combination
 //! (1 − λ) f_from + λ f_to, λ a C² ramp from 0 to 1: every load scenario
 //! stays held throughout, because each end holds it and the cones and the
@@ -58,6 +60,15 @@ impl Default for Grip {
             capped: false,
         }
     }
+}
+
+/// The carrying bits of a carrying set (fingers 0–2).
+pub const CARRY_BITS: u8 = 0b111;
+
+/// The bit of a carrying set that marks finger `k` as spinning on the
+/// object: it pushes along its normal only ([`HoldModel::spinning`]).
+pub const fn spin_bit(k: usize) -> u8 {
+    1 << (3 + k)
 }
 
 /// Bit mask of the grasping fingers of `state`.
@@ -110,7 +121,15 @@ impl GripModel {
     /// [`GripModel::carried`] for any acceleration model (the planner's
     /// bound ±α_max along a rotation axis).
     pub fn carried_with(&self, state: &HandState, accel: Accel, carrying: u8) -> Grip {
-        let set = carrying & grasp_mask(state);
+        let set = carrying & CARRY_BITS & grasp_mask(state);
+        let spinning = (carrying >> 3) & set;
+        if set == CARRY_BITS && spinning != 0 {
+            // One finger spins, the other two carry (SPEC §1.3 I1').
+            let n = state.fingers.map(|f| f.center.normalize());
+            let k = spinning.trailing_zeros() as usize;
+            let h = self.hold.spinning(&n, k, &self.hold.loads(accel));
+            return self.spread(&h, &[0, 1, 2]);
+        }
         let mut idx = [0usize; 3];
         let mut k = 0;
         for (i, slot) in (0..3).filter(|i| set & (1 << i) != 0).zip(0..) {

@@ -781,7 +781,7 @@ impl Executor {
                 elapsed: 0.0,
                 duration: h.duration,
                 from: self.carrying,
-                to: (self.carrying | h.take_mask()) & !h.release_mask(),
+                to: h.target(self.carrying),
             });
             return;
         }
@@ -940,8 +940,11 @@ impl Executor {
             0
         };
         let joined = grasp & !self.grasp_prev;
-        self.carrying = (self.carrying | (joined & !pending)) & grasp;
-        if self.handover.is_none() && (!moving || self.carrying.count_ones() < 2) {
+        // (A spin mark lasts while its finger touches.)
+        self.carrying = (self.carrying | (joined & !pending)) & (grasp | grasp << 3);
+        if self.handover.is_none()
+            && (!moving || (self.carrying & grip::CARRY_BITS).count_ones() < 2)
+        {
             self.carrying = grasp;
         }
         self.grasp_prev = grasp;

@@ -77,6 +77,8 @@ use nalgebra::{Matrix6, SMatrix, Vector3, Vector6};
 
 use crate::HandConfig;
 
+mod spin;
+
 /// Circumradius over inradius of the regular icosahedron:
 /// 3√(10 + 2√5) / (√3 (3 + √5)).
 pub const ICOSAHEDRON_RATIO: f64 = 1.258_408_572_364_819_4;
@@ -221,6 +223,8 @@ pub struct HoldModel {
     radius: f64,
     mu: f64,
     torsion_scale: f64,
+    /// μ_t, not reduced: the torsional friction of a spinning contact.
+    spin_torsion: f64,
     weight: Vector3<f64>,
     inertia: f64,
     min_grip: f64,
@@ -255,6 +259,7 @@ impl HoldModel {
             radius: m.object_radius,
             mu: (theta - 0.5 * margin).tan(),
             torsion_scale: c.mu() / c.mu_torsion(),
+            spin_torsion: c.mu_torsion(),
             weight: Vector3::from(l.gravity) * l.object_mass,
             inertia: 0.4 * l.object_mass * m.object_radius * m.object_radius,
             min_grip: l.min_grip,

@@ -71,6 +71,25 @@ impl<'a> Builder<'a> {
     /// at the end of that step; a still step of its own when the plan
     /// starts with the lift).
     fn release_before_lift(&mut self, finger: usize) {
+        if let Some(h) = self.steps.last_mut().and_then(|s| s.handover.as_mut())
+            && h.take == Some(finger)
+            && h.release.is_none()
+        {
+            // Placed and lifted at once (the unwind's relocation under
+            // load): it never carries, so no grip passes either way.
+            let d = h.duration;
+            if let Some(last) = self.steps.last_mut() {
+                last.duration -= d;
+                last.handover = None;
+            }
+            return;
+        }
+        self.release(finger);
+    }
+
+    /// The last step's grip ramps `finger` out, the finger still touching
+    /// (a still step of its own when there is no step yet).
+    fn release(&mut self, finger: usize) {
         if self.handover_time <= 0.0 {
             return;
         }
@@ -87,17 +106,36 @@ impl<'a> Builder<'a> {
         let time = self.handover_time;
         if let Some(last) = self.steps.last_mut() {
             match &mut last.handover {
-                // Placed and lifted at once (the unwind's relocation under
-                // load): it never carries, so no grip passes either way.
-                Some(h) if h.take == Some(finger) && h.release.is_none() => {
-                    last.duration -= h.duration;
-                    last.handover = None;
-                }
                 Some(h) => h.release = Some(finger),
                 None => {
                     last.handover = Some(Handover {
                         take: None,
                         release: Some(finger),
+                        spin: None,
+                        duration: time,
+                    });
+                    last.duration += time;
+                }
+            }
+        }
+    }
+
+    /// The last step ends with a handover to the carrying set in which
+    /// `spin` (if any) spins next, pushing along its normal only; the
+    /// handover passes the grip from the set before.
+    fn mark_spin(&mut self, spin: Option<usize>) {
+        if self.handover_time <= 0.0 {
+            return;
+        }
+        let time = self.handover_time;
+        if let Some(last) = self.steps.last_mut() {
+            match &mut last.handover {
+                Some(h) => h.spin = spin,
+                None => {
+                    last.handover = Some(Handover {
+                        take: None,
+                        release: None,
+                        spin,
                         duration: time,
                     });
                     last.duration += time;
@@ -131,6 +169,12 @@ impl<'a> Builder<'a> {
             } => self.place(*finger, contact, *roll),
             PrefixAction::Path(finger, path) => {
                 self.roll_path(*finger, path);
+                Ok(())
+            }
+            PrefixAction::Spin(finger, path) => {
+                self.mark_spin(Some(*finger));
+                self.roll_path(*finger, path);
+                self.mark_spin(None);
                 Ok(())
             }
         }
@@ -314,6 +358,7 @@ impl<'a> Builder<'a> {
             last.handover = Some(Handover {
                 take: Some(finger),
                 release: None,
+                spin: None,
                 duration: self.handover_time,
             });
             last.duration += self.handover_time;

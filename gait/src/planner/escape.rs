@@ -11,7 +11,9 @@
 //! - or, when both contacts sit at their roll limits, place the free finger
 //!   so that the three contacts are force-closure, spin the two fingertips
 //!   back to roll zero (spin is allowed in a three-finger hard-contact grasp,
-//!   SPEC §1.2, §2.4) and lift the free finger again ([`unwind`]).
+//!   SPEC §1.2, §2.4) and lift the free finger again ([`unwind`]); under
+//!   load one finger at a time, the spinner pushing along its normal only
+//!   while the other two carry the rest ([`unwind_loaded`]).
 
 use nalgebra::Vector3;
 
@@ -23,7 +25,7 @@ use super::search::{rotate_hand, split};
 use super::start::PrefixAction;
 use crate::HandConfig;
 use crate::contact::{ContactGeometry, ContactState};
-use crate::executor::grip::GripModel;
+use crate::executor::grip::{CARRY_BITS, GripModel, spin_bit};
 use crate::grasp::hold::Accel;
 use crate::grasp::planar::three_hard_certificate;
 use crate::rolling::{RollGoal, RollLimits, RollingPath, plan_roll};
@@ -253,6 +255,97 @@ pub fn unwind(
         let end = path.eval(path.length());
         h.fingers[k] = end.finger_state(&h.object, &cg);
         actions.push(PrefixAction::Path(k, Box::new(path)));
+    }
+    lift_finger(g, &mut h, free);
+    actions.push(PrefixAction::Lift(free));
+    Some(Unwound { actions, hand: h })
+}
+
+/// Rolls smaller than this are not worth a spin \[rad\].
+const UNWIND_MIN_ROLL: f64 = 1e-3;
+
+/// The unwind under load (SPEC §1.3 I1'): the free finger touches down
+/// where the three contacts hold the load at rest and, for each grasping
+/// finger in turn, with that finger spinning — pushing along its normal
+/// only, its cone used up by the spin's torsion, while the other two
+/// carry the rest ([`crate::grasp::HoldModel::spinning`]); the fingers that
+/// can spin back to roll zero do, one after the other, and the free finger
+/// lifts again. `None` if no finger can spin.
+pub fn unwind_loaded(
+    g: &Geometry,
+    cand: &Candidates,
+    grip: &GripModel,
+    config: &HandConfig,
+    hand: &HandState,
+) -> Option<Unwound> {
+    let (pair, free) = split(hand)?;
+    let (ca, cb) = (
+        hand.fingers[pair[0]].contact_normal(),
+        hand.fingers[pair[1]].contact_normal(),
+    );
+    let sep = g.cos_sep_contact - BOUNDARY_EPS;
+    let cg = ContactGeometry::from_config(config);
+    // The spins each finger would make (path), if its roll is worth one.
+    let spins: Vec<(usize, RollingPath)> = pair
+        .iter()
+        .filter(|&&k| hand.fingers[k].roll.abs() >= UNWIND_MIN_ROLL)
+        .filter_map(|&k| {
+            let f = hand.fingers[k];
+            let state = ContactState::from_finger(&f, hand.object, &cg).ok()?;
+            let mut path = RollingPath::new(cg, state.relative());
+            path.push_spin_roll(-f.roll).ok()?;
+            (path.margins().max_abs_roll <= g.roll_limit + 1e-9).then_some((k, path))
+        })
+        .collect();
+    if spins.is_empty() {
+        return None;
+    }
+    let from = hand.fingers[free].center.normalize();
+    // The placement that lets the most fingers spin; among those, the one
+    // where the spinners need to press least (a spinner's torsional
+    // friction twists the object: MuJoCo's soft contacts let the others
+    // slip when it is large), then the nearest.
+    let mut best: Option<(usize, f64, f64, Vector3<f64>, HandState)> = None;
+    for c in cand.points[free]
+        .iter()
+        .filter(|c| c.dot(&ca) <= sep && c.dot(&cb) <= sep)
+    {
+        let mut h = *hand;
+        place_finger(g, &mut h, free, c, 0.0);
+        if !grip.carried_with(&h, Accel::None, CARRY_BITS).feasible {
+            continue;
+        }
+        let (mut n, mut push) = (0, 0.0f64);
+        for (k, _) in &spins {
+            let g = grip.carried_with(&h, Accel::None, CARRY_BITS | spin_bit(*k));
+            if g.feasible {
+                n += 1;
+                push = push.max(g.normal[*k]);
+            }
+        }
+        let near = c.dot(&from);
+        let better = |b: &(usize, f64, f64, Vector3<f64>, HandState)| {
+            n > b.0 || (n == b.0 && (push < b.1 - 1e-6 || (push <= b.1 + 1e-6 && near > b.2)))
+        };
+        if n > 0 && best.as_ref().is_none_or(better) {
+            best = Some((n, push, near, *c, h));
+        }
+    }
+    let (_, _, _, contact, mut h) = best?;
+    let mut actions = vec![PrefixAction::Place {
+        finger: free,
+        contact,
+        roll: 0.0,
+    }];
+    for (k, path) in spins {
+        if !grip
+            .carried_with(&h, Accel::None, CARRY_BITS | spin_bit(k))
+            .feasible
+        {
+            continue;
+        }
+        h.fingers[k] = path.eval(path.length()).finger_state(&h.object, &cg);
+        actions.push(PrefixAction::Spin(k, Box::new(path)));
     }
     lift_finger(g, &mut h, free);
     actions.push(PrefixAction::Lift(free));

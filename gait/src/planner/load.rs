@@ -50,7 +50,7 @@ use nalgebra::Vector3;
 use super::geometry::{Sinusoid, any_perpendicular};
 use super::plan::{Motion, Step};
 use crate::HandConfig;
-use crate::executor::grip::{Grip, GripModel, grasp_mask};
+use crate::executor::grip::{CARRY_BITS, Grip, GripModel, grasp_mask};
 use crate::grasp::hold::{Accel, ICOSAHEDRON_RATIO};
 use crate::state::HandState;
 
@@ -440,7 +440,9 @@ fn visit_steps(
                 // torsion), two as soft.
                 for k in 0..=ROLL_SAMPLES {
                     let s = at(k as f64 / ROLL_SAMPLES as f64);
-                    let g = if (carrying & grasp_mask(&s)).count_ones() == 3 {
+                    let g = if carrying & CARRY_BITS & grasp_mask(&s) == CARRY_BITS
+                        && carrying >> 3 == 0
+                    {
                         grip.triple(&s, Accel::None)
                     } else {
                         grip.carried_with(&s, Accel::None, carrying)
@@ -463,15 +465,15 @@ fn visit_steps(
         let grasp = grasp_mask(&end);
         let joined = grasp & !grasp_mask(&st.start);
         let take = st.handover.map_or(0, |h| h.take_mask());
-        carrying = (carrying | (joined & !take)) & grasp;
-        if carrying.count_ones() < 2 {
+        carrying = (carrying | (joined & !take)) & (grasp | grasp << 3);
+        if (carrying & CARRY_BITS).count_ones() < 2 {
             carrying = grasp;
         }
         if let Some(h) = st.handover.filter(|h| h.duration > 0.0) {
             if !f(i, &grip.carried_with(&end, Accel::None, carrying)) {
                 return;
             }
-            carrying = (carrying | h.take_mask()) & !h.release_mask();
+            carrying = h.target(carrying);
             if !f(i, &grip.carried_with(&end, Accel::None, carrying)) {
                 return;
             }

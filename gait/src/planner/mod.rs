@@ -218,12 +218,31 @@ impl Planner {
         if !state_finite(start) {
             return Err(PlanError::NonFiniteState);
         }
-        let (axis, total) = rotation_to(&start.object, &goal);
-        match self.plan_about(start, &goal, axis, total, false) {
+        // Spins under load only when nothing else plans (in MuJoCo a
+        // spinning fingertip's contact force flickers: LOAD-FIGURES §4).
+        match self.plan_orientation(start, &goal, false) {
             Err(e @ (PlanError::LoadInfeasible { start: false } | PlanError::SearchExhausted))
                 if self.load.active() =>
             {
-                self.plan_via_twist(start, &goal).ok_or(e)
+                self.plan_orientation(start, &goal, true).map_err(|_| e)
+            }
+            r => r,
+        }
+    }
+
+    /// [`Planner::plan`] with or without spins under load (`spins`).
+    fn plan_orientation(
+        &self,
+        start: &HandState,
+        goal: &UnitQuaternion<f64>,
+        spins: bool,
+    ) -> Result<Plan, PlanError> {
+        let (axis, total) = rotation_to(&start.object, goal);
+        match self.plan_about(start, goal, axis, total, false, spins) {
+            Err(e @ (PlanError::LoadInfeasible { start: false } | PlanError::SearchExhausted))
+                if self.load.active() =>
+            {
+                self.plan_via_twist(start, goal, spins).ok_or(e)
             }
             r => r,
         }
@@ -233,7 +252,12 @@ impl Planner {
     /// leaves every grasp's load unchanged) and the rest, in either order,
     /// each planned on its own: the fallback when one search about the
     /// goal's axis finds nothing.
-    fn plan_via_twist(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Option<Plan> {
+    fn plan_via_twist(
+        &self,
+        start: &HandState,
+        goal: &UnitQuaternion<f64>,
+        spins: bool,
+    ) -> Option<Plan> {
         let up = -self.grip.hold().weight();
         let up = if up.norm() > 0.0 {
             up.normalize()
@@ -251,11 +275,11 @@ impl Planner {
         let twist = UnitQuaternion::new_normalize(t);
         for first in [twist, twist.inverse() * rel] {
             let mid = first * start.object;
-            let Ok(a) = self.plan_leg(start, &mid) else {
+            let Ok(a) = self.plan_leg(start, &mid, spins) else {
                 continue;
             };
             let at = a.end_state();
-            let Ok(b) = self.plan_leg(&at, goal) else {
+            let Ok(b) = self.plan_leg(&at, goal, spins) else {
                 continue;
             };
             let mut summary = a.summary;
@@ -281,9 +305,14 @@ impl Planner {
     }
 
     /// One leg of [`Planner::plan_via_twist`].
-    fn plan_leg(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Result<Plan, PlanError> {
+    fn plan_leg(
+        &self,
+        start: &HandState,
+        goal: &UnitQuaternion<f64>,
+        spins: bool,
+    ) -> Result<Plan, PlanError> {
         let (axis, total) = rotation_to(&start.object, goal);
-        self.plan_about(start, goal, axis, total, false)
+        self.plan_about(start, goal, axis, total, false, spins)
     }
 
     /// Plans a rotation of the object by `angle` (any size, e.g. a full
@@ -311,12 +340,21 @@ impl Planner {
             (axis / n, angle)
         };
         let goal = rotation(&axis, angle) * start.object;
-        match self.plan_about(start, &goal, axis, angle, true) {
+        let turn = |spins: bool| match self.plan_about(start, &goal, axis, angle, true, spins) {
             Err(
                 PlanError::SearchExhausted
                 | PlanError::Blocked { .. }
                 | PlanError::LoadInfeasible { start: false },
-            ) if angle > TURN_CHUNK => self.plan_in_chunks(start, &axis, angle),
+            ) if angle > TURN_CHUNK => self.plan_in_chunks(start, &axis, angle, spins),
+            r => r,
+        };
+        // Spins under load only when nothing else plans ([`Planner::plan`]).
+        match turn(false) {
+            Err(e @ (PlanError::LoadInfeasible { start: false } | PlanError::SearchExhausted))
+                if self.load.active() =>
+            {
+                turn(true).map_err(|_| e)
+            }
             r => r,
         }
     }
@@ -332,6 +370,7 @@ impl Planner {
         start: &HandState,
         axis: &Vector3<f64>,
         angle: f64,
+        spins: bool,
     ) -> Result<Plan, PlanError> {
         let mut steps = Vec::new();
         let mut summary = PlanSummary {
@@ -345,7 +384,7 @@ impl Planner {
             // Even pieces of at most `piece` for what is left.
             let this = left / (left / piece).ceil().max(1.0);
             let goal = rotation(axis, this) * at.object;
-            let plan = match self.plan_about(&at, &goal, *axis, this, true) {
+            let plan = match self.plan_about(&at, &goal, *axis, this, true, spins) {
                 Ok(p) => p,
                 Err(e) if this * 0.5 < MIN_TURN_CHUNK => return Err(e),
                 Err(_) => {
@@ -386,6 +425,7 @@ impl Planner {
         axis: Vector3<f64>,
         total: f64,
         turn: bool,
+        spins: bool,
     ) -> Result<Plan, PlanError> {
         let detours = !turn;
         let full_turns = if turn {
@@ -488,22 +528,37 @@ impl Planner {
         }
         // 3. Still stuck (both contacts at their limits): place the free
         //    finger for a three-finger grasp, spin the other two back to roll
-        //    zero, lift it again, and escape from there. Under load without
-        //    the spins (escape::unwind): a contact spinning on the object
-        //    has used its whole coupled cone for the spin's torsion (MuJoCo's
+        //    zero, lift it again, and escape from there (escape::unwind).
+        //    Not so under load: a contact spinning on the object has used
+        //    its whole coupled cone for the spin's torsion (MuJoCo's
         //    elliptic cone alike) and the other two do not hold the weight
         //    (replayed with gravity, the object slid out during a spin).
-        for s in &starts {
-            let Some(unwound) = escape::unwind(
+        //    There the free finger is first only relocated (no spins);
+        //    failing that, the two spin one at a time, each pushing along
+        //    its normal only while the other two carry the rest
+        //    (escape::unwind_loaded) — only when `spins`: [`Planner::plan`]
+        //    tries every way without spins first.
+        let plain = starts.iter().filter_map(|s| {
+            let spin = !self.load.active();
+            escape::unwind(
                 &self.geom,
                 &self.cand,
                 &self.grip,
                 &self.config,
                 &s.hand,
-                !self.load.active(),
-            ) else {
-                continue;
-            };
+                spin,
+            )
+            .map(|u| (s, u))
+        });
+        let loaded = starts
+            .iter()
+            .filter(|_| spins && self.load.active())
+            .filter_map(|s| {
+                escape::unwind_loaded(&self.geom, &self.cand, &self.grip, &self.config, &s.hand)
+                    .map(|u| (s, u))
+            });
+        let unwinds = plain.chain(loaded);
+        for (s, unwound) in unwinds {
             let mut s2 = s.clone();
             s2.actions.extend(unwound.actions);
             s2.hand = unwound.hand;

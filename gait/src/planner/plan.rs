@@ -247,6 +247,9 @@ pub struct Handover {
     pub take: Option<usize>,
     /// The finger whose grip ramps out (the one the next step lifts).
     pub release: Option<usize>,
+    /// The finger that spins on the object next: afterwards it pushes
+    /// along its normal only (a spin under load, SPEC §1.3 I1').
+    pub spin: Option<usize>,
     /// How long the ramp takes \[s\].
     pub duration: f64,
 }
@@ -260,6 +263,14 @@ impl Handover {
     /// Bit mask of `release`.
     pub fn release_mask(&self) -> u8 {
         self.release.map_or(0, |k| 1 << k)
+    }
+
+    /// The carrying set after the handover, from the set `from` before
+    /// (bits as `executor::grip`: carrying fingers, spin marks).
+    pub fn target(&self, from: u8) -> u8 {
+        let carry =
+            (from | self.take_mask()) & !self.release_mask() & crate::executor::grip::CARRY_BITS;
+        carry | self.spin.map_or(0, crate::executor::grip::spin_bit)
     }
 }
 

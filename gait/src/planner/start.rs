@@ -40,6 +40,11 @@ pub enum PrefixAction {
     },
     /// A finger follows a rolling path (rolls and spins) on the still object.
     Path(usize, Box<crate::rolling::RollingPath>),
+    /// A finger spins (a rolling path) on the still object of a
+    /// three-finger grasp under load, pushing along its normal only while
+    /// the other two carry the rest (SPEC §1.3 I1'); the grip passes to
+    /// that set before and back after.
+    Spin(usize, Box<crate::rolling::RollingPath>),
 }
 
 /// A way to reach a two-finger grasp from the start state.

@@ -272,6 +272,21 @@ impl LoadCheck {
         torque: &Vector3<f64>,
         tol: f64,
     ) -> bool {
+        self.commanded_holds_weight_with(normals, f_n, kind, torque, tol, 0)
+    }
+
+    /// [`LoadCheck::commanded_holds_weight`] with the contacts in the bit
+    /// mask `frictionless` pushing along their normals only (a contact
+    /// spinning on the object).
+    pub fn commanded_holds_weight_with(
+        &self,
+        normals: &[Vector3<f64>],
+        f_n: &[f64],
+        kind: Kind,
+        torque: &Vector3<f64>,
+        tol: f64,
+        frictionless: u8,
+    ) -> bool {
         let k = normals.len();
         let dim = if kind == Kind::Soft { 4 } else { 3 };
         let n = k * dim;
@@ -311,12 +326,16 @@ impl LoadCheck {
                         trip.push((3 + a, col, m[a]));
                     }
                 }
+                let slick = frictionless & (1 << i) != 0;
                 let scale = match j {
+                    0 if slick => 0.0,
                     0 => self.mu,
                     3 => self.mu / self.mu_t,
                     _ => 1.0,
                 };
-                trip.push((cones0 + i * dim + j, col, -scale));
+                if scale != 0.0 {
+                    trip.push((cones0 + i * dim + j, col, -scale));
+                }
                 if j == 0 {
                     // c − tol ≤ f_n ≤ c + tol.
                     trip.push((boxes + 2 * i, col, 1.0));
