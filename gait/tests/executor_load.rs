@@ -132,20 +132,6 @@ fn grips_hold_the_load_every_tick_and_never_jump() {
     );
 }
 
-/// Whether a step of `plan` spins a fingertip while three fingers grasp
-/// (the unwind under load).
-fn spins_in_a_triple(plan: &gait::planner::Plan) -> bool {
-    plan.steps.iter().any(|st| {
-        matches!(st.motion, gait::planner::Motion::RollSegment { segment, .. }
-            if segment.kind == gait::rolling::SegmentKind::Spin)
-            && st
-                .start
-                .fingers
-                .iter()
-                .all(|f| f.mode == FingerMode::Grasping)
-    })
-}
-
 #[test]
 fn a_fingertip_spinning_under_load_pushes_along_its_normal_only() {
     // Goals whose plans unwind a fingertip's roll by spinning it in a
@@ -173,7 +159,7 @@ fn a_fingertip_spinning_under_load_pushes_along_its_normal_only() {
     for (i, g) in goals.iter().enumerate() {
         let plan = planner.plan(&start, g).expect("planned");
         assert!(
-            spins_in_a_triple(&plan),
+            planning::spins_in_a_triple(&plan),
             "goal {i} no longer spins under load: pick new goals (the first that do of seed 23)"
         );
     }

@@ -132,19 +132,6 @@ struct Outcome {
     spun: bool,
 }
 
-/// Whether a step of `plan` spins a fingertip while three fingers grasp.
-fn spins_in_a_triple(plan: &Plan) -> bool {
-    plan.steps.iter().any(|st| {
-        matches!(st.motion, Motion::RollSegment { segment, .. }
-            if segment.kind == gait::rolling::SegmentKind::Spin)
-            && st
-                .start
-                .fingers
-                .iter()
-                .all(|f| f.mode == gait::FingerMode::Grasping)
-    })
-}
-
 /// Plans `goal` from the paper start under `cfg`; the independent load
 /// check with `checked` (else the load figures are NaN).
 fn one(
@@ -161,7 +148,7 @@ fn one(
             let end_err = plan.end_state().object.angle_to(goal);
             assert!(end_err < 1e-9, "final error {end_err}");
             // (Gravity off: only the durations and gaits are compared.)
-            let spun = spins_in_a_triple(&plan);
+            let spun = planning::spins_in_a_triple(&plan);
             let (peak, bad) = if !checked && !spun {
                 (f64::NAN, None)
             } else if cfg.load.object_mass > 0.0 && cfg.load.gravity != [0.0; 3] {

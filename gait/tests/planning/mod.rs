@@ -128,3 +128,17 @@ pub fn weightless() -> gait::HandConfig {
     cfg.load.disturbance_force = 0.0;
     cfg
 }
+
+/// Whether a step of `plan` spins a fingertip while all three fingers
+/// grasp (the unwind under load, SPEC §1.3 I1').
+pub fn spins_in_a_triple(plan: &gait::planner::Plan) -> bool {
+    plan.steps.iter().any(|st| {
+        matches!(st.motion, gait::planner::Motion::RollSegment { segment, .. }
+            if segment.kind == gait::rolling::SegmentKind::Spin)
+            && st
+                .start
+                .fingers
+                .iter()
+                .all(|f| f.mode == gait::FingerMode::Grasping)
+    })
+}

@@ -1,0 +1,226 @@
+//! From a goal to a plan (SPEC §4): an orientation goal, or a turn of a
+//! given size about an axis; under load the fallbacks — a turn about
+//! gravity split off, a long turn in pieces — and spins only when nothing
+//! else plans (gait/LOAD-FIGURES.md §0).
+
+use nalgebra::{UnitQuaternion, Vector3};
+
+use super::geometry::rotation;
+use super::{Plan, PlanError, PlanSummary, Planner, count_finger_gaits, rotation_to, state_finite};
+use crate::state::HandState;
+
+/// Longest piece of a turn planned on its own when the whole turn is too
+/// long for one search \[rad\] (short enough that an escape inside a piece
+/// cannot reverse its direction).
+const TURN_CHUNK: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
+
+/// Shortest piece of a turn [`Planner::plan_in_chunks`] halves a piece
+/// down to when it finds no plan for it \[rad\] (15°).
+const MIN_TURN_CHUNK: f64 = std::f64::consts::PI / 12.0;
+
+impl Planner {
+    /// Plans from `start` to the object orientation `goal`.
+    pub fn plan(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Result<Plan, PlanError> {
+        let gq = goal.quaternion();
+        if !gq.coords.iter().all(|x| x.is_finite()) || gq.norm() < 1e-9 {
+            return Err(PlanError::InvalidGoal);
+        }
+        let goal = UnitQuaternion::new_normalize(*gq);
+        if !state_finite(start) {
+            return Err(PlanError::NonFiniteState);
+        }
+        // Spins under load only when nothing else plans (in MuJoCo a
+        // spinning fingertip's contact force flickers: LOAD-FIGURES §4).
+        match self.plan_orientation(start, &goal, false) {
+            Err(e @ (PlanError::LoadInfeasible { start: false } | PlanError::SearchExhausted))
+                if self.load.active() =>
+            {
+                self.plan_orientation(start, &goal, true).map_err(|_| e)
+            }
+            r => r,
+        }
+    }
+
+    /// [`Planner::plan`] with or without spins under load (`spins`).
+    fn plan_orientation(
+        &self,
+        start: &HandState,
+        goal: &UnitQuaternion<f64>,
+        spins: bool,
+    ) -> Result<Plan, PlanError> {
+        let (axis, total) = rotation_to(&start.object, goal);
+        match self.plan_about(start, goal, axis, total, false, spins) {
+            Err(e @ (PlanError::LoadInfeasible { start: false } | PlanError::SearchExhausted))
+                if self.load.active() =>
+            {
+                self.plan_via_twist(start, goal, spins).ok_or(e)
+            }
+            r => r,
+        }
+    }
+
+    /// Under load, the goal rotation split into a turn about gravity (which
+    /// leaves every grasp's load unchanged) and the rest, in either order,
+    /// each planned on its own: the fallback when one search about the
+    /// goal's axis finds nothing.
+    fn plan_via_twist(
+        &self,
+        start: &HandState,
+        goal: &UnitQuaternion<f64>,
+        spins: bool,
+    ) -> Option<Plan> {
+        let up = -self.grip.hold().weight();
+        let up = if up.norm() > 0.0 {
+            up.normalize()
+        } else {
+            Vector3::z()
+        };
+        let rel = goal * start.object.inverse();
+        let q = rel.quaternion();
+        // Twist about `up`: the projection of the rotation onto it.
+        let v = Vector3::new(q.i, q.j, q.k);
+        let t = nalgebra::Quaternion::from_parts(q.w, up * up.dot(&v));
+        if t.norm() < 1e-9 {
+            return None;
+        }
+        let twist = UnitQuaternion::new_normalize(t);
+        for first in [twist, twist.inverse() * rel] {
+            let mid = first * start.object;
+            let Ok(a) = self.plan_leg(start, &mid, spins) else {
+                continue;
+            };
+            let at = a.end_state();
+            let Ok(b) = self.plan_leg(&at, goal, spins) else {
+                continue;
+            };
+            let mut summary = a.summary;
+            let s2 = b.summary;
+            summary.gaits += s2.gaits;
+            summary.rotations += s2.rotations;
+            summary.rolls += s2.rolls;
+            summary.duration += s2.duration;
+            summary.escaped |= s2.escaped;
+            summary.expansions += s2.expansions;
+            summary.goal_angle = start.object.angle_to(goal);
+            let mut steps = a.steps;
+            steps.extend(b.steps);
+            (summary.substitutions, summary.rewinds) = count_finger_gaits(&steps);
+            return Some(Plan {
+                start: *start,
+                goal: *goal,
+                steps,
+                summary,
+            });
+        }
+        None
+    }
+
+    /// One leg of [`Planner::plan_via_twist`].
+    fn plan_leg(
+        &self,
+        start: &HandState,
+        goal: &UnitQuaternion<f64>,
+        spins: bool,
+    ) -> Result<Plan, PlanError> {
+        let (axis, total) = rotation_to(&start.object, goal);
+        self.plan_about(start, goal, axis, total, false, spins)
+    }
+
+    /// Plans a rotation of the object by `angle` (any size, e.g. a full
+    /// turn) about the hand-frame `axis`: the object turns that far, not
+    /// just to the orientation it ends at. (If gaits are impossible from the
+    /// start, an escape rotation about another axis comes first; the rest
+    /// then reaches the same end orientation with the requested number of
+    /// full turns, about an axis near `axis`.)
+    pub fn plan_rotation(
+        &self,
+        start: &HandState,
+        axis: &Vector3<f64>,
+        angle: f64,
+    ) -> Result<Plan, PlanError> {
+        let n = axis.norm();
+        if !(n.is_finite() && n > 1e-9 && angle.is_finite()) {
+            return Err(PlanError::InvalidGoal);
+        }
+        if !state_finite(start) {
+            return Err(PlanError::NonFiniteState);
+        }
+        let (axis, angle) = if angle < 0.0 {
+            (-axis / n, -angle)
+        } else {
+            (axis / n, angle)
+        };
+        let goal = rotation(&axis, angle) * start.object;
+        let turn = |spins: bool| match self.plan_about(start, &goal, axis, angle, true, spins) {
+            Err(
+                PlanError::SearchExhausted
+                | PlanError::Blocked { .. }
+                | PlanError::LoadInfeasible { start: false },
+            ) if angle > TURN_CHUNK => self.plan_in_chunks(start, &axis, angle, spins),
+            r => r,
+        };
+        // Spins under load only when nothing else plans ([`Planner::plan`]).
+        match turn(false) {
+            Err(e @ (PlanError::LoadInfeasible { start: false } | PlanError::SearchExhausted))
+                if self.load.active() =>
+            {
+                turn(true).map_err(|_| e)
+            }
+            r => r,
+        }
+    }
+
+    /// A long turn as consecutive turns of at most [`TURN_CHUNK`], each
+    /// planned from where the previous one ends: the fallback when one
+    /// search over the whole turn runs out of budget (many full turns, or
+    /// an escape first). A piece with no plan (under load, SPEC §1.3 I1',
+    /// a pair may hold for less of a turn than its cones allow) is halved,
+    /// down to [`MIN_TURN_CHUNK`], and the next piece is full size again.
+    fn plan_in_chunks(
+        &self,
+        start: &HandState,
+        axis: &Vector3<f64>,
+        angle: f64,
+        spins: bool,
+    ) -> Result<Plan, PlanError> {
+        let mut steps = Vec::new();
+        let mut summary = PlanSummary {
+            goal_angle: angle,
+            ..PlanSummary::default()
+        };
+        let mut at = *start;
+        let mut left = angle;
+        let mut piece = TURN_CHUNK;
+        while left > 1e-12 {
+            // Even pieces of at most `piece` for what is left.
+            let this = left / (left / piece).ceil().max(1.0);
+            let goal = rotation(axis, this) * at.object;
+            let plan = match self.plan_about(&at, &goal, *axis, this, true, spins) {
+                Ok(p) => p,
+                Err(e) if this * 0.5 < MIN_TURN_CHUNK => return Err(e),
+                Err(_) => {
+                    piece = this * 0.5;
+                    continue;
+                }
+            };
+            at = plan.end_state();
+            left -= this;
+            piece = TURN_CHUNK;
+            let s = plan.summary;
+            summary.gaits += s.gaits;
+            summary.rotations += s.rotations;
+            summary.rolls += s.rolls;
+            summary.duration += s.duration;
+            summary.escaped |= s.escaped;
+            summary.expansions += s.expansions;
+            steps.extend(plan.steps);
+        }
+        (summary.substitutions, summary.rewinds) = count_finger_gaits(&steps);
+        Ok(Plan {
+            start: *start,
+            goal: rotation(axis, angle) * start.object,
+            steps,
+            summary,
+        })
+    }
+}
