@@ -470,7 +470,7 @@ fn gravity_goals_on_the_mujoco_plant_are_counted() {
     let mut run = GravityRun::start(0);
     let start = run.c.wait_status(T).unwrap().measured_object_q;
     let (mut reached, mut worst) = (0, 0.0f64);
-    let (mut failed, mut refused) = (Vec::new(), Vec::new());
+    let (mut failed, mut refused, mut unplanned) = (Vec::new(), Vec::new(), Vec::new());
     let mut all = ContactFigures::default();
     for (goal, expect, what) in &goals {
         let expect = expect.unwrap_or(start);
@@ -482,9 +482,23 @@ fn gravity_goals_on_the_mujoco_plant_are_counted() {
             continue;
         }
         let mut fig = ContactFigures::default();
+        // Replans of this goal from the measured state, by their cause.
+        let (mut drifts, mut near_limits) = (0, 0);
+        let mut transitions = Vec::new();
         let deadline = Instant::now() + GOAL;
         loop {
             let s = c.wait_status(T).unwrap();
+            for e in c.events().unwrap().filter(|e| e.goal_id == ticket.goal_id) {
+                match e.kind() {
+                    Ok(gaitd_client::EventKind::Drift) => drifts += 1,
+                    Ok(gaitd_client::EventKind::NearLimit) => near_limits += 1,
+                    Ok(gaitd_client::EventKind::GoalTransition) => transitions.push((
+                        GoalState::try_from(e.state).map_or("?", |g| g.name()),
+                        ReasonCode::try_from(e.reason).map_or("?", |r| r.name()),
+                    )),
+                    _ => {}
+                }
+            }
             if s.goal.goal_id == ticket.goal_id {
                 fig.add(&s);
                 if GoalState::try_from(s.goal.state).is_ok_and(|g| g.is_terminal()) {
@@ -503,8 +517,9 @@ fn gravity_goals_on_the_mujoco_plant_are_counted() {
             all.measured[k] = all.measured[k].max(fig.measured[k]);
         }
         println!(
-            "gravity, {what}: {:?} ({:?}), fault {}, measured error {err:.3}°, gaits {}; slip per \
-             contact {:.2?} mm, largest grip commanded {:.2?} N, measured {:.2?} N",
+            "gravity, {what}: {:?} ({:?}), fault {}, measured error {err:.3}°, gaits {}, replans \
+             after a drift {drifts}, near a limit {near_limits}; slip per contact {:.2?} mm, \
+             largest grip commanded {:.2?} N, measured {:.2?} N",
             o.state,
             o.reason,
             shm_schema::FaultCode::try_from(s.fault).map_or("?", |f| f.name()),
@@ -513,12 +528,21 @@ fn gravity_goals_on_the_mujoco_plant_are_counted() {
             fig.commanded,
             fig.measured
         );
+        if !ok {
+            println!("  {what}: its transitions {transitions:?}");
+        }
         if ok {
             reached += 1;
             worst = worst.max(err);
         } else {
-            // Random goals are absolute: the next one starts afresh.
-            failed.push(what.clone());
+            // Never executed: the planner refused it from where the hand
+            // is (a typed abort after Planning); else the hand failed it.
+            // Either way the next goal starts afresh (goals are absolute).
+            if transitions.iter().any(|t| t.0 == "Executing") {
+                failed.push(what.clone());
+            } else {
+                unplanned.push(what.clone());
+            }
             drift = drift.max(std::mem::replace(&mut run, GravityRun::start(runs)).finish());
             runs += 1;
         }
@@ -526,11 +550,13 @@ fn gravity_goals_on_the_mujoco_plant_are_counted() {
     drift = drift.max(run.finish());
     println!(
         "gravity on, 0.1 kg, MuJoCo closed loop: {reached}/{} goals reached within {GRAVITY_TOL_DEG}° \
-         (worst reached {worst:.3}°), {} not reached, {} refused, in {:.0} s wall over {runs} \
+         (worst reached {worst:.3}°), {} executed but not reached, {} refused by the planner \
+         after acceptance, {} refused at once, in {:.0} s wall over {runs} \
          daemon+plant runs; slip per contact up to {:.2?} mm; largest grip commanded {:.2?} N, \
          measured {:.2?} N; object centre moved up to {:.2} mm",
         goals.len(),
         failed.len(),
+        unplanned.len(),
         refused.len(),
         t0.elapsed().as_secs_f64(),
         all.slip.map(|x| x * 1e3),
@@ -538,5 +564,8 @@ fn gravity_goals_on_the_mujoco_plant_are_counted() {
         all.measured,
         drift * 1e3
     );
-    println!("gravity on: not reached: {failed:?}; refused: {refused:?}");
+    println!(
+        "gravity on: executed but not reached: {failed:?}; refused by the planner: {unplanned:?}; \
+         refused at once: {refused:?}"
+    );
 }
