@@ -33,6 +33,24 @@ const MAX_STEP_N: f64 = 0.35;
 /// absorbed there, as a compliant fingertip absorbs it.
 const NORMAL_TOL: f64 = 0.01;
 
+/// Goal 1 of `rig` succeeded without a fault or a broken invariant, and
+/// the plant's object is at `goal` (its own state, not the command).
+fn assert_reached(rig: &Rig, goal: &UnitQuaternion<f64>, i: usize) {
+    assert_eq!(
+        rig.stats.goals.last(),
+        Some(&(1, GoalStage::Succeeded)),
+        "goal {i}"
+    );
+    let err = rig.plant.state().object.angle_to(goal);
+    assert!(err < 1e-6, "goal {i}: final error {err}");
+    assert!(
+        rig.stats.violations.is_empty(),
+        "goal {i}: {:?}",
+        &rig.stats.violations[..1]
+    );
+    assert_eq!(rig.stats.faults, 0, "goal {i}: fault");
+}
+
 #[test]
 fn grips_hold_the_load_every_tick_and_never_jump() {
     let n = std::env::var("GAIT_LOAD_EXEC_GOALS")
@@ -113,19 +131,7 @@ fn grips_hold_the_load_every_tick_and_never_jump() {
                 break;
             }
         }
-        assert_eq!(
-            rig.stats.goals.last(),
-            Some(&(1, GoalStage::Succeeded)),
-            "goal {i}"
-        );
-        let err = rig.plant.state().object.angle_to(&goal);
-        assert!(err < 1e-6, "goal {i}: final error {err}");
-        assert!(
-            rig.stats.violations.is_empty(),
-            "goal {i}: {:?}",
-            &rig.stats.violations[..1]
-        );
-        assert_eq!(rig.stats.faults, 0, "goal {i}: fault");
+        assert_reached(&rig, &goal, i);
     }
     println!(
         "{n} goals, {ticks} ticks: largest commanded grip {max_grip:.2} N, least load margin while moving {min_margin:.2} N, largest per-tick grip change {max_step:.3} N; {checked} ticks' commanded grips checked by the independent SOCP"
@@ -209,12 +215,7 @@ fn a_fingertip_spinning_under_load_pushes_along_its_normal_only() {
                 break;
             }
         }
-        assert_eq!(
-            rig.stats.goals.last(),
-            Some(&(1, GoalStage::Succeeded)),
-            "goal {i}"
-        );
-        assert_eq!(rig.stats.faults, 0, "goal {i}: fault");
+        assert_reached(&rig, goal, i);
     }
     assert!(spin_ticks > 0, "no tick spun a fingertip");
     println!(

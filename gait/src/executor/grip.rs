@@ -71,6 +71,22 @@ pub const fn spin_bit(k: usize) -> u8 {
     1 << (3 + k)
 }
 
+/// What a grip depends on (the key of the executor's grip memo): the
+/// fingertip centres, which fingers grasp, the torque and the carrying
+/// set — not the fingertips' orientations or rolls, so a fingertip
+/// spinning in place keeps its grip from tick to tick.
+pub type GripKey = ([Vector3<f64>; 3], u8, Vector3<f64>, u8);
+
+/// The [`GripKey`] of `state` with `torque` and `carrying`.
+pub fn grip_key(state: &HandState, torque: &Vector3<f64>, carrying: u8) -> GripKey {
+    (
+        state.fingers.map(|f| f.center),
+        grasp_mask(state),
+        *torque,
+        carrying,
+    )
+}
+
 /// Bit mask of the grasping fingers of `state`.
 pub fn grasp_mask(state: &HandState) -> u8 {
     state

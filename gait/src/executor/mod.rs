@@ -312,10 +312,10 @@ pub struct Executor {
     tick: u64,
     /// Invariants of the last checked setpoint state.
     invariants: memo::Memo<HandState, Result<InvariantReport, StateError>>,
-    /// Grip of the last (state, torque, carrying set).
-    grips: memo::Memo<(HandState, Vector3<f64>, u8), grip::Grip>,
+    /// Grip of the last (state, torque, carrying set) ([`grip::GripKey`]).
+    grips: memo::Memo<grip::GripKey, grip::Grip>,
     /// Grip of the set a handover goes to, for the last (state, torque).
-    grips_to: memo::Memo<(HandState, Vector3<f64>, u8), grip::Grip>,
+    grips_to: memo::Memo<grip::GripKey, grip::Grip>,
     /// Bit mask of the fingers that carry the load ([`grip`]).
     carrying: u8,
     /// Grasping fingers of the last setpoint (bit mask).
@@ -906,14 +906,19 @@ impl Executor {
         let model = &self.grip;
         let torque = self.object_acceleration * self.inertia;
         let state = self.setpoint.state;
-        let from = self.grips.get((state, torque, self.carrying), |(s, t, c)| {
-            model.carried(s, t, *c)
-        });
+        let carrying = self.carrying;
+        let from = self
+            .grips
+            .get(grip::grip_key(&state, &torque, carrying), |_| {
+                model.carried(&state, &torque, carrying)
+            });
         let g = match self.handover {
             Some(h) => {
                 let to = self
                     .grips_to
-                    .get((state, torque, h.to), |(s, t, c)| model.carried(s, t, *c));
+                    .get(grip::grip_key(&state, &torque, h.to), |_| {
+                        model.carried(&state, &torque, h.to)
+                    });
                 grip::GripModel::blend(&from, &to, grip::ramp(h.elapsed / h.duration))
             }
             None => from,

@@ -71,29 +71,18 @@ impl<'a> Builder<'a> {
     /// at the end of that step; a still step of its own when the plan
     /// starts with the lift).
     fn release_before_lift(&mut self, finger: usize) {
-        if let Some(h) = self.steps.last_mut().and_then(|s| s.handover.as_mut())
+        if let Some(last) = self.steps.last_mut()
+            && let Some(h) = last.handover
             && h.take == Some(finger)
             && h.release.is_none()
         {
             // Placed and lifted at once (the unwind's relocation under
             // load): it never carries, so no grip passes either way.
-            let d = h.duration;
-            if let Some(last) = self.steps.last_mut() {
-                last.duration -= d;
-                last.handover = None;
-            }
+            last.duration -= h.duration;
+            last.handover = None;
             return;
         }
-        self.release(finger);
-    }
-
-    /// The last step's grip ramps `finger` out, the finger still touching
-    /// (a still step of its own when there is no step yet).
-    fn release(&mut self, finger: usize) {
-        if self.handover_time <= 0.0 {
-            return;
-        }
-        if self.steps.is_empty() {
+        if self.handover_time > 0.0 && self.steps.is_empty() {
             self.push(
                 StepKind::Rotate,
                 Motion::Rotate {
@@ -103,20 +92,8 @@ impl<'a> Builder<'a> {
                 },
             );
         }
-        let time = self.handover_time;
-        if let Some(last) = self.steps.last_mut() {
-            match &mut last.handover {
-                Some(h) => h.release = Some(finger),
-                None => {
-                    last.handover = Some(Handover {
-                        take: None,
-                        release: Some(finger),
-                        spin: None,
-                        duration: time,
-                    });
-                    last.duration += time;
-                }
-            }
+        if let Some(h) = self.end_handover() {
+            h.release = Some(finger);
         }
     }
 
@@ -124,24 +101,29 @@ impl<'a> Builder<'a> {
     /// `spin` (if any) spins next, pushing along its normal only; the
     /// handover passes the grip from the set before.
     fn mark_spin(&mut self, spin: Option<usize>) {
+        if let Some(h) = self.end_handover() {
+            h.spin = spin;
+        }
+    }
+
+    /// The handover at the end of the last step, made (passing nothing
+    /// yet, `load.handover_time` long) if it has none; `None` without
+    /// handovers or steps.
+    fn end_handover(&mut self) -> Option<&mut Handover> {
         if self.handover_time <= 0.0 {
-            return;
+            return None;
         }
         let time = self.handover_time;
-        if let Some(last) = self.steps.last_mut() {
-            match &mut last.handover {
-                Some(h) => h.spin = spin,
-                None => {
-                    last.handover = Some(Handover {
-                        take: None,
-                        release: None,
-                        spin,
-                        duration: time,
-                    });
-                    last.duration += time;
-                }
-            }
+        let last = self.steps.last_mut()?;
+        if last.handover.is_none() {
+            last.duration += time;
         }
+        Some(last.handover.get_or_insert(Handover {
+            take: None,
+            release: None,
+            spin: None,
+            duration: time,
+        }))
     }
 
     /// A prefix action of the start.
@@ -352,16 +334,8 @@ impl<'a> Builder<'a> {
                 contact_at_end: true,
             }),
         );
-        if self.handover_time > 0.0
-            && let Some(last) = self.steps.last_mut()
-        {
-            last.handover = Some(Handover {
-                take: Some(finger),
-                release: None,
-                spin: None,
-                duration: self.handover_time,
-            });
-            last.duration += self.handover_time;
+        if let Some(h) = self.end_handover() {
+            h.take = Some(finger);
         }
         Ok(())
     }

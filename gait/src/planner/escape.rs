@@ -305,7 +305,9 @@ pub fn unwind_loaded(
     // where the spinners need to press least (a spinner's torsional
     // friction twists the object: MuJoCo's soft contacts let the others
     // slip when it is large), then the nearest.
-    let mut best: Option<(usize, f64, f64, Vector3<f64>, HandState)> = None;
+    // (fingers that can spin, their mask, largest push, nearness, contact,
+    // state after the placement)
+    let mut best: Option<(u32, u8, f64, f64, Vector3<f64>, HandState)> = None;
     for c in cand.points[free]
         .iter()
         .filter(|c| c.dot(&ca) <= sep && c.dot(&cb) <= sep)
@@ -315,35 +317,29 @@ pub fn unwind_loaded(
         if !grip.carried_with(&h, Accel::None, CARRY_BITS).feasible {
             continue;
         }
-        let (mut n, mut push) = (0, 0.0f64);
+        let (mut mask, mut push) = (0u8, 0.0f64);
         for (k, _) in &spins {
             let g = grip.carried_with(&h, Accel::None, CARRY_BITS | spin_bit(*k));
             if g.feasible {
-                n += 1;
+                mask |= 1 << k;
                 push = push.max(g.normal[*k]);
             }
         }
-        let near = c.dot(&from);
-        let better = |b: &(usize, f64, f64, Vector3<f64>, HandState)| {
-            n > b.0 || (n == b.0 && (push < b.1 - 1e-6 || (push <= b.1 + 1e-6 && near > b.2)))
+        let (n, near) = (mask.count_ones(), c.dot(&from));
+        let better = |b: &(u32, u8, f64, f64, Vector3<f64>, HandState)| {
+            n > b.0 || (n == b.0 && (push < b.2 - 1e-6 || (push <= b.2 + 1e-6 && near > b.3)))
         };
         if n > 0 && best.as_ref().is_none_or(better) {
-            best = Some((n, push, near, *c, h));
+            best = Some((n, mask, push, near, *c, h));
         }
     }
-    let (_, _, _, contact, mut h) = best?;
+    let (_, mask, _, _, contact, mut h) = best?;
     let mut actions = vec![PrefixAction::Place {
         finger: free,
         contact,
         roll: 0.0,
     }];
-    for (k, path) in spins {
-        if !grip
-            .carried_with(&h, Accel::None, CARRY_BITS | spin_bit(k))
-            .feasible
-        {
-            continue;
-        }
+    for (k, path) in spins.into_iter().filter(|(k, _)| mask & (1 << k) != 0) {
         h.fingers[k] = path.eval(path.length()).finger_state(&h.object, &cg);
         actions.push(PrefixAction::Spin(k, Box::new(path)));
     }

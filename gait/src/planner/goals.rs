@@ -29,14 +29,18 @@ impl Planner {
         if !state_finite(start) {
             return Err(PlanError::NonFiniteState);
         }
-        // Spins under load only when nothing else plans (in MuJoCo a
-        // spinning fingertip's contact force flickers: LOAD-FIGURES §4).
-        match self.plan_orientation(start, &goal, false) {
-            Err(e @ (PlanError::LoadInfeasible { start: false } | PlanError::SearchExhausted))
-                if self.load.active() =>
-            {
-                self.plan_orientation(start, &goal, true).map_err(|_| e)
-            }
+        self.spins_last(|spins| self.plan_orientation(start, &goal, spins))
+    }
+
+    /// `plan` without spins under load first and, when that finds nothing,
+    /// with them (in MuJoCo a spinning fingertip's contact force flickers:
+    /// gait/LOAD-FIGURES.md §0); the first error is kept.
+    fn spins_last(
+        &self,
+        plan: impl Fn(bool) -> Result<Plan, PlanError>,
+    ) -> Result<Plan, PlanError> {
+        match plan(false) {
+            Err(e) if self.load.active() && found_nothing(&e) => plan(true).map_err(|_| e),
             r => r,
         }
     }
@@ -50,9 +54,7 @@ impl Planner {
     ) -> Result<Plan, PlanError> {
         let (axis, total) = rotation_to(&start.object, goal);
         match self.plan_about(start, goal, axis, total, false, spins) {
-            Err(e @ (PlanError::LoadInfeasible { start: false } | PlanError::SearchExhausted))
-                if self.load.active() =>
-            {
+            Err(e) if self.load.active() && found_nothing(&e) => {
                 self.plan_via_twist(start, goal, spins).ok_or(e)
             }
             r => r,
@@ -159,15 +161,7 @@ impl Planner {
             ) if angle > TURN_CHUNK => self.plan_in_chunks(start, &axis, angle, spins),
             r => r,
         };
-        // Spins under load only when nothing else plans ([`Planner::plan`]).
-        match turn(false) {
-            Err(e @ (PlanError::LoadInfeasible { start: false } | PlanError::SearchExhausted))
-                if self.load.active() =>
-            {
-                turn(true).map_err(|_| e)
-            }
-            r => r,
-        }
+        self.spins_last(turn)
     }
 
     /// A long turn as consecutive turns of at most [`TURN_CHUNK`], each
@@ -223,4 +217,13 @@ impl Planner {
             summary,
         })
     }
+}
+
+/// Whether `e` says only that no plan was found (another way may find
+/// one), not that the start or goal is wrong.
+fn found_nothing(e: &PlanError) -> bool {
+    matches!(
+        e,
+        PlanError::LoadInfeasible { start: false } | PlanError::SearchExhausted
+    )
 }
