@@ -68,9 +68,9 @@ fn a_full_turn_is_a_full_turn() {
 fn a_newer_goal_preempts_the_running_one() {
     let d = TestDaemon::start("preempt");
     let mut c = d.client();
-    // About y: under load (the default 0.1 kg under gravity) a turn about
-    // x from the paper start is refused (LoadInfeasible: it would need the
-    // unwind escape's spin, which has no friction to spare).
+    // About y: under load (the default 0.1 kg under gravity) a 3 rad turn
+    // about x from the paper start plans, but as a 144 s plan of 161 gaits
+    // (gait/LOAD-FIGURES.md §10); this one is short.
     let first = c
         .reorient(&GoalSpec::turn([0.0, 1.0, 0.0], 3.0).unwrap(), T)
         .unwrap();

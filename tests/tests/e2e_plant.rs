@@ -91,9 +91,8 @@ fn seeded_goals(n: usize, seed: u64) -> Vec<[f64; 4]> {
 
 #[test]
 fn the_paper_scenario_and_goals_on_an_out_of_process_kinematic_plant() {
-    // The plant interface, not the load: a weightless object. (Under the
-    // default load the paper's turn about x after the one about z is
-    // refused, LoadInfeasible: planner_load.rs.)
+    // The plant interface, not the load: a weightless object (under the
+    // default load: planner_load.rs, python_plant_e2e.rs).
     let mut d = TestDaemon::new(
         "psim",
         "[load]\ngravity = [0.0, 0.0, 0.0]\n[plant]\nkind = \"shm\"\ntiming = \"lockstep\"\n",

@@ -210,7 +210,10 @@ pub struct PlannerConfig {
     pub candidate_spacing_deg: f64,
     /// Children kept per relocation pattern in the search.
     pub branching: u32,
-    /// Search budget: node expansions per search.
+    /// Search budget: node expansions per search. 12 000: with 3 000 the
+    /// paper's full turn about z under load ends where the turn about x
+    /// finds no plan within 20 N (gait/LOAD-FIGURES.md §10); a search
+    /// that finds its plan stops early, so only a refusal pays for it.
     pub max_expansions: u32,
     /// Directions tried when the object must first rotate about another
     /// axis (paper Theory 1 fails, SPEC §4.3).
@@ -238,7 +241,7 @@ impl Default for PlannerConfig {
             transfer_height: 0.03,
             candidate_spacing_deg: 6.0,
             branching: 3,
-            max_expansions: 3000,
+            max_expansions: 12_000,
             escape_axes: 64,
             detour_above_s: 13.0,
             detour_axes: 48,

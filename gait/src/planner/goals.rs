@@ -29,19 +29,29 @@ impl Planner {
         if !state_finite(start) {
             return Err(PlanError::NonFiniteState);
         }
-        self.spins_last(|spins| self.plan_orientation(start, &goal, spins))
+        self.in_tiers(|p, spins| p.plan_orientation(start, &goal, spins))
     }
 
-    /// `plan` without spins under load first and, when that finds nothing,
-    /// with them (in MuJoCo a spinning fingertip's contact force flickers:
-    /// gait/LOAD-FIGURES.md §0); the first error is kept.
-    fn spins_last(
+    /// `plan` in tiers under load, each tried only when the one before
+    /// finds nothing: the search's sufficient load test without spins; the
+    /// exact closed form behind it (slower per pair, more pairs); that with
+    /// spins (in MuJoCo a spinning fingertip's contact force flickers:
+    /// gait/LOAD-FIGURES.md §0). The first error is kept.
+    fn in_tiers(
         &self,
-        plan: impl Fn(bool) -> Result<Plan, PlanError>,
+        plan: impl Fn(&Planner, bool) -> Result<Plan, PlanError>,
     ) -> Result<Plan, PlanError> {
-        match plan(false) {
-            Err(e) if self.load.active() && found_nothing(&e) => plan(true).map_err(|_| e),
-            r => r,
+        let e = match plan(self, false) {
+            Err(e) if self.load.active() && found_nothing(&e) => e,
+            r => return r,
+        };
+        let exact = Planner {
+            load: self.load.with_exact(&self.config),
+            ..self.clone()
+        };
+        match plan(&exact, false) {
+            Err(e2) if found_nothing(&e2) => plan(&exact, true).map_err(|_| e),
+            r => r.map_err(|_| e),
         }
     }
 
@@ -153,15 +163,16 @@ impl Planner {
             (axis / n, angle)
         };
         let goal = rotation(&axis, angle) * start.object;
-        let turn = |spins: bool| match self.plan_about(start, &goal, axis, angle, true, spins) {
-            Err(
-                PlanError::SearchExhausted
-                | PlanError::Blocked { .. }
-                | PlanError::LoadInfeasible { start: false },
-            ) if angle > TURN_CHUNK => self.plan_in_chunks(start, &axis, angle, spins),
-            r => r,
-        };
-        self.spins_last(turn)
+        let turn =
+            |p: &Planner, spins: bool| match p.plan_about(start, &goal, axis, angle, true, spins) {
+                Err(
+                    PlanError::SearchExhausted
+                    | PlanError::Blocked { .. }
+                    | PlanError::LoadInfeasible { start: false },
+                ) if angle > TURN_CHUNK => p.plan_in_chunks(start, &axis, angle, spins),
+                r => r,
+            };
+        self.in_tiers(turn)
     }
 
     /// A long turn as consecutive turns of at most [`TURN_CHUNK`], each

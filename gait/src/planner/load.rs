@@ -51,7 +51,7 @@ use super::geometry::{Sinusoid, any_perpendicular};
 use super::plan::{Motion, Step};
 use crate::HandConfig;
 use crate::executor::grip::{CARRY_BITS, Grip, GripModel, grasp_mask};
-use crate::grasp::hold::{Accel, ICOSAHEDRON_RATIO};
+use crate::grasp::hold::{Accel, HoldModel, ICOSAHEDRON_RATIO};
 use crate::state::HandState;
 
 /// Largest rotation between two exact checks of a Rotate step \[rad\] (3°).
@@ -79,6 +79,11 @@ pub struct PairLoad {
     /// Whether there is any load to hold beyond the squeeze floor (with
     /// none, the test reduces to force closure and is skipped).
     active: bool,
+    /// The closed form of `grasp::hold` (what a plan is checked with), or
+    /// `None`: where the sufficient test fails, ask it too.
+    exact: Option<HoldModel>,
+    /// α_max for the exact model \[rad/s²\].
+    max_accel: f64,
 }
 
 impl PairLoad {
@@ -104,7 +109,41 @@ impl PairLoad {
                 || l.disturbance_force > 0.0
                 || l.disturbance_torque > 0.0
                 || inertia_torque > 0.0,
+            exact: None,
+            max_accel: c.limits.object.acceleration,
         }
+    }
+
+    /// The same test, and where it fails the exact closed form of
+    /// `grasp::hold` as well (the model a plan is checked with). It
+    /// accepts more pairs (119 against 102 of 400 random pairs 140–180°
+    /// apart, `gait/tests/load_exact.rs`) but costs far more per refused
+    /// pair: always on, it made the paper-start plan's p99 planning time
+    /// 0.14 s → 3.9 s (gait/LOAD-FIGURES.md §10), so the planner asks it
+    /// only when the sufficient test finds nothing.
+    pub fn with_exact(&self, c: &HandConfig) -> Self {
+        Self {
+            exact: Some(HoldModel::new(c)),
+            ..*self
+        }
+    }
+
+    /// The exact model's verdict for the pair holding `w`.
+    fn exact_holds(
+        &self,
+        n1: &Vector3<f64>,
+        n2: &Vector3<f64>,
+        w: &Vector3<f64>,
+        axis: Option<&Vector3<f64>>,
+    ) -> bool {
+        self.exact.is_some_and(|m| {
+            let accel = axis.map_or(Accel::None, |k| Accel::About {
+                axis: *k,
+                max: self.max_accel,
+            });
+            m.pair(&[*n1, *n2], &m.loads_with_weight(*w, accel))
+                .feasible
+        })
     }
 
     /// Whether the test constrains anything.
@@ -281,7 +320,7 @@ impl PairLoad {
                 w.dot(&p.axes[2]),
                 true,
             ) >= 0.0
-        })
+        }) || self.exact_holds(n1, n2, w, axis)
     }
 
     /// How far (rad, at most `limit`) the pair can rotate about the unit
@@ -307,32 +346,43 @@ impl PairLoad {
         let ok = |t: f64| {
             let (sin, cos) = t.sin_cos();
             let c = waves.map(|w| w.a + w.b * cos + w.c * sin);
-            self.slack_in(&p, c[0], c[1], c[2], true) >= 0.0
+            self.slack_in(&p, c[0], c[1], c[2], true) >= 0.0 || {
+                // The weight in the hand frame, turned by −t about the axis.
+                let w = p.axes[0] * c[0] + p.axes[1] * c[1] + p.axes[2] * c[2];
+                self.exact_holds(n1, n2, &w, Some(axis))
+            }
         };
-        if !ok(0.0) {
-            return 0.0;
-        }
-        // A full turn brings the weight back: one turn decides beyond it.
-        let span = limit.min(std::f64::consts::TAU);
-        let mut good = 0.0;
-        loop {
-            let t = (good + EXIT_STEP).min(span);
-            if !ok(t) {
-                let mut bad = t;
-                for _ in 0..8 {
-                    let mid = 0.5 * (good + bad);
-                    if ok(mid) {
-                        good = mid;
-                    } else {
-                        bad = mid;
-                    }
+        scan_exit(limit, EXIT_STEP, ok)
+    }
+}
+
+/// The first angle in [0, `limit`] where `ok` fails, by a scan every
+/// `step` and a bisection of the first failure (0 if it fails at 0,
+/// `limit` if it never does). A full turn brings the load back, so one
+/// turn decides beyond it.
+fn scan_exit(limit: f64, step: f64, ok: impl Fn(f64) -> bool) -> f64 {
+    if !ok(0.0) {
+        return 0.0;
+    }
+    let span = limit.min(std::f64::consts::TAU);
+    let mut good = 0.0;
+    loop {
+        let t = (good + step).min(span);
+        if !ok(t) {
+            let mut bad = t;
+            for _ in 0..8 {
+                let mid = 0.5 * (good + bad);
+                if ok(mid) {
+                    good = mid;
+                } else {
+                    bad = mid;
                 }
-                return good;
             }
-            good = t;
-            if good >= span {
-                return limit;
-            }
+            return good;
+        }
+        good = t;
+        if good >= span {
+            return limit;
         }
     }
 }

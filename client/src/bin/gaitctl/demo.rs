@@ -26,11 +26,9 @@ pub struct Args {
     /// embedded kinematic hand.
     #[arg(long, value_enum)]
     plant: Option<crate::plant::Kind>,
-    /// The object has weight (the config's `[load]`); without it the
-    /// started daemon (and plant) run with zero gravity. Under the default
-    /// load the paper's second turn, about x, is refused
-    /// (LoadInfeasible): planned with gravity, full turns about horizontal
-    /// axes are not reached yet.
+    /// The object has weight (the config's `[load]`: 0.1 kg, every normal
+    /// force within 20 N); without it the started daemon (and plant) run
+    /// with zero gravity.
     #[arg(long)]
     gravity: bool,
     /// Python interpreter for `--plant mujoco` [env: GAITD_PYTHON; default python3].
