@@ -15,9 +15,10 @@ mod planning;
 
 use gait::HandConfig;
 use gait::HandState;
-use gait::planner::{Motion, Plan, PlanError, Planner};
+use gait::planner::{PlanError, Planner};
 use nalgebra::{UnitQuaternion, Vector3};
 use planning::load::{Kind, LoadCheck};
+use planning::plan_load::plan_load;
 use planning::verify::Checker;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -27,92 +28,6 @@ fn count(var: &str, default: usize) -> usize {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(default)
-}
-
-/// Rotation between two load samples of a Rotate step (the test's own).
-const ROTATION_STEP_DEG: f64 = 2.5;
-/// Samples of a roll step.
-const ROLL_SAMPLES: usize = 8;
-
-/// The largest F* over the plan's samples, and the first sample that does
-/// not hold (step index, F*), by the independent check.
-fn plan_load(check: &LoadCheck, plan: &Plan) -> (f64, Option<(usize, f64)>) {
-    let mut worst = 0.0f64;
-    let mut bad = None;
-    let grasping = |s: &HandState| -> Vec<Vector3<f64>> {
-        s.fingers
-            .iter()
-            .filter(|f| f.mode == gait::FingerMode::Grasping)
-            .map(|f| f.center.normalize())
-            .collect()
-    };
-    // `spinning`: the index among `normals` of a contact spinning on the
-    // object — frictionless (its cone is used up by the spin's torsion);
-    // the others then are soft (they neither roll nor spin).
-    let mut test = |normals: &[Vector3<f64>],
-                    axis: Option<&Vector3<f64>>,
-                    step: usize,
-                    spinning: Option<usize>| {
-        let kind = if normals.len() == 3 && spinning.is_none() {
-            Kind::Hard
-        } else {
-            Kind::Soft
-        };
-        let slick = spinning.map_or(0, |i| 1u8 << i);
-        let (ok, f) = check.holds_with(normals, kind, axis, slick);
-        worst = worst.max(f);
-        if !ok && bad.is_none() {
-            bad = Some((step, f));
-        }
-    };
-    for (i, st) in plan.steps.iter().enumerate() {
-        let d = st.dofs();
-        let at = |lam: f64| st.eval(&d.length.map(|l| l * lam), &[0.0; 3]).state;
-        match st.motion {
-            Motion::Rotate { axis, angle, .. } if angle > 0.0 => {
-                let n = (angle.to_degrees() / ROTATION_STEP_DEG).ceil().max(1.0) as usize;
-                for k in 0..=n {
-                    test(&grasping(&at(k as f64 / n as f64)), Some(&axis), i, None);
-                }
-            }
-            Motion::Roll { .. } | Motion::RollSegment { .. } => {
-                // The spinning finger's place among the grasping ones.
-                let spinning = match st.motion {
-                    Motion::RollSegment {
-                        finger, segment, ..
-                    } if segment.kind == gait::rolling::SegmentKind::Spin => Some(
-                        (0..finger)
-                            .filter(|&k| st.start.fingers[k].mode == gait::FingerMode::Grasping)
-                            .count(),
-                    ),
-                    _ => None,
-                };
-                for k in 0..=ROLL_SAMPLES {
-                    test(
-                        &grasping(&at(k as f64 / ROLL_SAMPLES as f64)),
-                        None,
-                        i,
-                        spinning,
-                    );
-                }
-            }
-            _ => {
-                // A still grasp while a finger moves: the fingers touching
-                // before and after (a handover's ends are the still grasps
-                // of the placement before it and the lift after it).
-                let end = at(1.0);
-                let normals: Vec<Vector3<f64>> = (0..3)
-                    .filter(|&k| {
-                        st.start.fingers[k].mode == gait::FingerMode::Grasping
-                            && end.fingers[k].mode == gait::FingerMode::Grasping
-                    })
-                    .map(|k| st.start.fingers[k].center.normalize())
-                    .collect();
-                test(&normals, None, i, None);
-            }
-        }
-    }
-    (worst, bad)
 }
 
 fn pct(v: &mut [f64], p: f64) -> f64 {

@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod load;
+pub mod plan_load;
 pub mod verify;
 
 use nalgebra::{Quaternion, UnitQuaternion};
