@@ -59,6 +59,9 @@ fn config(gravity: bool) -> HandConfig {
     if let Ok(b) = std::env::var("GAIT_DETOUR_AXES") {
         cfg.planner.detour_axes = b.parse().unwrap();
     }
+    if let Ok(b) = std::env::var("GAIT_WAYPOINTS") {
+        cfg.planner.waypoint_axes = b.parse().unwrap();
+    }
     if let Ok(b) = std::env::var("GAIT_DETOUR_ABOVE") {
         cfg.planner.detour_above_s = b.parse().unwrap();
     }

@@ -579,9 +579,9 @@ fn gravity_goals_on_the_mujoco_plant_are_counted() {
     );
     // Graded: the paper's scenario is reached (`gaitctl demo --plant
     // mujoco --gravity`), and no goal the hand executed ends unreached —
-    // a drop, a fault, a miss (0 of 112 executed in two 60-goal runs,
-    // gait/LOAD-FIGURES.md §5). A goal the planner refuses is a typed
-    // answer, counted.
+    // a drop, a fault, a miss. At 60 goals one does today (goal 14, a
+    // placement MuJoCo finds no contact at: gait/LOAD-FIGURES.md §10).
+    // A goal the planner refuses is a typed answer, counted.
     let paper: Vec<_> = [&failed, &unplanned, &refused]
         .into_iter()
         .flatten()

@@ -224,6 +224,12 @@ pub struct PlannerConfig {
     pub detour_above_s: f64,
     /// Axes tried for such a detour (0: never).
     pub detour_axes: u32,
+    /// Under load, intermediate orientations tried (the start turned 90°
+    /// about this many directions) when nothing else plans a goal (0:
+    /// never). From some reached grasps the search about the goal's axis
+    /// runs out of nodes while most other goals still plan
+    /// (gait/LOAD-FIGURES.md §10); a refusal then takes longer.
+    pub waypoint_axes: u32,
     /// Extra separation \[deg\] beyond the force-closure boundary (with its
     /// margin) of every pair the planner makes, and the extra the roll
     /// from a three-finger start aims for. Pairs near the boundary need
@@ -245,6 +251,7 @@ impl Default for PlannerConfig {
             escape_axes: 64,
             detour_above_s: 13.0,
             detour_axes: 48,
+            waypoint_axes: 8,
             heuristic_weight: 1.5,
             pair_margin_deg: 1.0,
         }

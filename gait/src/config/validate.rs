@@ -338,6 +338,13 @@ impl PlannerConfig {
             1024.0,
             "in [0, 1024]",
         )?;
+        in_range(
+            "planner.waypoint_axes",
+            f64::from(p.waypoint_axes),
+            -1.0,
+            64.0,
+            "in [0, 64]",
+        )?;
         // > 0: the roll from a three-finger start must end strictly inside
         // the force-closure margin (SPEC §4.3).
         in_range(

@@ -1,7 +1,8 @@
 //! From a goal to a plan (SPEC §4): an orientation goal, or a turn of a
 //! given size about an axis; under load the fallbacks — a turn about
-//! gravity split off, a long turn in pieces — and spins only when nothing
-//! else plans (gait/LOAD-FIGURES.md §0).
+//! gravity split off, a long turn in pieces, the exact load test, spins
+//! (gait/LOAD-FIGURES.md §0), and last an intermediate orientation (§10)
+//! — each only when the ways before it plan nothing.
 
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -13,6 +14,10 @@ use crate::state::HandState;
 /// long for one search \[rad\] (short enough that an escape inside a piece
 /// cannot reverse its direction).
 const TURN_CHUNK: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
+
+/// How far the start is turned for an intermediate goal of
+/// [`Planner::plan_via_waypoints`] \[rad\] (90°).
+const WAYPOINT_ANGLE: f64 = std::f64::consts::FRAC_PI_2;
 
 /// Shortest piece of a turn [`Planner::plan_in_chunks`] halves a piece
 /// down to when it finds no plan for it \[rad\] (15°).
@@ -29,7 +34,12 @@ impl Planner {
         if !state_finite(start) {
             return Err(PlanError::NonFiniteState);
         }
-        self.in_tiers(|p, spins| p.plan_orientation(start, &goal, spins))
+        match self.in_tiers(|p, spins| p.plan_orientation(start, &goal, spins)) {
+            Err(e) if self.load.active() && found_nothing(&e) => {
+                self.plan_via_waypoints(start, &goal).ok_or(e)
+            }
+            r => r,
+        }
     }
 
     /// `plan` in tiers under load, each tried only when the one before
@@ -105,26 +115,26 @@ impl Planner {
             let Ok(b) = self.plan_leg(&at, goal, spins) else {
                 continue;
             };
-            let mut summary = a.summary;
-            let s2 = b.summary;
-            summary.gaits += s2.gaits;
-            summary.rotations += s2.rotations;
-            summary.rolls += s2.rolls;
-            summary.duration += s2.duration;
-            summary.escaped |= s2.escaped;
-            summary.expansions += s2.expansions;
-            summary.goal_angle = start.object.angle_to(goal);
-            let mut steps = a.steps;
-            steps.extend(b.steps);
-            (summary.substitutions, summary.rewinds) = count_finger_gaits(&steps);
-            return Some(Plan {
-                start: *start,
-                goal: *goal,
-                steps,
-                summary,
-            });
+            return Some(a.then(b));
         }
         None
+    }
+
+    /// Under load, the goal by way of an intermediate orientation: the
+    /// start turned by [`WAYPOINT_ANGLE`] about each of
+    /// `planner.waypoint_axes` directions in turn, both legs planned
+    /// without spins by the sufficient load test (the cheap tier). The
+    /// last fallback of [`Planner::plan`]: from some reached grasps the
+    /// search about the goal's axis runs out of nodes while most other
+    /// goals still plan (gait/LOAD-FIGURES.md §10).
+    fn plan_via_waypoints(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Option<Plan> {
+        let n = self.config.planner.waypoint_axes as usize;
+        super::fibonacci_sphere(n).iter().find_map(|axis| {
+            let mid = rotation(axis, WAYPOINT_ANGLE) * start.object;
+            let a = self.plan_orientation(start, &mid, false).ok()?;
+            let b = self.plan_orientation(&a.end_state(), goal, false).ok()?;
+            Some(a.then(b))
+        })
     }
 
     /// One leg of [`Planner::plan_via_twist`].

@@ -126,6 +126,24 @@ impl Plan {
             .last()
             .map_or(self.start, |s| s.eval(&s.dofs().length, &[0.0; 3]).state)
     }
+
+    /// This plan followed by `next` (which starts where this one ends):
+    /// one plan to `next`'s goal, its statistics summed.
+    pub fn then(mut self, next: Plan) -> Plan {
+        let s2 = next.summary;
+        let s = &mut self.summary;
+        s.gaits += s2.gaits;
+        s.rotations += s2.rotations;
+        s.rolls += s2.rolls;
+        s.duration += s2.duration;
+        s.escaped |= s2.escaped;
+        s.expansions += s2.expansions;
+        s.goal_angle = self.start.object.angle_to(&next.goal);
+        self.steps.extend(next.steps);
+        (s.substitutions, s.rewinds) = count_finger_gaits(&self.steps);
+        self.goal = next.goal;
+        self
+    }
 }
 
 /// The planner: configuration plus precomputed geometry. Cheap to share
