@@ -18,6 +18,18 @@ use planning::verify::Checker;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+/// Where the paper's full turns about z, then x, leave the hand.
+fn after_the_paper_turns(cfg: &HandConfig, planner: &Planner) -> HandState {
+    let mut at = HandState::paper_start(cfg);
+    for axis in [Vector3::z(), Vector3::x()] {
+        at = planner
+            .plan_rotation(&at, &axis, std::f64::consts::TAU)
+            .unwrap_or_else(|e| panic!("paper turn about {:?}: {e}", axis.as_slice()))
+            .end_state();
+    }
+    at
+}
+
 #[test]
 fn chained_goals_hold_the_load_or_are_refused_with_their_reason() {
     let n: usize = std::env::var("GAIT_CHAIN_GOALS")
@@ -34,13 +46,7 @@ fn chained_goals_hold_the_load_or_are_refused_with_their_reason() {
     let planner = Planner::new(&cfg).unwrap();
     let check = LoadCheck::new(&cfg);
     let checker = Checker::new(&cfg);
-    let mut at = HandState::paper_start(&cfg);
-    for axis in [Vector3::z(), Vector3::x()] {
-        let plan = planner
-            .plan_rotation(&at, &axis, std::f64::consts::TAU)
-            .unwrap_or_else(|e| panic!("paper turn about {:?}: {e}", axis.as_slice()));
-        at = plan.end_state();
-    }
+    let mut at = after_the_paper_turns(&cfg, &planner);
     let mut rng = ChaCha8Rng::seed_from_u64(17);
     let (mut refused, mut gaits, mut peak) = (Vec::new(), Vec::new(), 0.0f64);
     let (mut durations, mut wall) = (Vec::new(), Vec::new());
@@ -107,13 +113,7 @@ fn a_reached_grasp_the_search_cannot_leave_plans_by_way_of_a_waypoint() {
     // about one of 8 directions it plans, held at every sample.
     let cfg = HandConfig::default();
     let planner = Planner::new(&cfg).unwrap();
-    let mut at = HandState::paper_start(&cfg);
-    for axis in [Vector3::z(), Vector3::x()] {
-        at = planner
-            .plan_rotation(&at, &axis, std::f64::consts::TAU)
-            .unwrap()
-            .end_state();
-    }
+    let mut at = after_the_paper_turns(&cfg, &planner);
     let mut rng = ChaCha8Rng::seed_from_u64(17);
     for i in 0..7 {
         let goal = planning::haar(&mut rng);

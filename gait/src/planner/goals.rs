@@ -221,13 +221,7 @@ impl Planner {
             at = plan.end_state();
             left -= this;
             piece = TURN_CHUNK;
-            let s = plan.summary;
-            summary.gaits += s.gaits;
-            summary.rotations += s.rotations;
-            summary.rolls += s.rolls;
-            summary.duration += s.duration;
-            summary.escaped |= s.escaped;
-            summary.expansions += s.expansions;
+            summary.add(&plan.summary);
             steps.extend(plan.steps);
         }
         (summary.substitutions, summary.rewinds) = count_finger_gaits(&steps);

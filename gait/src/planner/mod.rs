@@ -106,6 +106,19 @@ pub struct PlanSummary {
     pub expansions: u32,
 }
 
+impl PlanSummary {
+    /// Adds the counts, time and expansions of a plan that follows (the
+    /// gaits' kinds and the goal angle are the caller's to recount).
+    fn add(&mut self, o: &PlanSummary) {
+        self.gaits += o.gaits;
+        self.rotations += o.rotations;
+        self.rolls += o.rolls;
+        self.duration += o.duration;
+        self.escaped |= o.escaped;
+        self.expansions += o.expansions;
+    }
+}
+
 /// A complete plan.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plan {
@@ -130,14 +143,8 @@ impl Plan {
     /// This plan followed by `next` (which starts where this one ends):
     /// one plan to `next`'s goal, its statistics summed.
     pub fn then(mut self, next: Plan) -> Plan {
-        let s2 = next.summary;
         let s = &mut self.summary;
-        s.gaits += s2.gaits;
-        s.rotations += s2.rotations;
-        s.rolls += s2.rolls;
-        s.duration += s2.duration;
-        s.escaped |= s2.escaped;
-        s.expansions += s2.expansions;
+        s.add(&next.summary);
         s.goal_angle = self.start.object.angle_to(&next.goal);
         self.steps.extend(next.steps);
         (s.substitutions, s.rewinds) = count_finger_gaits(&self.steps);
