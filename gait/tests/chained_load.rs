@@ -13,7 +13,7 @@ use gait::planner::{PlanError, Planner};
 use gait::{HandConfig, HandState};
 use nalgebra::Vector3;
 use planning::load::LoadCheck;
-use planning::plan_load::plan_load;
+use planning::plan_load::assert_held;
 use planning::verify::Checker;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -57,13 +57,7 @@ fn chained_goals_hold_the_load_or_are_refused_with_their_reason() {
         wall.push(t0.elapsed().as_secs_f64());
         match planned {
             Ok(plan) => {
-                let (f, bad) = plan_load(&check, &plan);
-                assert_eq!(
-                    bad, None,
-                    "goal {i}: a sample that does not hold (step, F*)"
-                );
-                assert!(f <= cfg.load.max_grip * (1.0 + 1e-6), "goal {i}: F* {f} N");
-                assert!(checker.check_plan(&plan, 20).is_empty(), "goal {i}");
+                let f = assert_held(&check, &checker, &cfg, &plan, &format!("goal {i}"));
                 let end = plan.end_state();
                 assert!(end.object.angle_to(&goal) < 1e-9, "goal {i}: not reached");
                 peak = peak.max(f);
@@ -133,10 +127,13 @@ fn a_reached_grasp_the_search_cannot_leave_plans_by_way_of_a_waypoint() {
     let plan = planner
         .plan(&at, &goal)
         .expect("planned by way of a waypoint");
-    let (f, bad) = plan_load(&LoadCheck::new(&cfg), &plan);
-    assert_eq!(bad, None, "a sample that does not hold (step, F*)");
-    assert!(f <= cfg.load.max_grip * (1.0 + 1e-6), "F* {f} N");
-    assert!(Checker::new(&cfg).check_plan(&plan, 20).is_empty());
+    let f = assert_held(
+        &LoadCheck::new(&cfg),
+        &Checker::new(&cfg),
+        &cfg,
+        &plan,
+        "goal 7",
+    );
     assert_eq!(plan.start, at);
     assert!(plan.end_state().object.angle_to(&goal) < 1e-9);
     println!(

@@ -448,7 +448,7 @@ impl GravityRun {
 /// refused. Printed per goal: the outcome, the measured error, and per
 /// contact the largest slip over the object's surface and the largest
 /// commanded and measured normal forces. The share reached is a figure
-/// (gait/LOAD-FIGURES.md §5); checked: the paper's two turns are reached,
+/// (gait/LOAD-FIGURES.md §5, §10); checked: the paper's two turns are reached,
 /// every goal executed is reached (no drop), every goal ends, every daemon
 /// survives, every plant ran and refused no command.
 #[test]

@@ -92,3 +92,20 @@ pub fn plan_load(check: &LoadCheck, plan: &Plan) -> (f64, Option<(usize, f64)>) 
     }
     (worst, bad)
 }
+
+/// Asserts that `plan` holds the load at every sample by the independent
+/// check, within `load.max_grip`, and keeps the kinematic invariants
+/// (`what` names it in a failure); its largest F* \[N\].
+pub fn assert_held(
+    check: &LoadCheck,
+    checker: &super::verify::Checker,
+    cfg: &gait::HandConfig,
+    plan: &Plan,
+    what: &str,
+) -> f64 {
+    let (f, bad) = plan_load(check, plan);
+    assert_eq!(bad, None, "{what}: a sample that does not hold (step, F*)");
+    assert!(f <= cfg.load.max_grip * (1.0 + 1e-6), "{what}: F* {f} N");
+    assert!(checker.check_plan(plan, 20).is_empty(), "{what}");
+    f
+}
