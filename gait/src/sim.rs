@@ -36,6 +36,11 @@ pub struct Measurement {
     pub object: UnitQuaternion<f64>,
     /// The three fingertips.
     pub fingers: [MeasuredFinger; 3],
+    /// Object centre, hand frame \[m\], if the plant measures it (the
+    /// model puts it at the origin; a grasp under load sags a little, and
+    /// the position correction, [`crate::executor::correction`], brings
+    /// it back). The kinematic hand reports `None`: its object never moves.
+    pub center: Option<Vector3<f64>>,
     /// How many setpoints older than the last one written this measurement
     /// reflects: 0 for a plant that applied the last setpoint (the
     /// kinematic hand, a lockstep plant), 1 when it applied the one before,
@@ -55,6 +60,7 @@ impl Measurement {
                 normal_force: None,
                 roll: Some(f.roll),
             }),
+            center: None,
             age: 0,
         }
     }
@@ -83,6 +89,7 @@ impl Measurement {
     /// Whether every number is finite.
     pub fn is_finite(&self) -> bool {
         self.object.coords.iter().all(|x| x.is_finite())
+            && self.center.is_none_or(|c| c.iter().all(|x| x.is_finite()))
             && self.fingers.iter().all(|f| {
                 f.center.iter().all(|x| x.is_finite())
                     && f.orientation.coords.iter().all(|x| x.is_finite())

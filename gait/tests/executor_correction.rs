@@ -25,6 +25,7 @@ fn measure(commanded: &HandState, lag: &UnitQuaternion<f64>) -> Measurement {
             normal_force: None,
             roll: Some(f.roll),
         }),
+        center: None,
         age: 0,
     }
 }

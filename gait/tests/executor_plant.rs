@@ -20,6 +20,7 @@ fn measure(s: &HandState, age: u32) -> Measurement {
             normal_force: None,
             roll: Some(f.roll),
         }),
+        center: None,
         age,
     }
 }

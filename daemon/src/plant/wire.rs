@@ -88,6 +88,11 @@ pub fn measurement(m: &PlantMeasurement, age: u32) -> Result<Measurement, BadMea
     Ok(Measurement {
         object: quat(m.object_q)?,
         fingers,
+        center: if m.valid & measurement_valid::OBJECT_CENTER != 0 {
+            Some(vec3(m.object_center)?)
+        } else {
+            None
+        },
         age,
     })
 }
@@ -163,6 +168,21 @@ mod tests {
                 .all(|f| f.contact && f.normal_force == Some(2.0))
         );
         assert_eq!(m.fingers[0].roll, Some(0.0));
+        assert_eq!(m.center, None, "no centre unless flagged");
+    }
+
+    #[test]
+    fn a_measured_object_centre_is_taken_when_flagged_and_checked() {
+        let mut w = good();
+        w.valid |= measurement_valid::OBJECT_CENTER;
+        w.object_center = [0.0003, -0.0001, -0.0012];
+        let m = measurement(&w, 0).unwrap();
+        assert_eq!(m.center, Some(Vector3::new(0.0003, -0.0001, -0.0012)));
+        w.object_center[1] = f64::NAN;
+        assert_eq!(measurement(&w, 0), Err(BadMeasurement::NonFinite));
+        // Not flagged: a NaN there is not read.
+        w.valid &= !measurement_valid::OBJECT_CENTER;
+        assert_eq!(measurement(&w, 0).unwrap().center, None);
     }
 
     #[test]

@@ -299,6 +299,10 @@ pub struct FeedbackConfig {
     /// Largest correction of the commanded grasp \[deg\]: it uses up
     /// workspace margin, so it stays well inside `model.workspace_margin_deg`.
     pub max_correction_deg: f64,
+    /// Longest offset by which a fingertip is placed where the object is
+    /// measured rather than where the model puts it (a plant that measures
+    /// the object centre; `executor::placement`) \[m\]; 0 disables it.
+    pub max_place_offset: f64,
     /// A grasping contact measured as not touching (its contact flag, or a
     /// measured normal force below `min_contact_force`) this many ticks in
     /// a row is lost: a fault (a plant's flags lag a placement or lift by a
@@ -320,6 +324,7 @@ impl Default for FeedbackConfig {
             stall_ratio: 0.1,
             orientation_gain: 10.0,
             max_correction_deg: 0.5,
+            max_place_offset: 0.002,
             contact_grace_ticks: 50,
             min_contact_force: 0.05,
         }

@@ -425,6 +425,13 @@ impl FeedbackConfig {
             10.0,
             "in [0°, 10°]",
         )?;
+        in_closed(
+            "feedback.max_place_offset",
+            fb.max_place_offset,
+            0.0,
+            0.01,
+            "in [0, 0.01] m",
+        )?;
         if !(1..=100_000).contains(&fb.contact_grace_ticks) {
             return Err(ConfigError::OutOfRange {
                 key: "feedback.contact_grace_ticks",

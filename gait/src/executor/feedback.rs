@@ -15,6 +15,30 @@ use crate::state::{FingerMode, HandState};
 /// is `shm_schema::NO_FINGER`, a `u32`; the daemon maps one to the other).
 pub const NOT_A_FINGER: u8 = 255;
 
+/// How a setpoint was commanded beyond its plan: turned by the orientation
+/// correction about the object centre ([`super::correction`]), then each
+/// fingertip moved by its placement offset ([`super::placement`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Adjustment {
+    /// The correction's rotation.
+    pub rotation: UnitQuaternion<f64>,
+    /// Each fingertip's placement offset, hand frame \[m\].
+    pub offsets: [Vector3<f64>; 3],
+}
+
+impl Adjustment {
+    /// None: the plan as it is.
+    pub const NONE: Self = Self {
+        rotation: UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(1.0, 0.0, 0.0, 0.0)),
+        offsets: [Vector3::new(0.0, 0.0, 0.0); 3],
+    };
+
+    /// Where fingertip `k`, planned at `p`, was commanded.
+    pub fn tip(&self, k: usize, p: &Vector3<f64>) -> Vector3<f64> {
+        self.rotation * p + self.offsets[k]
+    }
+}
+
 /// Derived thresholds.
 #[derive(Debug, Clone, Copy)]
 pub struct Feedback {
@@ -42,9 +66,9 @@ impl Feedback {
 
     /// Checks `m` against the planned state `cmd` it reflects (and the one
     /// the previous measurement `prev_m` reflected, `prev_cmd`, for the
-    /// stall check). The fingertips were commanded turned by `correction`
-    /// about the object centre ([`super::correction`]): they are expected
-    /// there; the object is expected at the plan. `offset` is a known
+    /// stall check). The fingertips were commanded as `adjusted`
+    /// ([`Adjustment`]): they are expected there; the object is expected
+    /// at the plan. `offset` is a known
     /// object-frame offset of the true object from the planned one (true ≈
     /// `cmd.object · offset`; identity unless a drift is being recovered
     /// from). Returns the object's error from the plan as a rotation vector
@@ -56,7 +80,7 @@ impl Feedback {
         prev_cmd: &HandState,
         prev_m: Option<&Measurement>,
         offset: &UnitQuaternion<f64>,
-        correction: &UnitQuaternion<f64>,
+        adjusted: &Adjustment,
     ) -> Result<Vector3<f64>, (FaultKind, u8)> {
         let Some(m) = m else {
             return Err((FaultKind::MissingMeasurement, NOT_A_FINGER));
@@ -65,20 +89,23 @@ impl Feedback {
             return Err((FaultKind::BadMeasurement, NOT_A_FINGER));
         }
         let expected = cmd.object * offset;
+        // Where the object centre is, if measured: contacts are located on
+        // the object relative to it.
+        let centre = m.center.unwrap_or_else(Vector3::zeros);
         // Slip: a grasping contact moved over the object surface.
         for (k, f) in cmd.fingers.iter().enumerate() {
             if f.mode != FingerMode::Grasping {
                 continue;
             }
             let planned = expected.inverse() * f.center.normalize();
-            let measured = m.object.inverse() * m.fingers[k].center.normalize();
+            let measured = m.object.inverse() * (m.fingers[k].center - centre).normalize();
             if (planned - measured).norm() * self.object_radius > self.contact_tol {
                 return Err((FaultKind::ContactDrift, k as u8));
             }
         }
         for (k, f) in cmd.fingers.iter().enumerate() {
             let mf = &m.fingers[k];
-            if (mf.center - correction * f.center).norm() > self.finger_tol {
+            if (mf.center - adjusted.tip(k, &f.center)).norm() > self.finger_tol {
                 return Err((FaultKind::FingerTracking, k as u8));
             }
             if self.stall_ratio > 0.0

@@ -223,6 +223,8 @@ impl Executor {
     /// Leaves safe hold holding `state` (valid, measured): a new estimate,
     /// no fault (`FaultCleared`).
     pub(super) fn resume_from(&mut self, state: HandState) {
+        // Measured: the fingertips are where the object is; no offset.
+        self.placement.clear();
         self.adopt(state);
         self.fault = None;
         self.phase = Mode::Holding;

@@ -33,6 +33,7 @@ pub mod grip;
 pub mod guard;
 pub mod lifecycle;
 mod memo;
+pub mod placement;
 mod plant;
 pub mod policy;
 pub mod recovery;
@@ -293,12 +294,14 @@ pub struct Executor {
     written: [HandState; WRITTEN],
     /// Where the next written setpoint goes in `written`.
     written_next: usize,
-    /// The corrections the setpoints in `written` were commanded with.
-    written_correction: [UnitQuaternion<f64>; WRITTEN],
+    /// How the setpoints in `written` were commanded beyond their plan.
+    written_adjustment: [feedback::Adjustment; WRITTEN],
     /// The setpoint state the last measurement reflected.
     prev_reflected: HandState,
     /// The correction of the commanded grasp ([`correction`]).
     correction: correction::Correction,
+    /// Fingertips placed where the object is measured ([`placement`]).
+    placement: placement::Placement,
     /// The control period \[s\].
     dt: f64,
     /// Ticks in a row each grasping contact was measured not touching.
@@ -440,11 +443,15 @@ impl Executor {
             contact_radius: config.model.object_radius + config.model.fingertip_radius,
             written: [start; WRITTEN],
             written_next: 0,
-            written_correction: [UnitQuaternion::identity(); WRITTEN],
+            written_adjustment: [feedback::Adjustment::NONE; WRITTEN],
             prev_reflected: start,
             correction: correction::Correction::new(
                 config.feedback.orientation_gain,
                 config.feedback.max_correction_deg.to_radians(),
+            ),
+            placement: placement::Placement::new(
+                config.feedback.max_place_offset,
+                config.model.object_radius + config.model.fingertip_radius,
             ),
             dt,
             contact_missing: [0; 3],
@@ -611,7 +618,7 @@ impl Executor {
                 &prev_cmd,
                 self.prev_measurement.as_ref(),
                 &self.drift.map_or(UnitQuaternion::identity(), |d| d.offset),
-                &self.written_correction(age),
+                &self.written_adjustment(age),
             ) {
                 Ok(err) => {
                     error = err;
@@ -648,6 +655,13 @@ impl Executor {
         }
         self.prev_setpoint = self.setpoint;
         self.advance();
+        self.placement.update(
+            &self.setpoint.state,
+            measurement
+                .filter(|m| m.is_finite())
+                .and_then(|m| m.center.as_ref()),
+            self.dt,
+        );
         self.update_carrying();
         self.setpoint.estimate_epoch = self.epoch;
         self.remember_written();
@@ -663,16 +677,19 @@ impl Executor {
         self.written[i]
     }
 
-    /// The correction of the setpoint written `age` ticks before the last.
-    fn written_correction(&self, age: usize) -> UnitQuaternion<f64> {
+    /// How the setpoint written `age` ticks before the last was commanded.
+    fn written_adjustment(&self, age: usize) -> feedback::Adjustment {
         let i = (self.written_next + 2 * WRITTEN - 1 - age.min(WRITTEN - 1)) % WRITTEN;
-        self.written_correction[i]
+        self.written_adjustment[i]
     }
 
     /// Records the setpoint about to be written (and its correction).
     fn remember_written(&mut self) {
         self.written[self.written_next] = self.setpoint.state;
-        self.written_correction[self.written_next] = self.correction.rotation();
+        self.written_adjustment[self.written_next] = feedback::Adjustment {
+            rotation: self.correction.rotation(),
+            offsets: self.placement.shifts(&self.setpoint.state),
+        };
         self.written_next = (self.written_next + 1) % WRITTEN;
     }
 
@@ -700,7 +717,10 @@ impl Executor {
     /// the older ones belong to the old estimate).
     fn reset_written(&mut self, state: HandState) {
         self.written = [state; WRITTEN];
-        self.written_correction = [UnitQuaternion::identity(); WRITTEN];
+        self.written_adjustment = [feedback::Adjustment {
+            rotation: UnitQuaternion::identity(),
+            offsets: self.placement.shifts(&state),
+        }; WRITTEN];
         self.written_next = 0;
         self.prev_reflected = state;
         self.correction.clear();
@@ -875,8 +895,9 @@ impl Executor {
         let r = &mut self.report;
         r.remaining_angle = remaining;
         r.tick = self.tick;
-        // What is written to the plant: the plan, turned by the correction.
-        r.setpoint = self.correction.apply(&self.setpoint);
+        // What is written to the plant: the plan, turned by the correction,
+        // fingertips placed on the object where it is measured.
+        r.setpoint = self.placement.apply(&self.correction.apply(&self.setpoint));
         r.phase = self.phase;
         r.step_kind = match self.phase {
             Mode::Moving | Mode::Stopping => self
