@@ -14,7 +14,7 @@
 mod python_support;
 
 use gaitd_client::{Client, GoalSpec, GoalState, ReasonCode, Status, Verdict};
-use gaitd_tests::{TestDaemon, repo_root};
+use gaitd_tests::{TestDaemon, oracle_python, repo_root, workspace_bin};
 use python_support::{PlantProcess, angle, python};
 use std::time::{Duration, Instant};
 
@@ -595,4 +595,63 @@ fn gravity_goals_on_the_mujoco_plant_are_counted() {
         failed.is_empty(),
         "executed under gravity and not reached in MuJoCo: {failed:?}"
     );
+}
+
+/// The processes whose command line mentions `needle`.
+fn processes_with(needle: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir("/proc").unwrap().flatten() {
+        if let Ok(cmd) = std::fs::read(e.path().join("cmdline")) {
+            let cmd = String::from_utf8_lossy(&cmd).replace('\0', " ");
+            if cmd.contains(needle) {
+                out.push(format!("{}: {cmd}", e.file_name().to_string_lossy()));
+            }
+        }
+    }
+    out
+}
+
+/// `gaitctl plant mujoco` becomes the MuJoCo plant: a SIGTERM to it (as
+/// `gaitctl demo --plant mujoco`, a shell or systemd sends) stops the
+/// plant itself, which prints its summary and exits 0, and nothing of it
+/// is left running. (It used to run the plant as a child, which a SIGTERM
+/// left behind, waiting for a daemon that was gone.)
+#[test]
+fn gaitctl_plant_mujoco_stops_with_its_plant() {
+    let mut d = shm_daemon("py-gaitctl-plant", PHYSICS_FEEDBACK);
+    let mut cmd = std::process::Command::new(workspace_bin("gaitctl"));
+    cmd.args(["plant", "mujoco", "--config"])
+        .arg(d.config_path())
+        .arg("--python")
+        .arg(oracle_python());
+    let mut plant = PlantProcess::spawn(cmd, d.dir.join("plant.log"));
+    let mut c = connect_when_measured(&mut d, &plant);
+    let before = c.wait_status(T).unwrap().measured_tick;
+    let config = d.config_path().to_string_lossy().into_owned();
+    // (The daemon runs with that config too; it alone may remain.)
+    let status = plant.stop(Duration::from_secs(20));
+    assert!(
+        status.is_some_and(|s| s.success()),
+        "gaitctl plant mujoco after SIGTERM: {status:?}\n{}",
+        plant.log()
+    );
+    assert!(
+        plant.log().contains("real-time factor"),
+        "the plant printed its summary:\n{}",
+        plant.log()
+    );
+    let daemon = format!("{}: ", d.child.as_ref().expect("daemon").id());
+    let others = || {
+        let mut p = processes_with(&config);
+        p.retain(|p| !p.starts_with(&daemon));
+        p
+    };
+    let t0 = Instant::now();
+    let mut left = others();
+    while !left.is_empty() && t0.elapsed() < Duration::from_secs(5) {
+        std::thread::sleep(Duration::from_millis(100));
+        left = others();
+    }
+    assert!(left.is_empty(), "left running after SIGTERM: {left:?}");
+    assert!(before > 0, "the daemon measured the plant");
 }

@@ -18,8 +18,30 @@ use std::time::{Duration, Instant};
 /// each other until queries time out. Held for the whole test.
 pub fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
     static LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    static HOOK: std::sync::Once = std::sync::Once::new();
+    HOOK.call_once(report_panics_at_once);
     // A failed test poisons the lock; the next one may still run.
     LOCK.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Also writes each panic's place and message straight to stderr, past
+/// the test harness's capture. This binary once died with SIGILL (an
+/// abort, most likely a second panic while unwinding the first), and an
+/// abort throws away the captured output with the first panic's message;
+/// now that message is in the log whatever follows. The usual report
+/// follows as before.
+fn report_panics_at_once() {
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        use std::io::Write;
+        let thread = std::thread::current();
+        let line = format!(
+            "[remote tests] thread '{}' panicked: {info}\n",
+            thread.name().unwrap_or("?")
+        );
+        let _ = std::io::stderr().write_all(line.as_bytes());
+        previous(info);
+    }));
 }
 
 /// Connect and command timeout of the test clients.

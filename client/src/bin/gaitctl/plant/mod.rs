@@ -119,18 +119,17 @@ fn mujoco(conn: &ConnArgs, a: &Args, timing: Pacing) -> Result<(), String> {
             cmd.env(var, v);
         }
     }
-    let status = cmd.status().map_err(|e| {
-        format!(
-            "cannot run {python} (the MuJoCo plant needs the Python package: \
-             `pip install -e client/python[mujoco]`; GAITD_PYTHON or --python names the \
-             interpreter): {e}"
-        )
-    })?;
-    if status.success() {
-        Ok(())
-    } else {
-        Err(format!("the MuJoCo plant exited with {status}"))
-    }
+    // Becomes the plant (exec): a SIGTERM or SIGINT to this process (from
+    // `gaitctl demo`, a shell, systemd) reaches the plant itself, which
+    // prints its summary and exits. A child instead would be left running,
+    // waiting for a daemon that is gone.
+    use std::os::unix::process::CommandExt;
+    let e = cmd.exec();
+    Err(format!(
+        "cannot run {python} (the MuJoCo plant needs the Python package: \
+         `pip install -e client/python[mujoco]`; GAITD_PYTHON or --python names the \
+         interpreter): {e}"
+    ))
 }
 
 /// `main`'s entry: errors are the user's (a message, exit 1).
