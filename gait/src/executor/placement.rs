@@ -136,26 +136,12 @@ impl Placement {
     /// velocities (exactly `sp` when every offset is zero).
     pub fn apply(&self, sp: &Setpoint) -> Setpoint {
         let mut out = *sp;
-        self.apply_to(&sp.state, &mut out);
-        out
-    }
-
-    /// The offsets `state` (the plan) gets, per finger \[m\].
-    pub fn shifts(&self, state: &HandState) -> [Vector3<f64>; 3] {
-        std::array::from_fn(|k| {
-            let f = &state.fingers[k];
-            let kept = self.kept(k, f.mode == FingerMode::Grasping).0;
-            self.offsets[k] * (self.weight(&f.center).0 * kept)
-        })
-    }
-
-    fn apply_to(&self, plan: &HandState, out: &mut Setpoint) {
         for k in 0..3 {
             let o = self.offsets[k];
             if o == Vector3::zeros() {
                 continue;
             }
-            let f = &plan.fingers[k];
+            let f = &sp.state.fingers[k];
             let (w, dw) = self.weight(&f.center);
             let (a, da) = self.kept(k, f.mode == FingerMode::Grasping);
             out.state.fingers[k].center += o * (w * a);
@@ -170,6 +156,16 @@ impl Placement {
                 out.finger_velocity[k] += o * rate;
             }
         }
+        out
+    }
+
+    /// The offsets `state` (the plan) gets, per finger \[m\].
+    pub fn shifts(&self, state: &HandState) -> [Vector3<f64>; 3] {
+        std::array::from_fn(|k| {
+            let f = &state.fingers[k];
+            let kept = self.kept(k, f.mode == FingerMode::Grasping).0;
+            self.offsets[k] * (self.weight(&f.center).0 * kept)
+        })
     }
 }
 
@@ -179,12 +175,16 @@ mod tests {
     use crate::HandConfig;
     use crate::executor::rest;
 
+    /// The paper start, R + r and a placement of at most 2 mm.
+    fn fixture() -> (HandState, f64, Placement) {
+        let cfg = HandConfig::default();
+        let rc = cfg.model.object_radius + cfg.model.fingertip_radius;
+        (HandState::paper_start(&cfg), rc, Placement::new(0.002, rc))
+    }
+
     #[test]
     fn an_offset_blends_in_over_the_last_blend_distance_and_never_jumps() {
-        let cfg = HandConfig::default();
-        let start = HandState::paper_start(&cfg);
-        let rc = cfg.model.object_radius + cfg.model.fingertip_radius;
-        let mut pl = Placement::new(0.002, rc);
+        let (start, rc, mut pl) = fixture();
         // A plant that measures nothing: the plan exactly.
         pl.update(&start, None, 1e-3);
         assert_eq!(pl.apply(&rest(start)), rest(start));
@@ -240,10 +240,7 @@ mod tests {
 
     #[test]
     fn the_velocity_feed_forward_is_the_derivative_of_the_offset() {
-        let cfg = HandConfig::default();
-        let start = HandState::paper_start(&cfg);
-        let rc = cfg.model.object_radius + cfg.model.fingertip_radius;
-        let mut pl = Placement::new(0.002, rc);
+        let (start, rc, mut pl) = fixture();
         let n = start.fingers[1].center.normalize();
         let mut s = start;
         s.fingers[1].center = n * (rc + 2.0 * BLEND);
