@@ -35,39 +35,64 @@ pub fn local_options(cfg: &Config, node_name: &str) -> ConnectOptions {
     o
 }
 
+/// The bridge's two publishers, declared before its liveliness token so
+/// that a client that sees the bridge finds the event cache to query.
+pub struct Publishers<'a> {
+    session: &'a zenoh::Session,
+    status: zenoh::pubsub::Publisher<'a>,
+    events: zenoh_ext::AdvancedPublisher<'a>,
+}
+
+impl<'a> Publishers<'a> {
+    /// Declares the status and event publishers on `session`.
+    pub fn declare(cfg: &Config, session: &'a zenoh::Session) -> anyhow::Result<Self> {
+        let prefix = &cfg.zenoh.key_prefix;
+        let status = session
+            .declare_publisher(proto::status_key(prefix))
+            .encoding(Encoding::from(proto::encoding_of(proto::STATUS_SCHEMA)))
+            .congestion_control(CongestionControl::Drop)
+            .priority(Priority::DataHigh)
+            .express(true)
+            .wait()
+            .map_err(|e| {
+                anyhow::anyhow!(
+                    "declaring the status publisher: {}",
+                    gaitd_client::remote::zenoh_text(e)
+                )
+            })?;
+        let events = session
+            .declare_publisher(proto::events_key(prefix))
+            .encoding(Encoding::from(proto::encoding_of(proto::EVENT_SCHEMA)))
+            .congestion_control(CongestionControl::Block)
+            .cache(CacheConfig::default().max_samples(cfg.bridge.event_cache))
+            .sample_miss_detection(
+                MissDetectionConfig::default()
+                    .heartbeat(Duration::from_millis(cfg.bridge.heartbeat_ms)),
+            )
+            .publisher_detection()
+            .wait()
+            .map_err(|e| {
+                anyhow::anyhow!(
+                    "declaring the event publisher: {}",
+                    gaitd_client::remote::zenoh_text(e)
+                )
+            })?;
+        Ok(Self {
+            session,
+            status,
+            events,
+        })
+    }
+}
+
 /// Forwards until `stop` is set.
-pub fn run(cfg: &Config, session: &zenoh::Session, stop: &AtomicBool) -> anyhow::Result<()> {
+pub fn run(cfg: &Config, publishers: Publishers<'_>, stop: &AtomicBool) -> anyhow::Result<()> {
+    let Publishers {
+        session,
+        status: status_pub,
+        events: events_pub,
+    } = publishers;
     let prefix = &cfg.zenoh.key_prefix;
-    let status_pub = session
-        .declare_publisher(proto::status_key(prefix))
-        .encoding(Encoding::from(proto::encoding_of(proto::STATUS_SCHEMA)))
-        .congestion_control(CongestionControl::Drop)
-        .priority(Priority::DataHigh)
-        .express(true)
-        .wait()
-        .map_err(|e| {
-            anyhow::anyhow!(
-                "declaring the status publisher: {}",
-                gaitd_client::remote::zenoh_text(e)
-            )
-        })?;
-    let events_pub = session
-        .declare_publisher(proto::events_key(prefix))
-        .encoding(Encoding::from(proto::encoding_of(proto::EVENT_SCHEMA)))
-        .congestion_control(CongestionControl::Block)
-        .cache(CacheConfig::default().max_samples(cfg.bridge.event_cache))
-        .sample_miss_detection(
-            MissDetectionConfig::default()
-                .heartbeat(Duration::from_millis(cfg.bridge.heartbeat_ms)),
-        )
-        .publisher_detection()
-        .wait()
-        .map_err(|e| {
-            anyhow::anyhow!(
-                "declaring the event publisher: {}",
-                gaitd_client::remote::zenoh_text(e)
-            )
-        })?;
     let period = cfg.status_period();
     let opts = local_options(cfg, "gaitd-bridge");
     let mut daemon: Option<Client> = None;

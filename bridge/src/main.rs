@@ -81,6 +81,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
     // Everything a client uses is declared before the token that tells
     // clients the bridge is there.
     let declared = Commands::declare(&z, &cfg)?;
+    let publishers = forward::Publishers::declare(&cfg, &z)?;
     let _alive = z
         .liveliness()
         .declare_token(gaitd_client::remote::protocol::bridge_token_key(prefix))
@@ -94,7 +95,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
             .name("commands".into())
             .spawn_scoped(s, || Commands::new(&cfg).run(declared, &STOP))
             .context("spawning the command thread")?;
-        let forwarded = forward::run(&cfg, &z, &STOP);
+        let forwarded = forward::run(&cfg, publishers, &STOP);
         STOP.store(true, Ordering::Release);
         let commanded = commands
             .join()

@@ -62,6 +62,11 @@ DEFAULT_KEY_PREFIX = "gaitd"
 ENCODING_PREFIX = "application/octet-stream"
 #: Schema of the bridge's error replies.
 REFUSAL_SCHEMA = "gaitd-bridge::Refusal.v1"
+#: The least time between two sends of one command [s].
+RESEND_PAUSE = 0.05
+#: How long a query that ended early without a reply, everything in sight, waits for a link drop to
+#: be reported before it counts as unanswered [s] (``gaitd_client``'s ``UNANSWERED_WAIT``).
+UNANSWERED_WAIT = 0.2
 #: Command key chunks by kind.
 COMMAND_NAMES = {
     CommandKind.Goal: "reorient",
@@ -212,7 +217,11 @@ class RemoteClient:
         self._bridge = False
         self._bridge_seen = False
         self._daemon = False
-        self._pending: dict[int, tuple[str, Any, bytes, str, float]] = {}
+        # The link to the bridge (Zenoh's transport events) and the times it went down.
+        self._linked = False
+        self._link_drops = 0
+        # Request id -> (key chunk, replies, bytes, schema, when sent, link drops by then).
+        self._pending: dict[int, tuple[str, Any, bytes, str, float, int]] = {}
         self._open(ca, cert, key, lease)
 
     # ------------------------------------------------------------------ connection
@@ -292,15 +301,19 @@ class RemoteClient:
                 f"name ({str(e).split(' at /')[0]})"
             ) from e
         p = self.prefix
+        # The link itself: the bridge's token does not always blink when Zenoh reconnects at once.
+        self._link_listener = self._session.info.declare_transport_events_listener(self._on_transport, history=True)
         self._subs = [
             self._session.declare_subscriber(f"{p}/status", self._on_status),
             self._session.liveliness().declare_subscriber(f"{p}/alive/*", self._on_alive, history=True),
         ]
+        # History without late-publisher detection, as the Rust client (PROTOCOL.md, "Events"): with it,
+        # zenoh-ext 1.10.2 may deliver a live event before the history and then drop the history as older.
         events = ext.declare_advanced_subscriber(
             self._session,
             f"{p}/events",
             self._on_event,
-            history=ext.HistoryConfig(detect_late_publishers=True, max_samples=256),
+            history=ext.HistoryConfig(max_samples=256),
             recovery=ext.RecoveryConfig(heartbeat=True),
         )
         self._misses = events.sample_miss_listener(self._on_miss)
@@ -313,7 +326,12 @@ class RemoteClient:
         session = getattr(self, "_session", None)
         if session is None:
             return
-        for s in [*getattr(self, "_subs", []), getattr(self, "_misses", None), getattr(self, "_token", None)]:
+        for s in [
+            *getattr(self, "_subs", []),
+            getattr(self, "_misses", None),
+            getattr(self, "_token", None),
+            getattr(self, "_link_listener", None),
+        ]:
             if s is not None:
                 try:
                     s.undeclare()
@@ -366,6 +384,17 @@ class RemoteClient:
     def _on_miss(self, miss: Any) -> None:
         with self._cond:
             self.missed_events += int(miss.nb)
+
+    def _on_transport(self, event: Any) -> None:
+        up = event.kind == zenoh().SampleKind.PUT
+        with self._cond:
+            if self._linked and not up:
+                self._link_drops += 1
+            self._linked = up
+            self._cond.notify_all()
+
+    def _in_sight(self) -> bool:
+        return self._linked and self._bridge and self._daemon
 
     def _on_alive(self, sample: Any) -> None:
         up = sample.kind == zenoh().SampleKind.PUT
@@ -466,7 +495,9 @@ class RemoteClient:
         return self._query(name, payload, schema, rid)
 
     def _query(self, name: str, payload: bytes, schema: str, rid: int) -> int:
-        self._pending[rid] = (name, self._get(name, payload, schema), payload, schema, time.monotonic())
+        with self._cond:
+            drops = self._link_drops
+        self._pending[rid] = (name, self._get(name, payload, schema), payload, schema, time.monotonic(), drops)
         return rid
 
     def _get(self, name: str, payload: bytes, schema: str) -> Any:
@@ -479,8 +510,8 @@ class RemoteClient:
 
     def wait_answer(self, request_id: int, timeout: float | None = None) -> Reply:
         """The answer to ``request_id``; raises :class:`Refused` or :class:`NoAnswer` otherwise."""
-        name, replies, payload, schema, sent = self._pending.pop(request_id)
-        for reply in self._replies(name, replies, payload, schema, sent):
+        name, replies, payload, schema, sent, drops = self._pending.pop(request_id)
+        for reply in self._replies(name, replies, payload, schema, sent, drops):
             if reply.ok is not None:
                 s = reply.ok
                 b = s.payload.to_bytes()
@@ -498,8 +529,8 @@ class RemoteClient:
                     raise Refused(RefusalCode(code), b[4:].decode(errors="replace"))
             raise RemoteError(f"undecodable error reply from the bridge ({err.encoding})")
         with self._cond:
-            bridge, daemon = self._bridge, self._daemon
-        if bridge and daemon:
+            unanswered = self._in_sight() and self._link_drops == drops
+        if unanswered:
             raise NoAnswer(
                 f"the bridge did not answer {name!r} from identity {self.identity!r} although it is up: its "
                 "access control does not let this identity send commands (a monitor certificate?), or the "
@@ -507,22 +538,45 @@ class RemoteClient:
             )
         raise RemoteError(f"the connection to the bridge at {self.locator} is lost (reconnecting)")
 
-    def _replies(self, name: str, replies: Any, payload: bytes, schema: str, sent: float) -> Iterator[Any]:
-        """The query's replies; if it ended early without one (its link dropped with it in flight,
-        PROTOCOL.md "Known issue"), those of the same bytes sent again once the bridge is in sight."""
-        got = False
-        for reply in replies:  # ends when the query is finalised (or times out)
-            got = True
-            yield reply
+    def _replies(self, name: str, replies: Any, payload: bytes, schema: str, sent: float, drops: int) -> Iterator[Any]:
+        """The query's replies; if it ended early without one because its link dropped with it in
+        flight (PROTOCOL.md "Known issue"), those of the same bytes sent again once the link is back,
+        at most every ``RESEND_PAUSE``, until the query timeout has passed since the first send."""
         limit = max(1.0, self.timeout)
-        if got or time.monotonic() - sent > 0.9 * limit:
-            return
-        try:
-            self._wait_until(limit, "the bridge", lambda: True if self._bridge and self._daemon else None)
-        except Timeout:
-            return
-        time.sleep(0.05)
-        yield from self._get(name, payload, schema)
+        deadline = sent + limit
+        last = sent
+        while True:
+            got = False
+            for reply in replies:  # ends when the query is finalised (or times out)
+                got = True
+                yield reply
+            if got:
+                return
+            with self._cond:
+                if self._in_sight() and self._link_drops == drops:
+                    if time.monotonic() - last > 0.9 * limit:
+                        return  # ran out its timeout in sight: unanswered
+                    # Ended early in sight: a link drop may be reported in a moment; if not, nobody
+                    # answers (access control dropped it: a monitor's command).
+                    self._cond.wait_for(
+                        lambda: self._link_drops != drops or not self._in_sight(), timeout=UNANSWERED_WAIT
+                    )
+                    if self._in_sight() and self._link_drops == drops:
+                        return
+            # The link dropped: sent again, with the same request id, when it is back.
+            try:
+                self._wait_until(
+                    max(0.0, deadline - time.monotonic()),
+                    "the link to the bridge",
+                    lambda: True if self._in_sight() else None,
+                )
+            except Timeout:
+                return
+            time.sleep(max(0.0, last + RESEND_PAUSE - time.monotonic()))
+            with self._cond:
+                drops = self._link_drops
+            last = time.monotonic()
+            replies = self._get(name, payload, schema)
 
     def command(self, cmd: Command, timeout: float | None = None) -> Reply:
         """Sends a command and waits for its answer."""

@@ -345,13 +345,15 @@ impl RemoteConnection {
 
         use zenoh_ext::{AdvancedSubscriberBuilderExt, HistoryConfig, RecoveryConfig};
         let ib = inbox.clone();
+        // History without late-publisher detection (PROTOCOL.md, "Events"):
+        // with it, zenoh-ext 1.10.2 queries the bridge's cache a second time
+        // and, should a live event come between the end of the first query
+        // and the first reply of the second, delivers that event first and
+        // drops the whole history as older. A restarted bridge is found by
+        // its heartbeat instead, and its cache is queried then.
         let events = session
             .declare_subscriber(proto::events_key(prefix))
-            .history(
-                HistoryConfig::default()
-                    .detect_late_publishers()
-                    .max_samples(HISTORY),
-            )
+            .history(HistoryConfig::default().max_samples(HISTORY))
             .recovery(RecoveryConfig::default().heartbeat())
             .callback(move |sample| {
                 let e = decode_event(&sample);

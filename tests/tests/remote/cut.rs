@@ -17,15 +17,19 @@ use std::time::Duration;
 /// Bytes from the client that are more than a keep-alive: a query.
 const QUERY_BYTES: usize = 150;
 
-/// The forwarder: listens on `port`, connects each client to `to`.
-struct Cutter {
-    port: u16,
+/// The forwarder: listens on `port`, connects each client to `to` (also
+/// used by the Python client's test, `python.rs`).
+pub struct Cutter {
+    /// Where clients connect (127.0.0.1).
+    pub port: u16,
     armed: Arc<AtomicBool>,
-    cuts: Arc<AtomicU64>,
+    /// Links cut so far.
+    pub cuts: Arc<AtomicU64>,
 }
 
 impl Cutter {
-    fn start(to: String) -> Self {
+    /// Forwards to `to` (`HOST:PORT`) from a free port.
+    pub fn start(to: String) -> Self {
         let port = free_port();
         let listener = TcpListener::bind(("127.0.0.1", port)).unwrap();
         let (armed, cuts) = (
@@ -45,7 +49,7 @@ impl Cutter {
     }
 
     /// The next query's reply is lost with its link.
-    fn arm(&self) {
+    pub fn arm(&self) {
         self.armed.store(true, Ordering::Release);
     }
 }

@@ -14,7 +14,8 @@
 //! - [`lost`]: an operator killed while its goal runs, the bridge cancels it;
 //! - [`cli`]: `gaitctl --remote watch` and `reset`, a monitor's reset
 //!   refused, the TLS flags' mistakes as one-line messages;
-//! - [`python`]: `gaitd.remote.RemoteClient` sends a goal and reads status.
+//! - [`python`]: `gaitd.remote.RemoteClient` sends a goal and reads status;
+//!   its link dropped with a command in flight, the daemon gets it once.
 
 mod cli;
 mod cut;
