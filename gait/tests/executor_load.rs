@@ -147,17 +147,29 @@ fn a_fingertip_spinning_under_load_pushes_along_its_normal_only() {
     // two's inside their coupled cones — must hold the weight, by the
     // test's own SOCP; and the spinner is told to press (it stays in
     // contact) within max_grip.
-    let cfg = HandConfig::default();
+    // Without the waypoint fallback, which the planner tries before it
+    // spins (so with it such plans are rarer still).
+    let mut cfg = HandConfig::default();
+    cfg.planner.waypoint_axes = 0;
     let planner = gait::planner::Planner::new(&cfg).unwrap();
     let check = LoadCheck::new(&cfg);
-    let start = HandState::paper_start(&cfg);
-    // The first two such goals of Haar seed 23 (goals 425 and 768), found
-    // by planning that sequence; the planner spins under load only when
-    // nothing else plans, so such goals are rare (14 in 10⁴ from the paper
-    // start, gait/LOAD-FIGURES.md §10).
+    // From where the paper's full turns about z, then x, leave the hand:
+    // from the paper start itself no goal of seed 23 spins any more (its
+    // start rolls apart with zigzag legs, gait/LOAD-FIGURES.md §12).
+    let mut start = HandState::paper_start(&cfg);
+    for axis in [Vector3::z(), Vector3::x()] {
+        start = planner
+            .plan_rotation(&start, &axis, std::f64::consts::TAU)
+            .expect("the paper's turn")
+            .end_state();
+    }
+    // Goals 468 and 713 of Haar seed 23 from there: the two quickest to
+    // plan of the first eight such goals (40, 304, 319, 468, 469, 713,
+    // 818, 968), found by planning that sequence; the planner spins under
+    // load only when nothing else plans, so such goals are rare.
     let goals: Vec<UnitQuaternion<f64>> = [
-        [0.698296, -0.352584, 0.618715, 0.072517],
-        [-0.379312, 0.505483, -0.773733, -0.044119],
+        [-0.677076, 0.259604, -0.575704, 0.377808],
+        [-0.642449, 0.166818, -0.727305, -0.174527],
     ]
     .iter()
     .map(|q| UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3])))
@@ -166,7 +178,7 @@ fn a_fingertip_spinning_under_load_pushes_along_its_normal_only() {
         let plan = planner.plan(&start, g).expect("planned");
         assert!(
             planning::spins_in_a_triple(&plan),
-            "goal {i} no longer spins under load: pick new goals (the first that do of seed 23)"
+            "goal {i} no longer spins under load: pick new goals (the first that do of seed 23 from there)"
         );
     }
     let mut spin_ticks = 0;

@@ -34,34 +34,52 @@ impl Planner {
         if !state_finite(start) {
             return Err(PlanError::NonFiniteState);
         }
-        match self.in_tiers(|p, spins| p.plan_orientation(start, &goal, spins)) {
-            Err(e) if self.load.active() && found_nothing(&e) => {
-                self.plan_via_waypoints(start, &goal).ok_or(e)
-            }
+        // Spins come after the waypoints: a plan that spins a contact
+        // under load is the last resort (its contact force flickers in
+        // MuJoCo, and from some reached grasps the spinning plan was 100
+        // gaits long where a waypoint plan has 22: LOAD-FIGURES §12).
+        let orientation = |p: &Planner, spins| p.plan_orientation(start, &goal, spins);
+        match self.in_tiers(orientation, false) {
+            Err(e) if self.load.active() && found_nothing(&e) => self
+                .plan_via_waypoints(start, &goal)
+                .map_or_else(|| self.spinning_tier(orientation).map_err(|_| e), Ok),
             r => r,
         }
     }
 
     /// `plan` in tiers under load, each tried only when the one before
     /// finds nothing: the search's sufficient load test without spins; the
-    /// exact closed form behind it (slower per pair, more pairs); that with
-    /// spins (in MuJoCo a spinning fingertip's contact force flickers:
-    /// gait/LOAD-FIGURES.md §0). The first error is kept.
+    /// exact closed form behind it (slower per pair, more pairs); if
+    /// `spins`, that with spins (in MuJoCo a spinning fingertip's contact
+    /// force flickers: gait/LOAD-FIGURES.md §0). The first error is kept.
     fn in_tiers(
         &self,
         plan: impl Fn(&Planner, bool) -> Result<Plan, PlanError>,
+        spins: bool,
     ) -> Result<Plan, PlanError> {
         let e = match plan(self, false) {
             Err(e) if self.load.active() && found_nothing(&e) => e,
             r => return r,
         };
-        let exact = Planner {
+        match plan(&self.exact(), false) {
+            Err(e2) if spins && found_nothing(&e2) => self.spinning_tier(plan).map_err(|_| e),
+            r => r.map_err(|_| e),
+        }
+    }
+
+    /// The last tier: the exact load test, contacts spinning allowed.
+    fn spinning_tier(
+        &self,
+        plan: impl Fn(&Planner, bool) -> Result<Plan, PlanError>,
+    ) -> Result<Plan, PlanError> {
+        plan(&self.exact(), true)
+    }
+
+    /// This planner with the exact load test behind the sufficient one.
+    fn exact(&self) -> Planner {
+        Planner {
             load: self.load.with_exact(&self.config),
             ..self.clone()
-        };
-        match plan(&exact, false) {
-            Err(e2) if found_nothing(&e2) => plan(&exact, true).map_err(|_| e),
-            r => r.map_err(|_| e),
         }
     }
 
@@ -182,7 +200,7 @@ impl Planner {
                 ) if angle > TURN_CHUNK => p.plan_in_chunks(start, &axis, angle, spins),
                 r => r,
             };
-        self.in_tiers(turn)
+        self.in_tiers(turn, true)
     }
 
     /// A long turn as consecutive turns of at most [`TURN_CHUNK`], each

@@ -24,6 +24,7 @@ pub mod plan;
 pub mod search;
 pub mod start;
 pub mod timing;
+pub mod zigzag;
 
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -167,6 +168,9 @@ pub struct Planner {
     /// Shared: a planner re-timed for other limits
     /// ([`Planner::with_limits`]) reuses the candidate grids.
     cand: std::sync::Arc<Candidates>,
+    /// The start's zigzag rolls found so far (shared by clones; a
+    /// re-timed planner gets its own: the legs depend on the timing).
+    zigzags: std::sync::Arc<zigzag::ZigzagCache>,
 }
 
 impl Planner {
@@ -181,6 +185,7 @@ impl Planner {
             load: load::PairLoad::new(config),
             grip: crate::executor::grip::GripModel::new(config),
             cand: std::sync::Arc::new(Candidates::new(&geom, config.planner.candidate_spacing_deg)),
+            zigzags: Default::default(),
         })
     }
 
@@ -202,6 +207,7 @@ impl Planner {
             load: load::PairLoad::new(&config),
             grip: crate::executor::grip::GripModel::new(&config),
             cand: self.cand.clone(),
+            zigzags: Default::default(),
         })
     }
 
@@ -287,6 +293,7 @@ impl Planner {
             &self.load,
             &self.grip,
             &self.config,
+            &self.zigzags,
             start,
             &axis,
             self.config.planner.pair_margin_deg.to_radians(),
