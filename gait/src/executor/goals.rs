@@ -275,10 +275,10 @@ impl Executor {
     }
 
     pub(super) fn start_plan(&mut self) {
-        let Some((gaits, empty, duration)) = self
+        let Some((gaits, empty)) = self
             .plan
             .as_deref()
-            .map(|p| (p.summary.gaits, p.steps.is_empty(), p.summary.duration))
+            .map(|p| (p.summary.gaits, p.steps.is_empty()))
         else {
             return;
         };
@@ -292,7 +292,8 @@ impl Executor {
         }
         self.phase = Mode::Moving;
         self.set_goal_state(GoalStage::Executing);
-        self.time_after_step = duration;
+        // (Bounded: one pass over the plan's steps, once per plan.)
+        self.time_after_step = self.time_on_ticks(0);
         self.rotation_after_step = self
             .plan
             .as_deref()

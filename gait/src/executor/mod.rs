@@ -531,6 +531,17 @@ impl Executor {
         self.request.take()
     }
 
+    /// The plan's steps from `first` on, as long as they run on ticks.
+    fn time_on_ticks(&self, first: usize) -> f64 {
+        self.plan.as_deref().map_or(0.0, |p| {
+            p.steps
+                .iter()
+                .skip(first)
+                .map(|s| step_on_ticks(s, self.dt))
+                .sum()
+        })
+    }
+
     fn current_step(&self) -> Option<&Step> {
         self.plan.as_deref().and_then(|p| p.steps.get(self.step))
     }
@@ -544,7 +555,7 @@ impl Executor {
             return;
         };
         self.runner.start(step, &limits);
-        self.time_after_step = (self.time_after_step - step.duration).max(0.0);
+        self.time_after_step = (self.time_after_step - step_on_ticks(step, self.dt)).max(0.0);
         self.rotation_after_step = (self.rotation_after_step - step_rotation(step)).max(0.0);
         self.step_goal = self.goal.map_or(0, |g| g.id);
         let event = ExecutorEvent::Step {
@@ -913,14 +924,15 @@ impl Executor {
         };
         r.gaits = (self.gaits_done, self.gaits_planned);
         let hold_left = match (self.handover, self.current_step().and_then(|s| s.handover)) {
-            (Some(h), _) => (h.duration - h.elapsed).max(0.0),
-            (None, Some(h)) => h.duration,
+            (Some(h), _) => on_ticks(h.duration - h.elapsed, self.dt),
+            (None, Some(h)) => on_ticks(h.duration, self.dt),
             (None, None) => 0.0,
         };
+        let motion_left = on_ticks(self.runner.time_left(), self.dt);
         let r = &mut self.report;
         r.eta = match self.phase {
-            Mode::Moving => self.time_after_step + self.runner.time_left() + hold_left,
-            Mode::Stopping => self.runner.time_left() + hold_left,
+            Mode::Moving => self.time_after_step + motion_left + hold_left,
+            Mode::Stopping => motion_left + hold_left,
             _ => 0.0,
         };
         r.fault = self.fault;
@@ -975,4 +987,19 @@ impl Executor {
         }
         self.grasp_prev = grasp;
     }
+}
+
+/// A time `t` as the control loop runs it: whole periods `dt`, the last
+/// one reached or passed (a motion ends on the first tick at or after its
+/// end; a handover likewise).
+fn on_ticks(t: f64, dt: f64) -> f64 {
+    (t / dt - 1e-9).ceil().max(0.0) * dt
+}
+
+/// How long a step runs on ticks: its motion, then its handover, each to
+/// whole periods (what the ETA counts: summing the planned durations
+/// undercounts by about half a period per step).
+fn step_on_ticks(step: &Step, dt: f64) -> f64 {
+    let hold = step.handover.map_or(0.0, |h| h.duration);
+    on_ticks(step.duration - hold, dt) + on_ticks(hold, dt)
 }
