@@ -125,7 +125,12 @@ pub struct Solved {
 impl Solved {
     /// `(p, v, a)` of every DoF at `t`.
     pub fn at(&self, t: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-        let mut out = (vec![], vec![], vec![]);
+        let n = self.profiles.len();
+        let mut out = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+        );
         for p in &self.profiles {
             let (x, v, a, _) = p.state_in(t.max(0.0), self.duration);
             out.0.push(x);
