@@ -26,7 +26,7 @@ fn wait_state(c: &mut gaitd_client::Client, goal: u64, state: GoalState) {
 fn a_remote_goal_succeeds_a_cancel_stops_one_and_a_late_joiner_gets_the_history() {
     let _one = crate::support::one_at_a_time();
     let pki = Pki::new("goals");
-    let d = TestDaemon::start("remote-goals");
+    let d = support::weightless_daemon("remote-goals");
     let _local = d.client();
     // A cache deep enough for both goals' transitions even when a loaded
     // machine makes the debug daemon report Overrun events meanwhile (the
@@ -56,8 +56,6 @@ fn a_remote_goal_succeeds_a_cancel_stops_one_and_a_late_joiner_gets_the_history(
 
     // A long one, canceled while it runs.
     let second = op
-        // About z: the default config carries a 0.1 kg object, and long
-        // turns about horizontal axes are refused under load.
         .reorient(&GoalSpec::turn([0.0, 0.0, 1.0], 3.0).unwrap(), T)
         .unwrap();
     assert_eq!(second.verdict, Verdict::Accepted);
@@ -124,7 +122,7 @@ fn history_report(seen: &[gaitd_client::Event], missed: u64) -> String {
 fn gaitctl_remote_status_reorient_hold_cancel_and_events() {
     let _one = crate::support::one_at_a_time();
     let pki = Pki::new("cli");
-    let d = TestDaemon::start("remote-cli");
+    let d = support::weightless_daemon("remote-cli");
     let _local = d.client();
     let b = TestBridge::start(&d, &pki, "");
     let run = |name: &str, args: &[&str]| support::run(b.gaitctl(&pki, name).args(args));

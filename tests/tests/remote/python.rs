@@ -53,7 +53,7 @@ fn a_remote_python_client_sends_a_goal_and_reads_status() {
         return;
     }
     let pki = Pki::new("python");
-    let d = TestDaemon::start("remote-python");
+    let d = crate::support::weightless_daemon("remote-python");
     let _local = d.client();
     let b = TestBridge::start(&d, &pki, "");
     // The script's own waits add up to about 90 s; a hang fails here.
