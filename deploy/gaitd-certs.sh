@@ -7,7 +7,7 @@
 #   gaitd-certs.sh [--dir DIR] [--days N] bridge [HOST...]
 #       the bridge's certificate DIR/bridge.pem, DIR/bridge.key, valid for
 #       localhost, 127.0.0.1, ::1 and each HOST (names or addresses that
-#       clients put in tls/HOST:PORT)
+#       clients put in quic/HOST:PORT or tls/HOST:PORT)
 #   gaitd-certs.sh [--dir DIR] [--days N] client NAME
 #       a client certificate DIR/NAME.pem, DIR/NAME.key with common name
 #       NAME: the identity the bridge's [[identity]] entries name (operator

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 /// Default listen endpoint: loopback only, mutual TLS.
-pub const DEFAULT_LISTEN: &str = "tls/127.0.0.1:7460";
+pub const DEFAULT_LISTEN: &str = "quic/127.0.0.1:7460";
 
 /// A configuration mistake, naming the key.
 #[derive(Debug, thiserror::Error)]
@@ -65,7 +65,8 @@ pub struct GaitdSection {
 #[derive(Debug, Clone, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct ZenohSection {
-    /// Endpoints to listen on (only `tls/`); loopback unless configured.
+    /// Endpoints to listen on (only `quic/` and `tls/`, both mutual TLS);
+    /// loopback unless configured.
     pub listen: Vec<String>,
     /// Key prefix of every key.
     pub key_prefix: String,
@@ -220,14 +221,14 @@ impl Config {
             return Err(invalid("zenoh.listen", "at least one endpoint"));
         }
         for ep in &z.listen {
-            let ok = ep.strip_prefix("tls/").is_some_and(|a| {
+            let ok = link_address(ep).is_some_and(|a| {
                 a.rsplit_once(':')
                     .is_some_and(|(h, p)| !h.is_empty() && p.parse::<u16>().is_ok())
             });
             if !ok {
                 return Err(invalid(
                     "zenoh.listen",
-                    format!("`{ep}`: only tls/HOST:PORT (mutual TLS) is offered"),
+                    format!("`{ep}`: only quic/HOST:PORT or tls/HOST:PORT (mutual TLS) is offered"),
                 ));
             }
         }
@@ -319,13 +320,25 @@ impl Config {
     /// Whether any listen endpoint is reachable from other hosts.
     pub fn listens_beyond_loopback(&self) -> bool {
         self.zenoh.listen.iter().any(|ep| {
-            let host = ep
-                .strip_prefix("tls/")
+            let host = link_address(ep)
                 .and_then(|a| a.rsplit_once(':'))
                 .map_or("", |(h, _)| h);
             !(host == "localhost" || host.starts_with("127.") || host == "[::1]")
         })
     }
+}
+
+/// `HOST:PORT` of a `quic/` or `tls/` endpoint (the links the bridge offers).
+pub fn link_address(ep: &str) -> Option<&str> {
+    ep.strip_prefix("quic/").or_else(|| ep.strip_prefix("tls/"))
+}
+
+/// The Zenoh link protocols of `endpoints` (`quic`, `tls`), each once.
+pub fn link_protocols(endpoints: &[String]) -> Vec<&'static str> {
+    ["quic", "tls"]
+        .into_iter()
+        .filter(|p| endpoints.iter().any(|e| e.starts_with(&format!("{p}/"))))
+        .collect()
 }
 
 #[cfg(test)]
@@ -396,6 +409,22 @@ mod tests {
     fn beyond_loopback_is_noticed() {
         let c = parse("[zenoh]\nlisten = [\"tls/0.0.0.0:7460\"]").unwrap();
         assert!(c.listens_beyond_loopback());
+        let c =
+            parse("[zenoh]\nlisten = [\"quic/127.0.0.1:7460\", \"quic/10.0.0.7:7460\"]").unwrap();
+        assert!(c.listens_beyond_loopback());
+    }
+
+    #[test]
+    fn links_offered_are_quic_and_tls() {
+        let eps = |v: &[&str]| v.iter().map(|s| (*s).to_owned()).collect::<Vec<_>>();
+        assert_eq!(link_protocols(&eps(&["quic/a:1"])), ["quic"]);
+        assert_eq!(
+            link_protocols(&eps(&["tls/a:1", "quic/b:2", "tls/c:3"])),
+            ["quic", "tls"]
+        );
+        assert_eq!(link_address("quic/a:1"), Some("a:1"));
+        assert_eq!(link_address("udp/a:1"), None);
+        assert!(parse("[zenoh]\nlisten = [\"udp/127.0.0.1:7460\"]").is_err());
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! The bridge's Zenoh configuration: a router listening only on the
-//! configured `tls/` endpoints with mutual TLS, no scouting, and access
+//! configured `quic/` (default) and `tls/` endpoints, both with mutual
+//! TLS, no scouting, and access
 //! control generated from the `[[identity]]` list with default deny.
 //!
 //! # Access control
@@ -80,7 +81,7 @@ pub fn access_control(cfg: &Config) -> Value {
         }
         subjects.push(
             json!({"id": format!("identity-{i}"), "cert_common_names": [name],
-            "link_protocols": ["tls"]}),
+            "link_protocols": ["quic", "tls"]}),
         );
         policies.push(json!({"id": format!("policy-{i}"), "rules": own,
             "subjects": [format!("identity-{i}")]}));
@@ -108,7 +109,7 @@ pub fn router_config(cfg: &Config) -> Value {
         },
         "transport": {
             "link": {
-                "protocols": ["tls"],
+                "protocols": crate::config::link_protocols(&z.listen),
                 "tls": {
                     "root_ca_certificate": path(&z.ca),
                     "listen_certificate": path(&z.cert),

@@ -55,7 +55,7 @@
 //! use gaitd_client::{Client, ConnectOptions, TlsFiles};
 //! # fn main() -> gaitd_client::Result<()> {
 //! let tls = TlsFiles::in_dir("/etc/gaitd/pki", "operator-1");
-//! let mut client = Client::connect(ConnectOptions::remote("tls/robot-1:7460", tls))?;
+//! let mut client = Client::connect(ConnectOptions::remote("quic/robot-1:7460", tls))?;
 //! println!("tick {}", client.wait_status(std::time::Duration::from_secs(1))?.tick);
 //! # Ok(())
 //! # }

@@ -46,7 +46,7 @@ impl ConnectOptions {
         Self::default()
     }
 
-    /// A remote daemon: the bridge at `endpoint` (`tls/HOST:PORT`), with
+    /// A remote daemon: the bridge at `endpoint` (`quic/HOST:PORT` or `tls/HOST:PORT`), with
     /// this client's TLS files (see [`TlsFiles::in_dir`]).
     pub fn remote(endpoint: impl Into<String>, tls: TlsFiles) -> Self {
         Self {

@@ -42,7 +42,7 @@ impl TlsFiles {
 /// How to reach gaitd through `gaitd-bridge` over Zenoh.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct RemoteOptions {
-    /// The bridge's endpoint: `tls/HOST:PORT` (or `HOST:PORT`).
+    /// The bridge's endpoint: `quic/HOST:PORT`, `tls/HOST:PORT` (TCP) or `HOST:PORT` (QUIC).
     pub endpoint: String,
     /// CA, certificate and key.
     pub tls: TlsFiles,

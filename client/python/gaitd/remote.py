@@ -20,7 +20,7 @@ in a command. Payload encodings are ``application/octet-stream;<type name>``.
 Example::
 
     from gaitd.remote import RemoteClient
-    with RemoteClient.connect("tls/robot-1:7460", ca="pki/ca.pem",
+    with RemoteClient.connect("quic/robot-1:7460", ca="pki/ca.pem",
                               cert="pki/operator-1.pem", key="pki/operator-1.key") as c:
         print(c.wait_status().tick)
         reply = c.turn((0, 0, 1), math.pi / 2)
@@ -155,16 +155,19 @@ def common_name(cert_path: str) -> str:
 
 
 def parse_endpoint(endpoint: str) -> tuple[str, str]:
-    """``(locator, host:port)`` of ``tls/HOST:PORT`` or ``HOST:PORT``; other protocols are refused."""
+    """``(locator, host:port)`` of ``quic/HOST:PORT``, ``tls/HOST:PORT`` (over TCP) or ``HOST:PORT`` (QUIC);
+    other protocols are refused."""
     proto, sep, rest = endpoint.partition("/")
     if not sep:
-        proto, rest = "tls", endpoint
-    if proto != "tls":
-        raise RemoteError(f"bad bridge endpoint {endpoint!r}: the bridge only accepts tls/HOST:PORT (mutual TLS)")
+        proto, rest = "quic", endpoint
+    if proto not in ("quic", "tls"):
+        raise RemoteError(
+            f"bad bridge endpoint {endpoint!r}: the bridge only accepts quic/HOST:PORT or tls/HOST:PORT (mutual TLS)"
+        )
     host, _, port = rest.rpartition(":")
     if not host or not port.isdigit() or not 0 < int(port) < 65536 or any(c in rest for c in "?#/"):
-        raise RemoteError(f"bad bridge endpoint {endpoint!r}: expected tls/HOST:PORT")
-    return f"tls/{rest}", rest
+        raise RemoteError(f"bad bridge endpoint {endpoint!r}: expected quic/HOST:PORT or tls/HOST:PORT")
+    return f"{proto}/{rest}", rest
 
 
 def _check_file(what: str, path: str) -> None:
@@ -255,7 +258,7 @@ class RemoteClient:
             "scouting": {"multicast": {"enabled": False}, "gossip": {"enabled": False}},
             "transport": {
                 "link": {
-                    "protocols": ["tls"],
+                    "protocols": [self.locator.partition("/")[0]],
                     "tx": {"lease": int(min(max(lease, 0.5), 600.0) * 1000), "keep_alive": 4},
                     "tls": {
                         "root_ca_certificate": ca,
@@ -291,10 +294,19 @@ class RemoteClient:
         from zenoh import ext
 
         deadline = time.monotonic() + self.timeout
-        self._wait_reachable(deadline)
+        # A TCP connect tells an absent bridge from a refused certificate; QUIC has no such probe.
+        tcp = self.locator.startswith("tls/")
+        if tcp:
+            self._wait_reachable(deadline)
         try:
             self._session = z.open(self._config(ca, cert, key, lease))
         except z.ZError as e:
+            if not tcp:
+                raise RemoteError(
+                    f"no session with the bridge at {self.locator} ({str(e).split(' at /')[0]}): is gaitd-bridge "
+                    f"running there, did its CA sign this client's certificate (not expired), and does the "
+                    f"bridge's certificate name this host?"
+                ) from e
             raise RemoteError(
                 f"the bridge at {self.locator} refused the TLS session: its CA did not sign this client's "
                 f"certificate, the certificate expired, or the bridge's certificate does not match the host "

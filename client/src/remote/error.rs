@@ -12,7 +12,7 @@ pub enum RemoteError {
     NotBuilt,
     /// The endpoint does not parse.
     #[error(
-        "bad bridge endpoint `{endpoint}`: {why} (expected tls/HOST:PORT, e.g. tls/127.0.0.1:7460)"
+        "bad bridge endpoint `{endpoint}`: {why} (expected quic/HOST:PORT, e.g. quic/127.0.0.1:7460, or tls/HOST:PORT)"
     )]
     BadEndpoint {
         /// As given.
@@ -51,6 +51,19 @@ pub enum RemoteError {
          does not match the host name ({why})"
     )]
     Handshake {
+        /// The endpoint.
+        endpoint: String,
+        /// Zenoh's reason.
+        why: String,
+    },
+    /// No QUIC session opened (QUIC cannot tell "nothing listens" from "the
+    /// handshake failed" before its timeout).
+    #[error(
+        "no session with the bridge at {endpoint} ({why}): is gaitd-bridge running \
+         there, did its CA sign this client's certificate (not expired), and does the \
+         bridge's certificate name this host?"
+    )]
+    NoSession {
         /// The endpoint.
         endpoint: String,
         /// Zenoh's reason.

@@ -9,30 +9,34 @@ use std::time::Duration;
 /// A parsed bridge endpoint.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Endpoint {
-    /// The Zenoh locator, `tls/HOST:PORT`.
+    /// The Zenoh locator, `quic/HOST:PORT` or `tls/HOST:PORT`.
     pub locator: String,
-    /// `HOST:PORT` (for a plain TCP reachability check).
+    /// The link protocol, `quic` or `tls`.
+    pub protocol: &'static str,
+    /// `HOST:PORT` (for a plain TCP reachability check of a `tls/` link).
     pub address: String,
 }
 
-/// Parses `tls/HOST:PORT` or `HOST:PORT`; other protocols are refused (the
-/// bridge only speaks mutual TLS).
+/// Parses `quic/HOST:PORT`, `tls/HOST:PORT` or `HOST:PORT` (QUIC); other
+/// protocols are refused (the bridge only speaks mutual TLS, over QUIC or
+/// TCP).
 pub fn parse_endpoint(endpoint: &str) -> Result<Endpoint, RemoteError> {
     let bad = |why| RemoteError::BadEndpoint {
         endpoint: endpoint.to_owned(),
         why,
     };
-    let address = match endpoint.split_once('/') {
-        Some(("tls", rest)) => rest,
-        Some(("tcp" | "udp" | "quic" | "ws", _)) => {
-            return Err(bad("the bridge only accepts tls/ (mutual TLS)"));
+    let (protocol, address) = match endpoint.split_once('/') {
+        Some(("quic", rest)) => ("quic", rest),
+        Some(("tls", rest)) => ("tls", rest),
+        Some(("tcp" | "udp" | "ws", _)) => {
+            return Err(bad("the bridge only accepts quic/ or tls/ (mutual TLS)"));
         }
         Some(_) => return Err(bad("unknown protocol")),
-        None => endpoint,
+        None => ("quic", endpoint),
     };
     // Zenoh endpoint metadata or configuration (`?…`, `#…`) is not ours to set.
     if address.contains(['?', '#', '/']) || address.is_empty() {
-        return Err(bad("expected HOST:PORT after tls/"));
+        return Err(bad("expected HOST:PORT after the protocol"));
     }
     let (host, port) = address.rsplit_once(':').ok_or_else(|| bad("no :PORT"))?;
     if host.is_empty() || (host.contains(':') && !(host.starts_with('[') && host.ends_with(']'))) {
@@ -43,7 +47,8 @@ pub fn parse_endpoint(endpoint: &str) -> Result<Endpoint, RemoteError> {
         _ => return Err(bad("the port must be a number in 1..65535")),
     }
     Ok(Endpoint {
-        locator: format!("tls/{address}"),
+        locator: format!("{protocol}/{address}"),
+        protocol,
         address: address.to_owned(),
     })
 }
@@ -120,7 +125,7 @@ pub fn client_config(
         },
         "transport": {
             "link": {
-                "protocols": ["tls"],
+                "protocols": [ep.protocol],
                 "tx": { "lease": lease_ms, "keep_alive": 4 },
                 "tls": {
                     "root_ca_certificate": path_str(&opts.tls.ca),
@@ -145,9 +150,15 @@ mod tests {
         let e = parse_endpoint("tls/127.0.0.1:7460").unwrap();
         assert_eq!(e.locator, "tls/127.0.0.1:7460");
         assert_eq!(e.address, "127.0.0.1:7460");
+        assert_eq!(e.protocol, "tls");
+        let q = parse_endpoint("localhost:9").unwrap();
         assert_eq!(
-            parse_endpoint("localhost:9").unwrap().locator,
-            "tls/localhost:9"
+            (q.locator.as_str(), q.protocol),
+            ("quic/localhost:9", "quic")
+        );
+        assert_eq!(
+            parse_endpoint("quic/127.0.0.1:7460").unwrap().locator,
+            "quic/127.0.0.1:7460"
         );
         assert_eq!(
             parse_endpoint("tls/[::1]:7460").unwrap().address,
@@ -155,6 +166,8 @@ mod tests {
         );
         for bad in [
             "tcp/127.0.0.1:7460",
+            "udp/127.0.0.1:7460",
+            "quic/127.0.0.1",
             "tls/127.0.0.1",
             "tls/127.0.0.1:0",
             "tls/127.0.0.1:70000",

@@ -315,13 +315,20 @@ impl RemoteConnection {
                 "key prefix `{prefix}`: non-empty chunks of [A-Za-z0-9._-] separated by /"
             )));
         }
-        wait_reachable(&ep, deadline)?;
+        // A TCP connect tells an absent bridge from a refused certificate;
+        // a QUIC endpoint has no such probe (Zenoh retries until the deadline).
+        let tcp = ep.protocol == "tls";
+        if tcp {
+            wait_reachable(&ep, deadline)?;
+        }
         let left = deadline.saturating_duration_since(Instant::now());
         let config = tls::client_config(&ep, opts, left.max(Duration::from_millis(500)))?;
         let session = zenoh::open(config).wait().map_err(|e| {
-            Error::Remote(RemoteError::Handshake {
-                endpoint: ep.locator.clone(),
-                why: zenoh_text(e),
+            let (endpoint, why) = (ep.locator.clone(), zenoh_text(e));
+            Error::Remote(if tcp {
+                RemoteError::Handshake { endpoint, why }
+            } else {
+                RemoteError::NoSession { endpoint, why }
             })
         })?;
         let inbox = Arc::new(Inbox::default());

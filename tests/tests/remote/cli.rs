@@ -85,5 +85,5 @@ fn gaitctl_remote_watch_and_reset_and_the_tls_flags_mistakes() {
         .args(["--remote", "tcp/127.0.0.1:7447", "--pki"])
         .arg(&pki.dir)
         .args(["--identity", "op", "status"]));
-    one_line(rc, &err, "only accepts tls/");
+    one_line(rc, &err, "only accepts quic/ or tls/");
 }

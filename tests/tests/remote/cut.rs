@@ -98,7 +98,7 @@ fn a_command_whose_link_drops_before_the_reply_is_answered_once_on_the_next_link
     let d = TestDaemon::start("remote-cut");
     let mut local = d.client();
     let b = TestBridge::start(&d, &pki, "");
-    let to = b.endpoint.trim_start_matches("tls/").to_owned();
+    let to = b.tls_endpoint.trim_start_matches("tls/").to_owned();
     let cutter = Cutter::start(to);
     let mut op = Client::connect(
         ConnectOptions::remote(format!("tls/127.0.0.1:{}", cutter.port), pki.files("op"))

@@ -178,6 +178,23 @@ fn gaitctl_remote_status_reorient_hold_cancel_and_events() {
         (Some(1), "cancel: rejected (NoActiveGoal)")
     );
 
+    // A goal without --wait: gaitctl says that the bridge's client-lost
+    // policy applies once it exits.
+    let (rc, out, err) = run(
+        "op",
+        &[
+            "reorient",
+            "--axis",
+            "0,0,1",
+            "--angle-deg",
+            "10",
+            "--relative",
+        ],
+    );
+    assert_eq!(rc, Some(0), "{out}{err}");
+    assert!(out.contains("accepted"), "{out}");
+    assert!(err.contains("on_client_lost"), "no hint on stderr: {err}");
+
     let op_id = format!("{:x}", client_id_for("op"));
     let t0 = Instant::now();
     let mut seen = Vec::new();
@@ -236,8 +253,9 @@ fn gaitctl_remote_bench_measures_the_bridge_beside_bare_zenoh() {
     let v: serde_json::Value = serde_json::from_str(text.trim()).unwrap();
     assert_eq!(v["remote"]["status_latency_us"]["n"], 20, "{v}");
     assert_eq!(v["remote"]["goal_to_answer_us"]["n"], 3, "{v}");
-    // The bridge's certificate lies beside ca.pem: the reference is TLS too.
-    assert_eq!(v["bare_zenoh"]["transport"], "tls (mutual)", "{v}");
+    // The bridge's certificate lies beside ca.pem: the reference runs on
+    // the bridge's link (QUIC) with mutual TLS too.
+    assert_eq!(v["bare_zenoh"]["transport"], "quic (mutual TLS)", "{v}");
     assert_eq!(v["bare_zenoh"]["pub_sub_one_way_us"]["n"], 20, "{v}");
     assert_eq!(v["bare_zenoh"]["query_round_trip_us"]["n"], 100, "{v}");
     for s in [

@@ -174,7 +174,7 @@ fn a_remote_python_clients_command_whose_link_drops_reaches_the_daemon_once() {
     let d = TestDaemon::start("remote-python-cut");
     let mut local = d.client();
     let b = TestBridge::start(&d, &pki, "");
-    let cutter = Cutter::start(b.endpoint.trim_start_matches("tls/").to_owned());
+    let cutter = Cutter::start(b.tls_endpoint.trim_start_matches("tls/").to_owned());
     let endpoint = format!("tls/127.0.0.1:{}", cutter.port);
     let mut script = Script::start(
         python()

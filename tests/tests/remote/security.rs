@@ -41,7 +41,11 @@ fn certificates_of_another_ca_and_unknown_identities_are_refused() {
     assert!(
         matches!(
             e,
-            Error::Remote(RemoteError::Handshake { .. } | RemoteError::NoBridge { .. })
+            Error::Remote(
+                RemoteError::Handshake { .. }
+                    | RemoteError::NoSession { .. }
+                    | RemoteError::NoBridge { .. }
+            )
         ),
         "{text}"
     );
@@ -65,7 +69,7 @@ fn certificates_of_another_ca_and_unknown_identities_are_refused() {
         "connect": { "endpoints": [&b.endpoint], "timeout_ms": 3000, "exit_on_failure": true },
         "listen": { "endpoints": [] },
         "scouting": { "multicast": { "enabled": false }, "gossip": { "enabled": false } },
-        "transport": { "link": { "protocols": ["tls"], "tls": {
+        "transport": { "link": { "protocols": ["quic"], "tls": {
             "root_ca_certificate": pki.dir.join("ca.pem").display().to_string(),
             "verify_name_on_connect": true,
         } } },

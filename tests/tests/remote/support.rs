@@ -151,12 +151,23 @@ pub fn free_port() -> u16 {
         .expect("a free port")
 }
 
+/// A UDP port free at the time of asking (for a `quic/` endpoint).
+pub fn free_udp_port() -> u16 {
+    std::net::UdpSocket::bind("127.0.0.1:0")
+        .and_then(|s| s.local_addr())
+        .map(|a| a.port())
+        .expect("a free UDP port")
+}
+
 /// A gaitd-bridge process for a [`TestDaemon`]'s namespace.
 pub struct TestBridge {
     /// The process (None when stopped).
     pub child: Option<Child>,
-    /// `tls/127.0.0.1:PORT`.
+    /// `quic/127.0.0.1:PORT` (the default link).
     pub endpoint: String,
+    /// `tls/127.0.0.1:PORT` (the bridge listens on both; the cut-link
+    /// tests put a TCP forwarder in front of this one).
+    pub tls_endpoint: String,
     /// Its key prefix.
     pub prefix: String,
     /// Its config file.
@@ -177,12 +188,12 @@ impl TestBridge {
     /// Writes the config without starting the bridge.
     pub fn configure(d: &TestDaemon, pki: &Pki, extra: &str) -> Self {
         let n = NEXT.fetch_add(1, Ordering::Relaxed);
-        let port = free_port();
+        let (port, tls_port) = (free_udp_port(), free_port());
         let prefix = format!("rt{}x{n}", std::process::id());
         let config = d.dir.join(format!("bridge-{n}.toml"));
         let text = format!(
             "[gaitd]\nservice_prefix = \"{}\"\nroot_path = \"{}/\"\nfile_prefix = \"{}\"\n\
-             [zenoh]\nlisten = [\"tls/127.0.0.1:{port}\"]\nkey_prefix = \"{prefix}\"\n\
+             [zenoh]\nlisten = [\"quic/127.0.0.1:{port}\", \"tls/127.0.0.1:{tls_port}\"]\nkey_prefix = \"{prefix}\"\n\
              ca = \"{dir}/ca.pem\"\ncert = \"{dir}/bridge.pem\"\nkey = \"{dir}/bridge.key\"\n\
              [[identity]]\nname = \"op\"\nrole = \"operator\"\n\
              [[identity]]\nname = \"dash\"\nrole = \"monitor\"\n\
@@ -195,7 +206,8 @@ impl TestBridge {
         std::fs::write(&config, text).expect("write the bridge config");
         Self {
             child: None,
-            endpoint: format!("tls/127.0.0.1:{port}"),
+            endpoint: format!("quic/127.0.0.1:{port}"),
+            tls_endpoint: format!("tls/127.0.0.1:{tls_port}"),
             prefix,
             log: d.dir.join(format!("bridge-{n}.log")),
             config,

@@ -23,7 +23,8 @@ pub struct ConnArgs {
     /// How long to wait for the daemon [s].
     #[arg(long, global = true, default_value_t = 2.0)]
     pub timeout: f64,
-    /// A remote gaitd: its gaitd-bridge at ENDPOINT (tls/HOST:PORT), over
+    /// A remote gaitd: its gaitd-bridge at ENDPOINT (quic/HOST:PORT, or
+    /// tls/HOST:PORT over TCP), over
     /// Zenoh with mutual TLS, instead of iceoryx2 (--prefix is then the
     /// bridge's key prefix).
     #[arg(long, global = true, value_name = "ENDPOINT")]

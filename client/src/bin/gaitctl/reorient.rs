@@ -30,7 +30,9 @@ pub struct Args {
     /// Lower a motion limit, e.g. `object.velocity=0.5` (repeatable).
     #[arg(long = "limit", value_parser = parse_limit)]
     limits: Vec<(LimitKind, LimitOrder, f64)>,
-    /// Wait for the goal's outcome and print progress.
+    /// Wait for the goal's outcome and print progress. Remote: also keeps
+    /// the operator's session open, so the bridge's `on_client_lost` policy
+    /// does not stop the goal when gaitctl exits.
     #[arg(long)]
     wait: bool,
     /// With --wait: give up after this many seconds.
@@ -115,10 +117,21 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         Verdict::Accepted => println!("goal {}: accepted", t.goal_id),
     }
     if !a.wait {
+        if c.is_remote() {
+            // The bridge's dead-man policy (`on_client_lost`, cancel by
+            // default) sees this exit as the operator vanishing.
+            eprintln!("{REMOTE_NO_WAIT}");
+        }
         return Ok(ExitCode::SUCCESS);
     }
     wait(&mut c, t.goal_id, a)
 }
+
+/// Printed when a remote goal is sent without `--wait`.
+const REMOTE_NO_WAIT: &str = "note: gaitctl exits now; once this identity has no remote session left \
+for the bridge's client_lost_grace_ms (1 s by default), the bridge applies its on_client_lost \
+policy to the goal (cancel by default): keep a session open with --wait, or with \
+`gaitctl --remote ... watch` under the same identity";
 
 /// `--wait`: progress until goal `goal_id` ends; exit 0 if it succeeded.
 fn wait(c: &mut Client, goal_id: u64, a: &Args) -> gaitd_client::Result<ExitCode> {

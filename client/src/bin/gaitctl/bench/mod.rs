@@ -177,8 +177,14 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     #[cfg(feature = "remote")]
     if c.is_remote() {
         let tls = conn.tls_files()?;
+        let proto = conn
+            .remote
+            .as_deref()
+            .and_then(|e| gaitd_client::remote::tls::parse_endpoint(e).ok())
+            .map_or("quic", |e| e.protocol);
         let v = remote::run(
             &mut c,
+            proto,
             Some(&tls),
             a.remote_statuses,
             a.remote_goals,

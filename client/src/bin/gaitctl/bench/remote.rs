@@ -62,20 +62,25 @@ fn goal_to_answer(c: &mut Client, n: usize, timeout: Duration) -> gaitd_client::
     Ok(v)
 }
 
-fn free_port() -> gaitd_client::Result<u16> {
-    std::net::TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .map(|a| a.port())
+/// A free loopback port for `proto` (QUIC runs on UDP).
+fn free_port(proto: &str) -> gaitd_client::Result<u16> {
+    let addr = if proto == "quic" {
+        std::net::UdpSocket::bind("127.0.0.1:0").and_then(|s| s.local_addr())
+    } else {
+        std::net::TcpListener::bind("127.0.0.1:0").and_then(|l| l.local_addr())
+    };
+    addr.map(|a| a.port())
         .map_err(|e| gaitd_client::Error::Settings(format!("no free port: {e}")))
 }
 
-/// One session of the reference: listening or connected, TLS or TCP.
+/// One session of the reference: listening or connected, over `proto`
+/// (`quic` or `tls` with `tls`'s files, else `tcp`).
 fn session(
     port: u16,
     listen: bool,
+    proto: &str,
     tls: Option<(&TlsFiles, &Path)>,
 ) -> gaitd_client::Result<zenoh::Session> {
-    let proto = if tls.is_some() { "tls" } else { "tcp" };
     let ep = format!("{proto}/127.0.0.1:{port}");
     let mut link = json!({ "protocols": [proto] });
     if let Some((files, dir)) = tls {
@@ -108,11 +113,13 @@ fn session(
     zenoh::open(cfg).wait().map_err(zerr)
 }
 
-/// Bare Zenoh on loopback: (transport, pub → sub one-way [µs], get → reply [µs]).
+/// Bare Zenoh on loopback over the bridge's link `proto` (`quic`, `tls`):
+/// (transport, pub → sub one-way [µs], get → reply [µs]).
 fn bare(
     n: usize,
     queries: usize,
     tls: Option<&TlsFiles>,
+    proto: &str,
 ) -> gaitd_client::Result<(String, Vec<f64>, Vec<f64>)> {
     // TLS like the bridge when its certificate is at hand.
     let dir = tls.and_then(|t| t.ca.parent().map(Path::to_path_buf));
@@ -122,10 +129,15 @@ fn bare(
         }
         _ => None,
     };
-    let transport = if tls.is_some() { "tls (mutual)" } else { "tcp" }.to_owned();
-    let port = free_port()?;
-    let a = session(port, true, tls)?;
-    let b = session(port, false, tls)?;
+    let proto = if tls.is_some() { proto } else { "tcp" };
+    let transport = if tls.is_some() {
+        format!("{proto} (mutual TLS)")
+    } else {
+        proto.to_owned()
+    };
+    let port = free_port(proto)?;
+    let a = session(port, true, proto, tls)?;
+    let b = session(port, false, proto, tls)?;
     let key = format!("gaitctl-bench/{}/{port}", std::process::id());
 
     let (tx, rx) = mpsc::channel::<f64>();
@@ -195,9 +207,11 @@ fn bare(
     Ok((transport, one_way, rtt))
 }
 
-/// Runs the remote benchmark and returns its JSON.
+/// Runs the remote benchmark and returns its JSON; the bare reference
+/// runs over `proto`, the bridge's link.
 pub fn run(
     c: &mut Client,
+    proto: &str,
     tls: Option<&TlsFiles>,
     statuses: usize,
     goals: usize,
@@ -205,7 +219,7 @@ pub fn run(
 ) -> gaitd_client::Result<Value> {
     let mut status = status_latency(c, statuses, timeout)?;
     let mut goal = goal_to_answer(c, goals, timeout)?;
-    let (transport, mut one_way, mut rtt) = bare(statuses.max(goals), goals.max(100), tls)?;
+    let (transport, mut one_way, mut rtt) = bare(statuses.max(goals), goals.max(100), tls, proto)?;
     Ok(json!({
         "remote": {
             "key_prefix": c.settings().service_prefix,
