@@ -2,9 +2,11 @@
 """A remote client through gaitd-bridge (``gaitd.remote``): reads the status, sends a goal, waits for it.
 
 Run by ``tests/tests/remote/python.rs``, which asserts on the one JSON object
-printed last. Usage::
+printed last; it also reports what a user is told for an endpoint where no
+bridge listens (``NO_BRIDGE``) and for a protocol the bridge does not speak.
+Usage::
 
-    remote_goal.py ENDPOINT PKI_DIR IDENTITY PREFIX
+    remote_goal.py ENDPOINT PKI_DIR IDENTITY PREFIX NO_BRIDGE
 """
 
 from __future__ import annotations
@@ -14,12 +16,25 @@ import math
 import sys
 import time
 
-from gaitd.remote import RemoteClient
+from gaitd.remote import RemoteClient, RemoteError
 from gaitd.schema import DaemonState
 
 
+def refusal(endpoint: str, pki: str, name: str) -> str:
+    """The message of the RemoteError that connecting to ``endpoint`` raises."""
+    try:
+        RemoteClient.connect(endpoint, f"{pki}/ca.pem", f"{pki}/{name}.pem", f"{pki}/{name}.key", timeout=1.0)
+    except RemoteError as e:
+        return str(e)
+    return "connected"
+
+
 def main() -> int:
-    endpoint, pki, name, prefix = sys.argv[1:5]
+    endpoint, pki, name, prefix, no_bridge = sys.argv[1:6]
+    refusals = {
+        "no_bridge_error": refusal(no_bridge, pki, name),
+        "tcp_error": refusal("tcp/127.0.0.1:7447", pki, name),
+    }
     t0 = time.monotonic()
     stamps = {}
     with RemoteClient.connect(
@@ -44,6 +59,7 @@ def main() -> int:
                     "outcome": outcome.state.name if outcome else None,
                     "client_id": f"{c.client_id:x}",
                     "bad_samples": c.bad_samples,
+                    **refusals,
                     # Seconds since start, for a slow run's diagnosis.
                     **{k: round(v, 3) for k, v in stamps.items()},
                 }

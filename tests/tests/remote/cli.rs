@@ -86,4 +86,15 @@ fn gaitctl_remote_watch_and_reset_and_the_tls_flags_mistakes() {
         .arg(&pki.dir)
         .args(["--identity", "op", "status"]));
     one_line(rc, &err, "only accepts quic/ or tls/");
+    // A QUIC endpoint where no bridge listens: both causes are named.
+    let (rc, _, err) = run(Command::new(workspace_bin("gaitctl"))
+        .arg("--remote")
+        .arg(format!(
+            "quic/127.0.0.1:{}",
+            crate::support::free_udp_port()
+        ))
+        .arg("--pki")
+        .arg(&pki.dir)
+        .args(["--identity", "op", "--timeout", "1", "status"]));
+    one_line(rc, &err, "is gaitd-bridge running there");
 }

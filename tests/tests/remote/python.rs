@@ -60,7 +60,12 @@ fn a_remote_python_client_sends_a_goal_and_reads_status() {
     let out = output_within(
         python()
             .arg(repo_root().join("tests/python/remote_goal.py"))
-            .args([&b.endpoint, &pki.dir.display().to_string(), "op", &b.prefix]),
+            .args([&b.endpoint, &pki.dir.display().to_string(), "op", &b.prefix])
+            // Where no bridge listens: a free UDP port.
+            .arg(format!(
+                "quic/127.0.0.1:{}",
+                crate::support::free_udp_port()
+            )),
         Duration::from_secs(150),
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -77,6 +82,21 @@ fn a_remote_python_client_sends_a_goal_and_reads_status() {
         .unwrap_or("");
     let v: serde_json::Value = serde_json::from_str(line).unwrap();
     println!("remote_goal.py: {v}");
+    // What a user is told: no bridge (QUIC cannot tell that from a refused
+    // certificate, so both are named), and a protocol the bridge refuses.
+    let no_bridge = v["no_bridge_error"].as_str().unwrap_or_default();
+    assert!(
+        no_bridge.starts_with("no session with the bridge at quic/127.0.0.1:")
+            && no_bridge.contains("is gaitd-bridge running there"),
+        "{v}"
+    );
+    assert!(
+        v["tcp_error"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("only accepts quic/HOST:PORT or tls/HOST:PORT"),
+        "{v}"
+    );
     assert_eq!(v["accepted"], true, "{v}");
     assert_eq!(v["outcome"], "Succeeded", "{v}");
     assert!(v["status_ticks_advance"].as_bool().unwrap(), "{v}");
