@@ -155,18 +155,19 @@ fn gaitctl_remote_status_reorient_hold_cancel_and_events() {
     let said = err_lines.next().and_then(Result::ok).unwrap_or_default();
     assert_eq!(said, "(following events; Ctrl-C to stop)");
 
-    let (rc, out, err) = run(
-        "op",
-        &[
+    // op turns about z by `deg`, with `more` flags.
+    let turn_z = |deg: &str, more: &[&str]| {
+        let base = [
             "reorient",
             "--axis",
             "0,0,1",
             "--angle-deg",
-            "30",
+            deg,
             "--relative",
-            "--wait",
-        ],
-    );
+        ];
+        run("op", &[&base[..], more].concat())
+    };
+    let (rc, out, err) = turn_z("30", &["--wait"]);
     assert_eq!(rc, Some(0), "{out}{err}");
     assert!(out.contains("Succeeded (Reached)"), "{out}");
 
@@ -180,17 +181,7 @@ fn gaitctl_remote_status_reorient_hold_cancel_and_events() {
 
     // A goal without --wait: gaitctl says that the bridge's client-lost
     // policy applies once it exits.
-    let (rc, out, err) = run(
-        "op",
-        &[
-            "reorient",
-            "--axis",
-            "0,0,1",
-            "--angle-deg",
-            "10",
-            "--relative",
-        ],
-    );
+    let (rc, out, err) = turn_z("10", &[]);
     assert_eq!(rc, Some(0), "{out}{err}");
     assert!(out.contains("accepted"), "{out}");
     assert!(err.contains("on_client_lost"), "no hint on stderr: {err}");
