@@ -1,8 +1,8 @@
 //! From a goal to a plan (SPEC §4): an orientation goal, or a turn of a
-//! given size about an axis; under load the fallbacks — a turn about
-//! gravity split off, a long turn in pieces, the exact load test, spins
-//! (gait/LOAD-FIGURES.md §0), and last an intermediate orientation (§10)
-//! — each only when the ways before it plan nothing.
+//! given size about an axis; under load the fallbacks — a long turn in
+//! pieces, the exact load test, a turn about gravity split off, an
+//! intermediate orientation (gait/LOAD-FIGURES.md §10, §14), and last
+//! spins (§0) — each only when the ways before it plan nothing.
 
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -39,7 +39,7 @@ impl Planner {
         // MuJoCo, and from some reached grasps the spinning plan was 100
         // gaits long where a waypoint plan has 22: LOAD-FIGURES §12).
         let orientation = |p: &Planner, spins| p.plan_orientation(start, &goal, spins);
-        match self.in_tiers(orientation, false) {
+        match self.in_tiers(orientation) {
             Err(e) if self.load.active() && found_nothing(&e) => self
                 .plan_via_waypoints(start, &goal)
                 .map_or_else(|| self.spinning_tier(orientation).map_err(|_| e), Ok),
@@ -47,24 +47,21 @@ impl Planner {
         }
     }
 
-    /// `plan` in tiers under load, each tried only when the one before
-    /// finds nothing: the search's sufficient load test without spins; the
-    /// exact closed form behind it (slower per pair, more pairs); if
-    /// `spins`, that with spins (in MuJoCo a spinning fingertip's contact
-    /// force flickers: gait/LOAD-FIGURES.md §0). The first error is kept.
+    /// `plan` in tiers under load, without spins, the second tried only
+    /// when the first finds nothing: the search's sufficient load test;
+    /// the exact closed form behind it (slower per pair, more pairs). The
+    /// first error is kept. Spins are [`Planner::spinning_tier`], after the
+    /// detours (in MuJoCo a spinning fingertip's contact force flickers:
+    /// gait/LOAD-FIGURES.md §0).
     fn in_tiers(
         &self,
         plan: impl Fn(&Planner, bool) -> Result<Plan, PlanError>,
-        spins: bool,
     ) -> Result<Plan, PlanError> {
         let e = match plan(self, false) {
             Err(e) if self.load.active() && found_nothing(&e) => e,
             r => return r,
         };
-        match plan(&self.exact(), false) {
-            Err(e2) if spins && found_nothing(&e2) => self.spinning_tier(plan).map_err(|_| e),
-            r => r.map_err(|_| e),
-        }
+        plan(&self.exact(), false).map_err(|_| e)
     }
 
     /// The last tier: the exact load test, contacts spinning allowed.
@@ -171,7 +168,10 @@ impl Planner {
     /// just to the orientation it ends at. (If gaits are impossible from the
     /// start, an escape rotation about another axis comes first; the rest
     /// then reaches the same end orientation with the requested number of
-    /// full turns, about an axis near `axis`.)
+    /// full turns, about an axis near `axis`. Under load, a turn or a
+    /// piece of one no longer than 120° that the search about
+    /// `axis` cannot plan is reached as an orientation, as
+    /// [`Planner::plan`] reaches it.)
     pub fn plan_rotation(
         &self,
         start: &HandState,
@@ -200,7 +200,39 @@ impl Planner {
                 ) if angle > TURN_CHUNK => p.plan_in_chunks(start, &axis, angle, spins),
                 r => r,
             };
-        self.in_tiers(turn, true)
+        // As for orientation goals, a detour comes before spinning a
+        // contact: from where a canceled goal stopped, one turn in five
+        // found nothing in the tiers about its own axis, while the goal
+        // orientation planned (LOAD-FIGURES §14).
+        match self.in_tiers(turn) {
+            Err(e) if self.load.active() && found_nothing(&e) => self
+                .short_turn_by_way_of(start, &axis, angle)
+                .map_or_else(|| self.spinning_tier(turn).map_err(|_| e), Ok),
+            r => r,
+        }
+    }
+
+    /// Under load, a turn of at most [`TURN_CHUNK`] that the search about
+    /// its axis cannot plan, reached as an orientation: split into a turn
+    /// about gravity and the rest, or by way of a waypoint (the fallbacks of
+    /// [`Planner::plan`]). The object may leave the axis on the way; the
+    /// turn is shorter than half a turn, so its end orientation says all
+    /// there is to say about it (no full turn to count).
+    fn short_turn_by_way_of(
+        &self,
+        start: &HandState,
+        axis: &Vector3<f64>,
+        angle: f64,
+    ) -> Option<Plan> {
+        if angle > TURN_CHUNK {
+            return None;
+        }
+        let goal = rotation(axis, angle) * start.object;
+        let mut plan = self
+            .plan_via_twist(start, &goal, false)
+            .or_else(|| self.plan_via_waypoints(start, &goal))?;
+        plan.summary.goal_angle = angle;
+        Some(plan)
     }
 
     /// A long turn as consecutive turns of at most [`TURN_CHUNK`], each
@@ -230,7 +262,15 @@ impl Planner {
             let goal = rotation(axis, this) * at.object;
             let plan = match self.plan_about(&at, &goal, *axis, this, true, spins) {
                 Ok(p) => p,
-                Err(e) if this * 0.5 < MIN_TURN_CHUNK => return Err(e),
+                Err(e) if this * 0.5 < MIN_TURN_CHUNK => {
+                    match (self.load.active() && !spins && found_nothing(&e))
+                        .then(|| self.short_turn_by_way_of(&at, axis, this))
+                        .flatten()
+                    {
+                        Some(p) => p,
+                        None => return Err(e),
+                    }
+                }
                 Err(_) => {
                     piece = this * 0.5;
                     continue;

@@ -1,0 +1,167 @@
+//! Goals from where a cancel leaves the hand, under the default load (SPEC
+//! §1.3 I1', §6.4): the executor brakes a roll, rotation or transfer
+//! mid-path and finishes a gait, so the hand rests in a grasp no plan
+//! ends in (a finger in the air, a pair far from any goal's choice). A
+//! user's next turn from there (`gaitctl reorient --relative`, a
+//! `GoalTarget::Rotation`) must plan, hold the load at every sample by the
+//! test's own SOCP, and be reached by the plant.
+//!
+//! CI runs `GAIT_CANCEL_ROUNDS` canceled goals (default 8) with two turns
+//! planned from each; the figure of gait/LOAD-FIGURES.md §14 is
+//! `GAIT_CANCEL_ROUNDS=60 cargo test --release -p gait --test cancel_load
+//! -- --nocapture`.
+
+mod planning;
+
+use gait::executor::{ExecutorCommand, GoalStage, GoalTarget, Mode};
+use gait::{HandConfig, HandState};
+use nalgebra::{UnitQuaternion, Vector3};
+use planning::load::LoadCheck;
+use planning::plan_load::assert_held;
+use planning::run::Rig;
+use planning::verify::Checker;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Ticks of 1 ms.
+const DT: f64 = 1e-3;
+
+/// Sends goal `id` to turn by `deg` about `axis` (as `gaitctl reorient
+/// --relative` does).
+fn turn(rig: &mut Rig, id: u64, axis: Vector3<f64>, deg: f64) {
+    rig.command(ExecutorCommand::Goal {
+        id,
+        target: GoalTarget::Rotation {
+            axis,
+            angle: deg.to_radians(),
+        },
+        limits: None,
+    });
+}
+
+/// Goal `id` ended `stage` with no fault or broken invariant on the way.
+fn assert_ended(rig: &Rig, id: u64, stage: GoalStage, what: &str) {
+    assert_eq!(rig.stats.goals.last(), Some(&(id, stage)), "{what}");
+    assert_eq!(rig.stats.faults, 0, "{what}: fault");
+    assert!(
+        rig.stats.plant_violations.is_empty(),
+        "{what}, the plant's state: {:?}",
+        &rig.stats.plant_violations[..1]
+    );
+}
+
+/// Plans `deg` about `axis` from where `rig`'s plant rests, checks every
+/// sample's load by the test's own SOCP, then runs it on the plant: the
+/// plant's object ends turned by that much. Returns (duration, F*).
+fn turn_from_rest(rig: &mut Rig, id: u64, axis: Vector3<f64>, deg: f64, what: &str) -> (f64, f64) {
+    let cfg = rig.cfg;
+    let at = *rig.plant.state();
+    let goal = UnitQuaternion::from_scaled_axis(axis.normalize() * deg.to_radians()) * at.object;
+    let plan = rig
+        .planner
+        .plan_rotation(&at, &axis, deg.to_radians())
+        .unwrap_or_else(|e| panic!("{what}: {deg:.1}° about {:?} refused: {e}", axis.as_slice()));
+    let f = assert_held(
+        &LoadCheck::new(&cfg),
+        &Checker::new(&cfg),
+        &cfg,
+        &plan,
+        what,
+    );
+    turn(rig, id, axis, deg);
+    rig.run_until_idle(400_000);
+    assert_ended(rig, id, GoalStage::Succeeded, what);
+    let err = rig.plant.state().object.angle_to(&goal);
+    assert!(
+        err < 1e-6,
+        "{what}: the plant's object is {err:.2e} rad off"
+    );
+    (plan.summary.duration, f)
+}
+
+#[test]
+fn a_turn_after_the_canceled_turn_of_the_walkthrough_plans_and_holds() {
+    // Session 15's walkthrough (deploy/gaitd.toml, 0.1 kg): 90° about z,
+    // then 120° about x canceled after 1.2 s, then 28.65° about z was
+    // refused (LoadInfeasible) in 0.2 s — no tier found a turn about z
+    // from that two-finger grasp, while the same orientation planned as
+    // an orientation goal by way of a waypoint.
+    let cfg = HandConfig::default();
+    let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), DT);
+    turn(&mut rig, 1, Vector3::z(), 90.0);
+    rig.run_until_idle(200_000);
+    assert_ended(&rig, 1, GoalStage::Succeeded, "90° about z");
+    turn(&mut rig, 2, Vector3::x(), 120.0);
+    for _ in 0..1200 {
+        rig.tick();
+    }
+    assert_eq!(rig.exec.phase(), Mode::Moving, "canceled before it ended");
+    rig.command(ExecutorCommand::Cancel);
+    rig.run_until_idle(100_000);
+    assert_ended(&rig, 2, GoalStage::Canceled, "the canceled turn");
+    let (t, f) = turn_from_rest(&mut rig, 3, Vector3::z(), 28.65, "28.65° about z");
+    println!("28.65° about z after the cancel: {t:.2} s, largest F* {f:.2} N");
+}
+
+#[test]
+fn turns_from_where_cancels_leave_the_hand_plan_and_hold() {
+    let rounds: usize = std::env::var("GAIT_CANCEL_ROUNDS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(8);
+    let cfg = HandConfig::default();
+    let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), DT);
+    let mut rng = ChaCha8Rng::seed_from_u64(0xCA2CE1);
+    let (mut id, mut durations, mut peak) = (0u64, Vec::new(), 0.0f64);
+    let mut canceled_in = std::collections::BTreeMap::<String, u32>::new();
+    for round in 0..rounds {
+        // A goal canceled a random while after it was sent: mid-roll,
+        // mid-rotation, mid-transfer or mid-gait (a gait finishes first).
+        id += 1;
+        rig.command(ExecutorCommand::Goal {
+            id,
+            target: GoalTarget::Orientation(planning::haar(&mut rng)),
+            limits: None,
+        });
+        for _ in 0..rng.random_range(300..4000) {
+            rig.tick();
+        }
+        let r = *rig.exec.report();
+        if r.phase != Mode::Moving {
+            // It ended (or was refused) first: go on from there.
+            rig.run_until_idle(400_000);
+            continue;
+        }
+        *canceled_in
+            .entry(format!("{:?}", r.step_kind.expect("moving")))
+            .or_default() += 1;
+        rig.command(ExecutorCommand::Cancel);
+        rig.run_until_idle(100_000);
+        assert_ended(&rig, id, GoalStage::Canceled, &format!("round {round}"));
+        // Two turns from there, each about a random axis by up to 170°.
+        for k in 0..2 {
+            id += 1;
+            let axis = planning::unit(&mut rng);
+            let deg = rng.random_range(5.0..170.0);
+            let what = format!("round {round}, turn {k}");
+            let (t, f) = turn_from_rest(&mut rig, id, axis, deg, &what);
+            durations.push(t);
+            peak = peak.max(f);
+        }
+    }
+    durations.sort_by(f64::total_cmp);
+    println!(
+        "{rounds} goals, canceled while {canceled_in:?}; {} turns after them planned, held and \
+         reached: time median {:.2} s, max {:.2} s; largest F* {peak:.2} N",
+        durations.len(),
+        durations
+            .get(durations.len() / 2)
+            .copied()
+            .unwrap_or(f64::NAN),
+        durations.last().copied().unwrap_or(f64::NAN),
+    );
+    assert!(
+        canceled_in.values().sum::<u32>() * 2 >= rounds as u32,
+        "too few goals were canceled while moving: {canceled_in:?}"
+    );
+}
