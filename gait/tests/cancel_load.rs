@@ -2,12 +2,12 @@
 //! §1.3 I1', §6.4): the executor brakes a roll, rotation or transfer
 //! mid-path and finishes a gait, so the hand rests in a grasp no plan
 //! ends in (a finger in the air, a pair far from any goal's choice). A
-//! user's next turn from there (`gaitctl reorient --relative`, a
-//! `GoalTarget::Rotation`) must plan, hold the load at every sample by the
-//! test's own SOCP, and be reached by the plant.
+//! user's next goal from there — a turn (`gaitctl reorient --relative`, a
+//! `GoalTarget::Rotation`), then an orientation — must plan, hold the load
+//! at every sample by the test's own SOCP, and be reached by the plant.
 //!
-//! CI runs `GAIT_CANCEL_ROUNDS` canceled goals (default 8) with two turns
-//! planned from each; the figure of gait/LOAD-FIGURES.md §14 is
+//! CI runs `GAIT_CANCEL_ROUNDS` canceled goals (default 8), each followed
+//! by a turn and an orientation; the figure of gait/LOAD-FIGURES.md §14 is
 //! `GAIT_CANCEL_ROUNDS=60 cargo test --release -p gait --test cancel_load
 //! -- --nocapture`.
 
@@ -15,7 +15,7 @@ mod planning;
 
 use gait::executor::{ExecutorCommand, GoalStage, GoalTarget, Mode};
 use gait::{HandConfig, HandState};
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::Vector3;
 use planning::load::LoadCheck;
 use planning::plan_load::assert_held;
 use planning::run::Rig;
@@ -26,15 +26,11 @@ use rand_chacha::ChaCha8Rng;
 /// Ticks of 1 ms.
 const DT: f64 = 1e-3;
 
-/// Sends goal `id` to turn by `deg` about `axis` (as `gaitctl reorient
-/// --relative` does).
+/// Sends goal `id` to turn by `deg` about `axis`.
 fn turn(rig: &mut Rig, id: u64, axis: Vector3<f64>, deg: f64) {
     rig.command(ExecutorCommand::Goal {
         id,
-        target: GoalTarget::Rotation {
-            axis,
-            angle: deg.to_radians(),
-        },
+        target: turn_by(axis, deg),
         limits: None,
     });
 }
@@ -50,17 +46,16 @@ fn assert_ended(rig: &Rig, id: u64, stage: GoalStage, what: &str) {
     );
 }
 
-/// Plans `deg` about `axis` from where `rig`'s plant rests, checks every
-/// sample's load by the test's own SOCP, then runs it on the plant: the
-/// plant's object ends turned by that much. Returns (duration, F*).
-fn turn_from_rest(rig: &mut Rig, id: u64, axis: Vector3<f64>, deg: f64, what: &str) -> (f64, f64) {
+/// Plans `target` from where `rig`'s plant rests, checks every sample's
+/// load by the test's own SOCP, then sends it as goal `id` and runs it:
+/// the plant's object ends where the target says. Returns (duration, F*).
+fn goal_from_rest(rig: &mut Rig, id: u64, target: GoalTarget, what: &str) -> (f64, f64) {
     let cfg = rig.cfg;
     let at = *rig.plant.state();
-    let goal = UnitQuaternion::from_scaled_axis(axis.normalize() * deg.to_radians()) * at.object;
-    let plan = rig
-        .planner
-        .plan_rotation(&at, &axis, deg.to_radians())
-        .unwrap_or_else(|e| panic!("{what}: {deg:.1}° about {:?} refused: {e}", axis.as_slice()));
+    let goal = target.resolve(&at.object);
+    let plan = target
+        .plan(&rig.planner, &at)
+        .unwrap_or_else(|e| panic!("{what}: {target:?} refused: {e}"));
     let f = assert_held(
         &LoadCheck::new(&cfg),
         &Checker::new(&cfg),
@@ -68,7 +63,11 @@ fn turn_from_rest(rig: &mut Rig, id: u64, axis: Vector3<f64>, deg: f64, what: &s
         &plan,
         what,
     );
-    turn(rig, id, axis, deg);
+    rig.command(ExecutorCommand::Goal {
+        id,
+        target,
+        limits: None,
+    });
     rig.run_until_idle(400_000);
     assert_ended(rig, id, GoalStage::Succeeded, what);
     let err = rig.plant.state().object.angle_to(&goal);
@@ -77,6 +76,14 @@ fn turn_from_rest(rig: &mut Rig, id: u64, axis: Vector3<f64>, deg: f64, what: &s
         "{what}: the plant's object is {err:.2e} rad off"
     );
     (plan.summary.duration, f)
+}
+
+/// A turn by `deg` about `axis` (as `gaitctl reorient --relative` sends).
+fn turn_by(axis: Vector3<f64>, deg: f64) -> GoalTarget {
+    GoalTarget::Rotation {
+        axis,
+        angle: deg.to_radians(),
+    }
 }
 
 #[test]
@@ -99,7 +106,7 @@ fn a_turn_after_the_canceled_turn_of_the_walkthrough_plans_and_holds() {
     rig.command(ExecutorCommand::Cancel);
     rig.run_until_idle(100_000);
     assert_ended(&rig, 2, GoalStage::Canceled, "the canceled turn");
-    let (t, f) = turn_from_rest(&mut rig, 3, Vector3::z(), 28.65, "28.65° about z");
+    let (t, f) = goal_from_rest(&mut rig, 3, turn_by(Vector3::z(), 28.65), "28.65° about z");
     println!("28.65° about z after the cancel: {t:.2} s, largest F* {f:.2} N");
 }
 
@@ -138,21 +145,29 @@ fn turns_from_where_cancels_leave_the_hand_plan_and_hold() {
         rig.command(ExecutorCommand::Cancel);
         rig.run_until_idle(100_000);
         assert_ended(&rig, id, GoalStage::Canceled, &format!("round {round}"));
-        // Two turns from there, each about a random axis by up to 170°.
-        for k in 0..2 {
+        // From there a turn about a random axis by up to 170°, then a
+        // Haar orientation.
+        let axis = planning::unit(&mut rng);
+        let deg = rng.random_range(5.0..170.0);
+        let goals = [
+            ("turn", turn_by(axis, deg)),
+            (
+                "orientation",
+                GoalTarget::Orientation(planning::haar(&mut rng)),
+            ),
+        ];
+        for (what, target) in goals {
             id += 1;
-            let axis = planning::unit(&mut rng);
-            let deg = rng.random_range(5.0..170.0);
-            let what = format!("round {round}, turn {k}");
-            let (t, f) = turn_from_rest(&mut rig, id, axis, deg, &what);
+            let what = format!("round {round}, {what}");
+            let (t, f) = goal_from_rest(&mut rig, id, target, &what);
             durations.push(t);
             peak = peak.max(f);
         }
     }
     durations.sort_by(f64::total_cmp);
     println!(
-        "{rounds} goals, canceled while {canceled_in:?}; {} turns after them planned, held and \
-         reached: time median {:.2} s, max {:.2} s; largest F* {peak:.2} N",
+        "{rounds} goals, canceled while {canceled_in:?}; {} goals after them (a turn, then an \
+         orientation) planned, held and reached: time median {:.2} s, max {:.2} s; largest F* {peak:.2} N",
         durations.len(),
         durations
             .get(durations.len() / 2)
