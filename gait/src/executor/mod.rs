@@ -26,6 +26,7 @@
 //! plan it is given and hands back the one it replaces, so that no plan is
 //! ever freed on the control thread.
 
+mod command;
 pub mod correction;
 pub mod feedback;
 mod goals;
@@ -37,7 +38,9 @@ pub mod placement;
 mod plant;
 pub mod policy;
 pub mod recovery;
+mod report;
 pub mod runner;
+mod written;
 
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -47,122 +50,14 @@ use crate::hand::{InvariantChecker, InvariantReport, StateError};
 use crate::planner::{Motion, Plan, PlanError, Setpoint, Step, StepKind};
 use crate::sim::Measurement;
 use crate::state::HandState;
+pub use command::{ExecutorAnswer, ExecutorCommand, GoalTarget, PlanRequest};
 use feedback::{Feedback, NOT_A_FINGER};
 pub use lifecycle::{ExecutorEvent, ExecutorEvents, FaultKind, GoalStage, Reason};
 use policy::{Cause, Decision, FaultPolicy, Source};
+pub use report::TickReport;
+use report::step_on_ticks;
 use runner::StepRunner;
-
-/// Where a goal wants the object.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum GoalTarget {
-    /// An absolute orientation (object → hand).
-    Orientation(UnitQuaternion<f64>),
-    /// A rotation about a hand-frame axis by an angle of any size (a full
-    /// turn is a full turn), from the orientation the object has when
-    /// planning starts.
-    Rotation {
-        /// Axis (hand frame, any length > 0).
-        axis: Vector3<f64>,
-        /// Angle \[rad\].
-        angle: f64,
-    },
-}
-
-impl GoalTarget {
-    /// The orientation reached from `from`.
-    pub fn resolve(&self, from: &UnitQuaternion<f64>) -> UnitQuaternion<f64> {
-        match *self {
-            Self::Orientation(q) => q,
-            Self::Rotation { axis, angle } => {
-                UnitQuaternion::from_scaled_axis(axis.normalize() * angle) * from
-            }
-        }
-    }
-
-    fn is_valid(&self) -> bool {
-        match self {
-            Self::Orientation(q) => {
-                let q = q.quaternion();
-                q.coords.iter().all(|x| x.is_finite()) && (q.norm() - 1.0).abs() < 1e-6
-            }
-            Self::Rotation { axis, angle } => {
-                axis.iter().all(|x| x.is_finite()) && axis.norm() > 1e-9 && angle.is_finite()
-            }
-        }
-    }
-
-    /// Plans it from `start`.
-    pub fn plan(
-        &self,
-        planner: &crate::planner::Planner,
-        start: &HandState,
-    ) -> Result<Plan, PlanError> {
-        match self {
-            Self::Orientation(q) => planner.plan(start, q),
-            Self::Rotation { axis, angle } => planner.plan_rotation(start, axis, *angle),
-        }
-    }
-}
-
-/// A command to the executor (SPEC §6.4, §7.3).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum ExecutorCommand {
-    /// Reorient the object.
-    Goal {
-        /// Goal id, unique.
-        id: u64,
-        /// Where to.
-        target: GoalTarget,
-        /// Motion limits for this goal (`None`: the configured ones). Each
-        /// must be positive; the caller keeps them within the configured
-        /// limits.
-        limits: Option<LimitsConfig>,
-    },
-    /// Stop the active goal smoothly, then hold.
-    Cancel,
-    /// Stop any motion smoothly and hold the grasp.
-    Hold,
-    /// Clear a fault (only if the measured state is valid).
-    Reset,
-}
-
-/// The answer to a command.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ExecutorAnswer {
-    /// Taken.
-    Accepted,
-    /// Refused, with the reason.
-    Rejected(Reason),
-}
-
-/// What the executor asks the planner for.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PlanRequest {
-    /// Goal the plan is for.
-    pub goal: u64,
-    /// State to plan from (at rest).
-    pub start: HandState,
-    /// Where to.
-    pub target: GoalTarget,
-    /// The motion limits the plan will be executed with (the goal's
-    /// overrides applied): it is timed and costed with them.
-    pub limits: LimitsConfig,
-}
-
-impl PlanRequest {
-    /// Plans it with `planner`, re-timed for the request's limits when they
-    /// differ from the planner's (SPEC §4.3: a plan's cost is its execution
-    /// time under the limits it runs with).
-    pub fn plan(&self, planner: &crate::planner::Planner) -> Result<Plan, PlanError> {
-        if self.limits == planner.config().limits {
-            return self.target.plan(planner, &self.start);
-        }
-        let timed = planner
-            .with_limits(&self.limits)
-            .map_err(|_| PlanError::InvalidLimits)?;
-        self.target.plan(&timed, &self.start)
-    }
-}
+pub use written::WRITTEN;
 
 /// The gait state machine's coarse state (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -201,45 +96,6 @@ struct ActiveGoal {
     end: UnitQuaternion<f64>,
     limits: LimitsConfig,
     state: GoalStage,
-}
-
-/// Everything a status message needs after a tick (SPEC §7.3).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TickReport {
-    /// Tick counter.
-    pub tick: u64,
-    /// The setpoint just computed.
-    pub setpoint: Setpoint,
-    /// Coarse phase.
-    pub phase: Mode,
-    /// Kind of the running step (if moving).
-    pub step_kind: Option<StepKind>,
-    /// Active or last goal: id, state, reason.
-    pub goal: Option<(u64, GoalStage, Reason)>,
-    /// Angle between the object and the goal \[rad\].
-    pub remaining_angle: f64,
-    /// Gaits (Place/Lift steps) done and planned for the goal.
-    pub gaits: (u32, u32),
-    /// Estimated time to the goal \[s\].
-    pub eta: f64,
-    /// Commanded normal force per finger \[N\] ([`grip`]).
-    pub grip: [f64; 3],
-    /// Whether the grip had to be capped at `load.max_grip` (the grasp
-    /// cannot hold the load).
-    pub grip_capped: bool,
-    /// The largest normal force the load needs over every load scenario
-    /// (weight, acceleration, any disturbance of the configured size:
-    /// F*, SPEC §1.3 I1'); +∞ when no grip holds it \[N\].
-    pub grip_peak: f64,
-    /// Load margin `load.max_grip` − `grip_peak` \[N\]: ≥ 0 when the
-    /// commanded grasp holds the load (I1'), negative (or −∞) when not.
-    pub load_margin: f64,
-    /// Force-closure flag and margin of the commanded grasp.
-    pub force_closure: (bool, f64),
-    /// Workspace slack per finger \[rad\] (negative: outside).
-    pub workspace_slack: [f64; 3],
-    /// Active fault, if any.
-    pub fault: Option<(FaultKind, u8)>,
 }
 
 /// The executor (module docs).
@@ -359,10 +215,6 @@ pub(crate) fn rest(state: HandState) -> Setpoint {
         estimate_epoch: 0,
     }
 }
-
-/// Setpoints remembered for comparing late measurements: 256 ticks, beyond
-/// the delay a plant link tolerates (`plant.max_missed` is at most 200).
-pub const WRITTEN: usize = 256;
 
 /// The fault a broken invariant is, and the finger it concerns.
 fn invariant_fault(v: crate::hand::Violation) -> (FaultKind, u8) {
@@ -681,29 +533,6 @@ impl Executor {
         &self.report
     }
 
-    /// The setpoint state written `age` ticks before the last one (0: the
-    /// last).
-    fn written(&self, age: usize) -> HandState {
-        let i = (self.written_next + 2 * WRITTEN - 1 - age.min(WRITTEN - 1)) % WRITTEN;
-        self.written[i]
-    }
-
-    /// How the setpoint written `age` ticks before the last was commanded.
-    fn written_adjustment(&self, age: usize) -> feedback::Adjustment {
-        let i = (self.written_next + 2 * WRITTEN - 1 - age.min(WRITTEN - 1)) % WRITTEN;
-        self.written_adjustment[i]
-    }
-
-    /// Records the setpoint about to be written (and its correction).
-    fn remember_written(&mut self) {
-        self.written[self.written_next] = self.setpoint.state;
-        self.written_adjustment[self.written_next] = feedback::Adjustment {
-            rotation: self.correction.rotation(),
-            offsets: self.placement.shifts(&self.setpoint.state),
-        };
-        self.written_next = (self.written_next + 1) % WRITTEN;
-    }
-
     /// A grasping contact the plant measures as not touching (its flag, or
     /// a measured force below `feedback.min_contact_force`) for
     /// `feedback.contact_grace_ticks` ticks in a row is lost: a fault.
@@ -722,19 +551,6 @@ impl Executor {
                 self.handle(cause, k as u8, Some(m));
             }
         }
-    }
-
-    /// Forgets the setpoints written before `state` (a re-based estimate:
-    /// the older ones belong to the old estimate).
-    fn reset_written(&mut self, state: HandState) {
-        self.written = [state; WRITTEN];
-        self.written_adjustment = [feedback::Adjustment {
-            rotation: UnitQuaternion::identity(),
-            offsets: self.placement.shifts(&state),
-        }; WRITTEN];
-        self.written_next = 0;
-        self.prev_reflected = state;
-        self.correction.clear();
     }
 
     /// Moves the setpoint one period along the running step.
@@ -883,86 +699,6 @@ impl Executor {
         }
     }
 
-    /// Object rotation the plan still has to make from the running step's
-    /// current position \[rad\].
-    fn planned_rotation_left(&self) -> f64 {
-        let in_step = self.current_step().map_or(0.0, |s| {
-            (step_rotation(s) - self.runner.state().position[0]).max(0.0)
-        });
-        self.rotation_after_step + in_step
-    }
-
-    fn fill_report(&mut self) {
-        // How much the object still has to turn: along the plan while it
-        // runs (a full turn counts in full), else the way to the goal.
-        let remaining = match (self.phase, self.goal) {
-            (_, None) => 0.0,
-            (Mode::Moving | Mode::Stopping, Some(_)) => self.planned_rotation_left(),
-            (_, Some(g)) => match g.target {
-                GoalTarget::Rotation { angle, .. } => angle.abs(),
-                GoalTarget::Orientation(_) => g.end.angle_to(&self.setpoint.state.object),
-            },
-        };
-        let r = &mut self.report;
-        r.remaining_angle = remaining;
-        r.tick = self.tick;
-        // What is written to the plant: the plan, turned by the correction,
-        // fingertips placed on the object where it is measured.
-        r.setpoint = self.placement.apply(&self.correction.apply(&self.setpoint));
-        r.phase = self.phase;
-        r.step_kind = match self.phase {
-            Mode::Moving | Mode::Stopping => self
-                .plan
-                .as_deref()
-                .and_then(|p| p.steps.get(self.step))
-                .map(|s| s.kind),
-            _ => None,
-        };
-        r.goal = match self.goal {
-            Some(g) => Some((g.id, g.state, Reason::None)),
-            None => self.last_goal,
-        };
-        r.gaits = (self.gaits_done, self.gaits_planned);
-        let hold_left = match (self.handover, self.current_step().and_then(|s| s.handover)) {
-            (Some(h), _) => on_ticks(h.duration - h.elapsed, self.dt),
-            (None, Some(h)) => on_ticks(h.duration, self.dt),
-            (None, None) => 0.0,
-        };
-        let motion_left = on_ticks(self.runner.time_left(), self.dt);
-        let r = &mut self.report;
-        r.eta = match self.phase {
-            Mode::Moving => self.time_after_step + motion_left + hold_left,
-            Mode::Stopping => motion_left + hold_left,
-            _ => 0.0,
-        };
-        r.fault = self.fault;
-        let model = &self.grip;
-        let torque = self.object_acceleration * self.inertia;
-        let state = self.setpoint.state;
-        let carrying = self.carrying;
-        let from = self
-            .grips
-            .get(grip::grip_key(&state, &torque, carrying), |_| {
-                model.carried(&state, &torque, carrying)
-            });
-        let g = match self.handover {
-            Some(h) => {
-                let to = self
-                    .grips_to
-                    .get(grip::grip_key(&state, &torque, h.to), |_| {
-                        model.carried(&state, &torque, h.to)
-                    });
-                grip::GripModel::blend(&from, &to, grip::ramp(h.elapsed / h.duration))
-            }
-            None => from,
-        };
-        let r = &mut self.report;
-        r.grip = g.normal;
-        r.grip_capped = g.capped;
-        r.grip_peak = g.peak;
-        r.load_margin = model.hold().max_grip() - g.peak;
-    }
-
     /// Keeps the carrying set ([`grip`]) in step with the setpoint: a
     /// finger that leaves carries nothing; a finger that touches carries
     /// at once unless the running step hands the grip over to it; at rest
@@ -987,19 +723,4 @@ impl Executor {
         }
         self.grasp_prev = grasp;
     }
-}
-
-/// A time `t` as the control loop runs it: whole periods `dt`, the last
-/// one reached or passed (a motion ends on the first tick at or after its
-/// end; a handover likewise).
-fn on_ticks(t: f64, dt: f64) -> f64 {
-    (t / dt - 1e-9).ceil().max(0.0) * dt
-}
-
-/// How long a step runs on ticks: its motion, then its handover, each to
-/// whole periods (what the ETA counts: summing the planned durations
-/// undercounts by about half a period per step).
-fn step_on_ticks(step: &Step, dt: f64) -> f64 {
-    let hold = step.handover.map_or(0.0, |h| h.duration);
-    on_ticks(step.duration - hold, dt) + on_ticks(hold, dt)
 }

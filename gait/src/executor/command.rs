@@ -1,0 +1,122 @@
+//! What the executor is told and what it asks for (SPEC §6.4, §7.3): goal
+//! targets, commands and their answers, and the plan request it leaves for
+//! whoever owns the planner.
+
+use nalgebra::{UnitQuaternion, Vector3};
+
+use super::Reason;
+use crate::config::LimitsConfig;
+use crate::planner::{Plan, PlanError};
+use crate::state::HandState;
+
+/// Where a goal wants the object.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GoalTarget {
+    /// An absolute orientation (object → hand).
+    Orientation(UnitQuaternion<f64>),
+    /// A rotation about a hand-frame axis by an angle of any size (a full
+    /// turn is a full turn), from the orientation the object has when
+    /// planning starts.
+    Rotation {
+        /// Axis (hand frame, any length > 0).
+        axis: Vector3<f64>,
+        /// Angle \[rad\].
+        angle: f64,
+    },
+}
+
+impl GoalTarget {
+    /// The orientation reached from `from`.
+    pub fn resolve(&self, from: &UnitQuaternion<f64>) -> UnitQuaternion<f64> {
+        match *self {
+            Self::Orientation(q) => q,
+            Self::Rotation { axis, angle } => {
+                UnitQuaternion::from_scaled_axis(axis.normalize() * angle) * from
+            }
+        }
+    }
+
+    pub(super) fn is_valid(&self) -> bool {
+        match self {
+            Self::Orientation(q) => {
+                let q = q.quaternion();
+                q.coords.iter().all(|x| x.is_finite()) && (q.norm() - 1.0).abs() < 1e-6
+            }
+            Self::Rotation { axis, angle } => {
+                axis.iter().all(|x| x.is_finite()) && axis.norm() > 1e-9 && angle.is_finite()
+            }
+        }
+    }
+
+    /// Plans it from `start`.
+    pub fn plan(
+        &self,
+        planner: &crate::planner::Planner,
+        start: &HandState,
+    ) -> Result<Plan, PlanError> {
+        match self {
+            Self::Orientation(q) => planner.plan(start, q),
+            Self::Rotation { axis, angle } => planner.plan_rotation(start, axis, *angle),
+        }
+    }
+}
+
+/// A command to the executor (SPEC §6.4, §7.3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ExecutorCommand {
+    /// Reorient the object.
+    Goal {
+        /// Goal id, unique.
+        id: u64,
+        /// Where to.
+        target: GoalTarget,
+        /// Motion limits for this goal (`None`: the configured ones). Each
+        /// must be positive; the caller keeps them within the configured
+        /// limits.
+        limits: Option<LimitsConfig>,
+    },
+    /// Stop the active goal smoothly, then hold.
+    Cancel,
+    /// Stop any motion smoothly and hold the grasp.
+    Hold,
+    /// Clear a fault (only if the measured state is valid).
+    Reset,
+}
+
+/// The answer to a command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExecutorAnswer {
+    /// Taken.
+    Accepted,
+    /// Refused, with the reason.
+    Rejected(Reason),
+}
+
+/// What the executor asks the planner for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanRequest {
+    /// Goal the plan is for.
+    pub goal: u64,
+    /// State to plan from (at rest).
+    pub start: HandState,
+    /// Where to.
+    pub target: GoalTarget,
+    /// The motion limits the plan will be executed with (the goal's
+    /// overrides applied): it is timed and costed with them.
+    pub limits: LimitsConfig,
+}
+
+impl PlanRequest {
+    /// Plans it with `planner`, re-timed for the request's limits when they
+    /// differ from the planner's (SPEC §4.3: a plan's cost is its execution
+    /// time under the limits it runs with).
+    pub fn plan(&self, planner: &crate::planner::Planner) -> Result<Plan, PlanError> {
+        if self.limits == planner.config().limits {
+            return self.target.plan(planner, &self.start);
+        }
+        let timed = planner
+            .with_limits(&self.limits)
+            .map_err(|_| PlanError::InvalidLimits)?;
+        self.target.plan(&timed, &self.start)
+    }
+}

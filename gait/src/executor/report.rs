@@ -1,0 +1,141 @@
+//! What a tick reports (SPEC §7.3): the status a client reads — phase,
+//! goal, remaining turn, ETA on whole ticks, the commanded grip and the
+//! load margin (SPEC §1.3 I1').
+
+use super::*;
+
+/// Everything a status message needs after a tick (SPEC §7.3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TickReport {
+    /// Tick counter.
+    pub tick: u64,
+    /// The setpoint just computed.
+    pub setpoint: Setpoint,
+    /// Coarse phase.
+    pub phase: Mode,
+    /// Kind of the running step (if moving).
+    pub step_kind: Option<StepKind>,
+    /// Active or last goal: id, state, reason.
+    pub goal: Option<(u64, GoalStage, Reason)>,
+    /// Angle between the object and the goal \[rad\].
+    pub remaining_angle: f64,
+    /// Gaits (Place/Lift steps) done and planned for the goal.
+    pub gaits: (u32, u32),
+    /// Estimated time to the goal \[s\].
+    pub eta: f64,
+    /// Commanded normal force per finger \[N\] ([`grip`]).
+    pub grip: [f64; 3],
+    /// Whether the grip had to be capped at `load.max_grip` (the grasp
+    /// cannot hold the load).
+    pub grip_capped: bool,
+    /// The largest normal force the load needs over every load scenario
+    /// (weight, acceleration, any disturbance of the configured size:
+    /// F*, SPEC §1.3 I1'); +∞ when no grip holds it \[N\].
+    pub grip_peak: f64,
+    /// Load margin `load.max_grip` − `grip_peak` \[N\]: ≥ 0 when the
+    /// commanded grasp holds the load (I1'), negative (or −∞) when not.
+    pub load_margin: f64,
+    /// Force-closure flag and margin of the commanded grasp.
+    pub force_closure: (bool, f64),
+    /// Workspace slack per finger \[rad\] (negative: outside).
+    pub workspace_slack: [f64; 3],
+    /// Active fault, if any.
+    pub fault: Option<(FaultKind, u8)>,
+}
+
+impl Executor {
+    /// Object rotation the plan still has to make from the running step's
+    /// current position \[rad\].
+    pub(super) fn planned_rotation_left(&self) -> f64 {
+        let in_step = self.current_step().map_or(0.0, |s| {
+            (step_rotation(s) - self.runner.state().position[0]).max(0.0)
+        });
+        self.rotation_after_step + in_step
+    }
+
+    pub(super) fn fill_report(&mut self) {
+        // How much the object still has to turn: along the plan while it
+        // runs (a full turn counts in full), else the way to the goal.
+        let remaining = match (self.phase, self.goal) {
+            (_, None) => 0.0,
+            (Mode::Moving | Mode::Stopping, Some(_)) => self.planned_rotation_left(),
+            (_, Some(g)) => match g.target {
+                GoalTarget::Rotation { angle, .. } => angle.abs(),
+                GoalTarget::Orientation(_) => g.end.angle_to(&self.setpoint.state.object),
+            },
+        };
+        let r = &mut self.report;
+        r.remaining_angle = remaining;
+        r.tick = self.tick;
+        // What is written to the plant: the plan, turned by the correction,
+        // fingertips placed on the object where it is measured.
+        r.setpoint = self.placement.apply(&self.correction.apply(&self.setpoint));
+        r.phase = self.phase;
+        r.step_kind = match self.phase {
+            Mode::Moving | Mode::Stopping => self
+                .plan
+                .as_deref()
+                .and_then(|p| p.steps.get(self.step))
+                .map(|s| s.kind),
+            _ => None,
+        };
+        r.goal = match self.goal {
+            Some(g) => Some((g.id, g.state, Reason::None)),
+            None => self.last_goal,
+        };
+        r.gaits = (self.gaits_done, self.gaits_planned);
+        let hold_left = match (self.handover, self.current_step().and_then(|s| s.handover)) {
+            (Some(h), _) => on_ticks(h.duration - h.elapsed, self.dt),
+            (None, Some(h)) => on_ticks(h.duration, self.dt),
+            (None, None) => 0.0,
+        };
+        let motion_left = on_ticks(self.runner.time_left(), self.dt);
+        let r = &mut self.report;
+        r.eta = match self.phase {
+            Mode::Moving => self.time_after_step + motion_left + hold_left,
+            Mode::Stopping => motion_left + hold_left,
+            _ => 0.0,
+        };
+        r.fault = self.fault;
+        let model = &self.grip;
+        let torque = self.object_acceleration * self.inertia;
+        let state = self.setpoint.state;
+        let carrying = self.carrying;
+        let from = self
+            .grips
+            .get(grip::grip_key(&state, &torque, carrying), |_| {
+                model.carried(&state, &torque, carrying)
+            });
+        let g = match self.handover {
+            Some(h) => {
+                let to = self
+                    .grips_to
+                    .get(grip::grip_key(&state, &torque, h.to), |_| {
+                        model.carried(&state, &torque, h.to)
+                    });
+                grip::GripModel::blend(&from, &to, grip::ramp(h.elapsed / h.duration))
+            }
+            None => from,
+        };
+        let r = &mut self.report;
+        r.grip = g.normal;
+        r.grip_capped = g.capped;
+        r.grip_peak = g.peak;
+        r.load_margin = model.hold().max_grip() - g.peak;
+    }
+}
+
+/// A time `t` as the control loop runs it: whole periods `dt`, the last
+/// one reached or passed (a motion ends on the first tick at or after its
+/// end; a handover likewise).
+pub(super) fn on_ticks(t: f64, dt: f64) -> f64 {
+    (t / dt - 1e-9).ceil().max(0.0) * dt
+}
+
+/// How long a step runs on ticks: its motion, then its handover, each to
+/// whole periods (what the ETA counts: summing the planned durations
+/// undercounts by about half a period per step).
+pub(super) fn step_on_ticks(step: &Step, dt: f64) -> f64 {
+    let hold = step.handover.map_or(0.0, |h| h.duration);
+    on_ticks(step.duration - hold, dt) + on_ticks(hold, dt)
+}

@@ -1,0 +1,47 @@
+//! The setpoints written to the plant, remembered: a measurement reflects
+//! the setpoint written `age` ticks before ([`Measurement::age`]), and is
+//! compared with that one, as it was commanded (SPEC §6.2, §6.3).
+
+use super::*;
+
+/// Setpoints remembered for comparing late measurements: 256 ticks, beyond
+/// the delay a plant link tolerates (`plant.max_missed` is at most 200).
+pub const WRITTEN: usize = 256;
+
+impl Executor {
+    /// The setpoint state written `age` ticks before the last one (0: the
+    /// last).
+    pub(super) fn written(&self, age: usize) -> HandState {
+        let i = (self.written_next + 2 * WRITTEN - 1 - age.min(WRITTEN - 1)) % WRITTEN;
+        self.written[i]
+    }
+
+    /// How the setpoint written `age` ticks before the last was commanded.
+    pub(super) fn written_adjustment(&self, age: usize) -> feedback::Adjustment {
+        let i = (self.written_next + 2 * WRITTEN - 1 - age.min(WRITTEN - 1)) % WRITTEN;
+        self.written_adjustment[i]
+    }
+
+    /// Records the setpoint about to be written (and its correction).
+    pub(super) fn remember_written(&mut self) {
+        self.written[self.written_next] = self.setpoint.state;
+        self.written_adjustment[self.written_next] = feedback::Adjustment {
+            rotation: self.correction.rotation(),
+            offsets: self.placement.shifts(&self.setpoint.state),
+        };
+        self.written_next = (self.written_next + 1) % WRITTEN;
+    }
+
+    /// Forgets the setpoints written before `state` (a re-based estimate:
+    /// the older ones belong to the old estimate).
+    pub(super) fn reset_written(&mut self, state: HandState) {
+        self.written = [state; WRITTEN];
+        self.written_adjustment = [feedback::Adjustment {
+            rotation: UnitQuaternion::identity(),
+            offsets: self.placement.shifts(&state),
+        }; WRITTEN];
+        self.written_next = 0;
+        self.prev_reflected = state;
+        self.correction.clear();
+    }
+}

@@ -1,0 +1,374 @@
+//! The layouts of the client's payloads (SPEC §7.3): commands, answers,
+//! status, events.
+
+use super::{TypeLayout, field, layout};
+use crate::*;
+use core::mem::offset_of;
+
+/// The client's payload types, nested types after the types that use them.
+pub(super) fn layouts() -> Vec<TypeLayout> {
+    vec![
+        layout::<Command>(
+            "Command",
+            vec![
+                f!(Command, kind, "CommandKind", "what is asked"),
+                f!(
+                    Command,
+                    frame,
+                    "GoalFrame",
+                    "goal target meaning (goals only, else 0)"
+                ),
+                f!(Command, client_id, "", "sender's non-zero id"),
+                f!(Command, request_id, "", "any value, echoed in the answer"),
+                f!(
+                    Command,
+                    goal_id,
+                    "",
+                    "goal id (Goal: non-zero; Cancel: 0 = active goal)"
+                ),
+                f!(
+                    Command,
+                    target,
+                    "[w,x,y,z]",
+                    "target unit quaternion (goals only)"
+                ),
+                f!(
+                    Command,
+                    limit_mask,
+                    "bits",
+                    "set overrides: bit 3*kind+order"
+                ),
+                f!(Command, reserved, "", "padding, 0"),
+                f!(
+                    Command,
+                    object_limits,
+                    "rad/s, rad/s², rad/s³",
+                    "object rotation limit overrides (bits 0-2)"
+                ),
+                f!(
+                    Command,
+                    fingertip_limits,
+                    "m/s, m/s², m/s³",
+                    "fingertip translation limit overrides (bits 3-5)"
+                ),
+                f!(
+                    Command,
+                    rolling_limits,
+                    "rad/s, rad/s², rad/s³",
+                    "rolling-rate limit overrides (bits 6-8)"
+                ),
+            ],
+        ),
+        layout::<MotionLimits>(
+            "MotionLimits",
+            vec![
+                f!(
+                    MotionLimits,
+                    velocity,
+                    "unit/s",
+                    "velocity limit, > 0 when set"
+                ),
+                f!(
+                    MotionLimits,
+                    acceleration,
+                    "unit/s²",
+                    "acceleration limit, > 0 when set"
+                ),
+                f!(MotionLimits, jerk, "unit/s³", "jerk limit, > 0 when set"),
+            ],
+        ),
+        layout::<Answer>(
+            "Answer",
+            vec![
+                f!(Answer, client_id, "", "echo of the command's client_id"),
+                f!(Answer, request_id, "", "echo of the command's request_id"),
+                f!(Answer, goal_id, "", "echo of the command's goal_id"),
+                f!(
+                    Answer,
+                    command,
+                    "CommandKind",
+                    "echo of the command's kind (raw)"
+                ),
+                f!(Answer, code, "AnswerCode", "accepted or rejected"),
+                f!(
+                    Answer,
+                    reason,
+                    "ReasonCode",
+                    "why rejected (0 when accepted)"
+                ),
+                f!(Answer, reserved, "", "padding, 0"),
+                f!(Answer, tick, "tick", "daemon tick that handled the command"),
+                f!(Answer, instance, "", "daemon instance id"),
+            ],
+        ),
+        layout::<Status>(
+            "Status",
+            vec![
+                f!(Status, tick, "tick", "tick counter since start"),
+                f!(
+                    Status,
+                    time_ns,
+                    "ns",
+                    "CLOCK_MONOTONIC wake-up time of this tick"
+                ),
+                f!(
+                    Status,
+                    publish_time_ns,
+                    "ns",
+                    "CLOCK_MONOTONIC time just before publishing"
+                ),
+                f!(Status, instance, "", "random id of this daemon run"),
+                f!(
+                    Status,
+                    daemon_state,
+                    "DaemonState",
+                    "running, or stopped (final status)"
+                ),
+                f!(Status, phase, "Phase", "controller phase"),
+                f!(Status, fault, "FaultCode", "current fault, 0 = none"),
+                f!(
+                    Status,
+                    grasp,
+                    "GraspState",
+                    "force closure of the grasping fingers"
+                ),
+                f!(
+                    Status,
+                    grasp_margin,
+                    "rad",
+                    "force-closure margin, 0 when unknown"
+                ),
+                f!(
+                    Status,
+                    load_grip,
+                    "N",
+                    "largest normal force the grasp needs to hold the load (F*, SPEC §1.3 I1'); +inf when none does"
+                ),
+                f!(
+                    Status,
+                    load_margin,
+                    "N",
+                    "load.max_grip − load_grip; negative when the grasp cannot hold the load"
+                ),
+                f!(
+                    Status,
+                    commanded_object_q,
+                    "[w,x,y,z]",
+                    "commanded object orientation q_o, object → hand (the setpoint)"
+                ),
+                f!(
+                    Status,
+                    commanded_object_omega,
+                    "rad/s",
+                    "commanded object angular velocity, hand frame"
+                ),
+                f!(
+                    Status,
+                    measured_object_q,
+                    "[w,x,y,z]",
+                    "measured object orientation (mask bit OBJECT)"
+                ),
+                f!(
+                    Status,
+                    object_error,
+                    "rad",
+                    "angle from measured to commanded orientation (mask bit OBJECT)"
+                ),
+                f!(
+                    Status,
+                    measured_tick,
+                    "tick",
+                    "tick the measurement was read at, 0 = none yet"
+                ),
+                f!(
+                    Status,
+                    measured_mask,
+                    "bits",
+                    "valid measured fields: 1 OBJECT, 2 TIPS, 4 CONTACTS, 8 FORCES"
+                ),
+                f!(Status, reserved0, "", "padding, 0"),
+                f!(Status, goal, "GoalStatus", "current goal and progress"),
+                f!(Status, fingers, "FingerStatus", "fingers f1, f2, f3"),
+                f!(Status, timing, "Timing", "loop timing"),
+                f!(Status, commands, "", "commands received since start"),
+                f!(Status, rejected, "", "commands rejected since start"),
+                f!(Status, clients, "", "client nodes alive"),
+                f!(Status, reserved, "", "padding, 0"),
+            ],
+        ),
+        layout::<GoalStatus>(
+            "GoalStatus",
+            vec![
+                f!(GoalStatus, goal_id, "", "current or last goal, 0 = none"),
+                f!(GoalStatus, client_id, "", "its client"),
+                f!(GoalStatus, state, "GoalState", "goal state"),
+                f!(GoalStatus, reason, "ReasonCode", "reason (terminal states)"),
+                f!(GoalStatus, remaining_angle, "rad", "angle still to rotate"),
+                f!(
+                    GoalStatus,
+                    eta,
+                    "s",
+                    "estimated time to completion, -1 = unknown"
+                ),
+                f!(GoalStatus, gaits_done, "", "gaits completed"),
+                f!(GoalStatus, gaits_planned, "", "gaits in the plan"),
+                f!(
+                    GoalStatus,
+                    active_finger,
+                    "index",
+                    "finger of the current primitive, 0xFFFFFFFF = none"
+                ),
+                f!(GoalStatus, reserved, "", "padding, 0"),
+            ],
+        ),
+        layout::<FingerStatus>(
+            "FingerStatus",
+            vec![
+                f!(FingerStatus, state, "FingerPhase", "finger state"),
+                f!(
+                    FingerStatus,
+                    measured_contact,
+                    "0/1",
+                    "measured contact, 1 = touching (mask bit CONTACTS)"
+                ),
+                f!(
+                    FingerStatus,
+                    contact_hand,
+                    "m",
+                    "contact on the object surface, hand frame (0 if no contact)"
+                ),
+                f!(
+                    FingerStatus,
+                    contact_object,
+                    "m",
+                    "contact on the object surface, object frame (0 if no contact)"
+                ),
+                f!(
+                    FingerStatus,
+                    commanded_tip_position,
+                    "m",
+                    "commanded fingertip centre p, hand frame"
+                ),
+                f!(
+                    FingerStatus,
+                    commanded_tip_orientation,
+                    "[w,x,y,z]",
+                    "commanded fingertip orientation Q_f, fingertip → hand"
+                ),
+                f!(
+                    FingerStatus,
+                    tip_contact,
+                    "unit vector",
+                    "contact on the fingertip m, fingertip frame (0 if no contact)"
+                ),
+                f!(FingerStatus, roll, "rad", "roll τ about the pole axis"),
+                f!(
+                    FingerStatus,
+                    workspace_margin,
+                    "rad",
+                    "angle to the workspace cone boundary, > 0 inside"
+                ),
+                f!(
+                    FingerStatus,
+                    commanded_normal_force,
+                    "N",
+                    "intended normal force, 0 if none"
+                ),
+                f!(
+                    FingerStatus,
+                    measured_tip_position,
+                    "m",
+                    "measured fingertip centre, hand frame (mask bit TIPS)"
+                ),
+                f!(
+                    FingerStatus,
+                    measured_tip_orientation,
+                    "[w,x,y,z]",
+                    "measured fingertip orientation (mask bit TIPS)"
+                ),
+                f!(
+                    FingerStatus,
+                    measured_normal_force,
+                    "N",
+                    "measured normal force (mask bit FORCES)"
+                ),
+                f!(
+                    FingerStatus,
+                    tip_error,
+                    "m",
+                    "distance measured → commanded fingertip centre (mask bit TIPS)"
+                ),
+            ],
+        ),
+        layout::<Timing>(
+            "Timing",
+            vec![
+                f!(Timing, period_ns, "ns", "loop period"),
+                f!(
+                    Timing,
+                    compute_last_ns,
+                    "ns",
+                    "compute time of the previous tick"
+                ),
+                f!(
+                    Timing,
+                    compute_p50_ns,
+                    "ns",
+                    "compute time median since start"
+                ),
+                f!(Timing, compute_p99_ns, "ns", "compute time p99 since start"),
+                f!(Timing, compute_max_ns, "ns", "compute time max since start"),
+                f!(Timing, jitter_last_ns, "ns", "wake-up jitter of this tick"),
+                f!(
+                    Timing,
+                    jitter_p99_ns,
+                    "ns",
+                    "wake-up jitter p99 since start"
+                ),
+                f!(
+                    Timing,
+                    jitter_max_ns,
+                    "ns",
+                    "wake-up jitter max since start"
+                ),
+                f!(Timing, overruns, "periods", "missed periods since start"),
+                f!(
+                    Timing,
+                    jitter_hist,
+                    "counts",
+                    "bucket 0: < 1 µs; i: [2^(i-1), 2^i) µs; 15: ≥ 16.384 ms"
+                ),
+            ],
+        ),
+        layout::<Event>(
+            "Event",
+            vec![
+                f!(Event, seq, "", "sequence number, from 1, no gaps"),
+                f!(Event, tick, "tick", "tick at which it happened"),
+                f!(Event, time_ns, "ns", "CLOCK_MONOTONIC time of that tick"),
+                f!(Event, instance, "", "daemon instance id"),
+                f!(Event, kind, "EventKind", "what happened"),
+                f!(Event, finger, "index", "finger 0-2, 0xFFFFFFFF = none"),
+                f!(Event, state, "GoalState", "new goal state (transitions)"),
+                f!(Event, reason, "ReasonCode", "reason"),
+                f!(Event, goal_id, "", "goal concerned, 0 = none"),
+                f!(Event, client_id, "", "that goal's client"),
+                f!(
+                    Event,
+                    fault,
+                    "FaultCode",
+                    "Fault: the fault; NearLimit: the invariant"
+                ),
+                f!(Event, reserved, "", "padding, 0"),
+                f!(
+                    Event,
+                    count,
+                    "",
+                    "Overrun: missed periods; ClientsCleaned: nodes; Drift, NearLimit: replans so far; \
+                     Substitution: finger that took over, as a bit; Rewind: relocated fingers as bits"
+                ),
+                f!(Event, value, "", "GoalTransition: remaining angle [rad]"),
+            ],
+        ),
+    ]
+}

@@ -1,0 +1,237 @@
+//! The layouts of the plant's payloads (SPEC §6.2): what the daemon
+//! commands a hand outside it, and what that hand measures.
+
+use super::{TypeLayout, field, layout};
+use crate::*;
+use core::mem::offset_of;
+
+/// The plant's payload types, nested types after the types that use them.
+pub(super) fn layouts() -> Vec<TypeLayout> {
+    vec![
+        layout::<PlantCommand>(
+            "PlantCommand",
+            vec![
+                f!(
+                    PlantCommand,
+                    session,
+                    "",
+                    "daemon session id, random per start"
+                ),
+                f!(
+                    PlantCommand,
+                    seq,
+                    "",
+                    "command sequence number, from 1, +1 each"
+                ),
+                f!(
+                    PlantCommand,
+                    answers,
+                    "",
+                    "seq of the measurement it answers, 0 = none"
+                ),
+                f!(
+                    PlantCommand,
+                    target_time_ns,
+                    "ns",
+                    "plant time the setpoint holds at: answered time + period"
+                ),
+                f!(PlantCommand, period_ns, "ns", "control period"),
+                f!(
+                    PlantCommand,
+                    flags,
+                    "bits",
+                    "1 ENABLE, 2 HOLD (safe hold: still, grasp kept), 4 LOCKSTEP"
+                ),
+                f!(PlantCommand, reserved, "", "padding, 0"),
+                f!(
+                    PlantCommand,
+                    object_q,
+                    "[w,x,y,z]",
+                    "object orientation setpoint, object → hand"
+                ),
+                f!(
+                    PlantCommand,
+                    object_omega,
+                    "rad/s",
+                    "object angular velocity setpoint, hand frame"
+                ),
+                f!(
+                    PlantCommand,
+                    fingers,
+                    "PlantFingerCommand",
+                    "fingers f1, f2, f3"
+                ),
+            ],
+        ),
+        layout::<PlantFingerCommand>(
+            "PlantFingerCommand",
+            vec![
+                f!(
+                    PlantFingerCommand,
+                    mode,
+                    "PlantFingerMode",
+                    "what the fingertip does"
+                ),
+                f!(PlantFingerCommand, reserved, "", "padding, 0"),
+                f!(
+                    PlantFingerCommand,
+                    position,
+                    "m",
+                    "fingertip centre, hand frame"
+                ),
+                f!(
+                    PlantFingerCommand,
+                    orientation,
+                    "[w,x,y,z]",
+                    "fingertip orientation, fingertip → hand"
+                ),
+                f!(
+                    PlantFingerCommand,
+                    velocity,
+                    "m/s",
+                    "linear velocity, hand frame"
+                ),
+                f!(
+                    PlantFingerCommand,
+                    angular_velocity,
+                    "rad/s",
+                    "angular velocity, hand frame"
+                ),
+                f!(
+                    PlantFingerCommand,
+                    acceleration,
+                    "m/s²",
+                    "linear acceleration feed-forward, hand frame"
+                ),
+                f!(
+                    PlantFingerCommand,
+                    roll,
+                    "rad",
+                    "commanded roll τ about the pole axis"
+                ),
+                f!(
+                    PlantFingerCommand,
+                    grip_force,
+                    "N",
+                    "intended normal force, 0 when not grasping"
+                ),
+            ],
+        ),
+        layout::<PlantMeasurement>(
+            "PlantMeasurement",
+            vec![
+                f!(
+                    PlantMeasurement,
+                    session,
+                    "",
+                    "session of the last command applied, 0 = none yet"
+                ),
+                f!(
+                    PlantMeasurement,
+                    seq,
+                    "",
+                    "measurement sequence number, from 1, +1 each"
+                ),
+                f!(
+                    PlantMeasurement,
+                    applied,
+                    "",
+                    "seq of the last command applied, 0 = none"
+                ),
+                f!(PlantMeasurement, time_ns, "ns", "sample time, plant clock"),
+                f!(
+                    PlantMeasurement,
+                    valid,
+                    "bits",
+                    "valid fields: 1 object_q, 2 object_omega, 4 object_center, 8 tip pose, \
+                     16 tip velocity, 32 contact, 64 normal_force, 128 roll (required: 1, 8, 32, 128)"
+                ),
+                f!(
+                    PlantMeasurement,
+                    state,
+                    "bits",
+                    "1 SIMULATED, 2 PAUSED, 4 FAULT"
+                ),
+                f!(
+                    PlantMeasurement,
+                    fault,
+                    "PlantFault",
+                    "with FAULT: the plant's fault"
+                ),
+                f!(PlantMeasurement, reserved, "", "padding, 0"),
+                f!(
+                    PlantMeasurement,
+                    object_q,
+                    "[w,x,y,z]",
+                    "object orientation, object → hand"
+                ),
+                f!(
+                    PlantMeasurement,
+                    object_omega,
+                    "rad/s",
+                    "object angular velocity, hand frame"
+                ),
+                f!(
+                    PlantMeasurement,
+                    object_center,
+                    "m",
+                    "object centre, hand frame"
+                ),
+                f!(
+                    PlantMeasurement,
+                    fingers,
+                    "PlantFingerMeasurement",
+                    "fingers f1, f2, f3"
+                ),
+            ],
+        ),
+        layout::<PlantFingerMeasurement>(
+            "PlantFingerMeasurement",
+            vec![
+                f!(
+                    PlantFingerMeasurement,
+                    contact,
+                    "0/1",
+                    "1 = touching the object"
+                ),
+                f!(PlantFingerMeasurement, reserved, "", "padding, 0"),
+                f!(
+                    PlantFingerMeasurement,
+                    position,
+                    "m",
+                    "fingertip centre, hand frame"
+                ),
+                f!(
+                    PlantFingerMeasurement,
+                    orientation,
+                    "[w,x,y,z]",
+                    "fingertip orientation, fingertip → hand"
+                ),
+                f!(
+                    PlantFingerMeasurement,
+                    velocity,
+                    "m/s",
+                    "linear velocity, hand frame"
+                ),
+                f!(
+                    PlantFingerMeasurement,
+                    angular_velocity,
+                    "rad/s",
+                    "angular velocity, hand frame"
+                ),
+                f!(
+                    PlantFingerMeasurement,
+                    roll,
+                    "rad",
+                    "roll τ about the pole axis"
+                ),
+                f!(
+                    PlantFingerMeasurement,
+                    normal_force,
+                    "N",
+                    "normal force at the contact"
+                ),
+            ],
+        ),
+    ]
+}
