@@ -66,9 +66,11 @@ impl Feedback {
 
     /// Checks `m` against the planned state `cmd` it reflects (and the one
     /// the previous measurement `prev_m` reflected, `prev_cmd`, for the
-    /// stall check). The fingertips were commanded as `adjusted`
-    /// ([`Adjustment`]): they are expected there; the object is expected
-    /// at the plan. `offset` is a known
+    /// stall check). The fingertips were commanded as `adjusted.0`
+    /// ([`Adjustment`]; `prev_cmd`'s as `adjusted.1`): they are expected
+    /// there, and expected to have moved as commanded (a correction that
+    /// turns the grasp against a slow start of the plan's motion is no
+    /// stall); the object is expected at the plan. `offset` is a known
     /// object-frame offset of the true object from the planned one (true ≈
     /// `cmd.object · offset`; identity unless a drift is being recovered
     /// from). Returns the object's error from the plan as a rotation vector
@@ -80,8 +82,9 @@ impl Feedback {
         prev_cmd: &HandState,
         prev_m: Option<&Measurement>,
         offset: &UnitQuaternion<f64>,
-        adjusted: &Adjustment,
+        adjusted: (&Adjustment, &Adjustment),
     ) -> Result<Vector3<f64>, (FaultKind, u8)> {
+        let (adjusted, prev_adjusted) = adjusted;
         let Some(m) = m else {
             return Err((FaultKind::MissingMeasurement, NOT_A_FINGER));
         };
@@ -111,7 +114,9 @@ impl Feedback {
             if self.stall_ratio > 0.0
                 && let Some(pm) = prev_m
             {
-                let commanded = (f.center - prev_cmd.fingers[k].center).norm();
+                let commanded = (adjusted.tip(k, &f.center)
+                    - prev_adjusted.tip(k, &prev_cmd.fingers[k].center))
+                .norm();
                 let moved = (mf.center - pm.fingers[k].center).norm();
                 if commanded > STALL_MIN_MOTION && moved < self.stall_ratio * commanded {
                     return Err((FaultKind::FingerTracking, k as u8));

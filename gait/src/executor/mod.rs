@@ -154,6 +154,8 @@ pub struct Executor {
     written_adjustment: [feedback::Adjustment; WRITTEN],
     /// The setpoint state the last measurement reflected.
     prev_reflected: HandState,
+    /// How `prev_reflected` was commanded beyond its plan.
+    prev_reflected_adjustment: feedback::Adjustment,
     /// The correction of the commanded grasp ([`correction`]).
     correction: correction::Correction,
     /// Fingertips placed where the object is measured ([`placement`]).
@@ -297,6 +299,7 @@ impl Executor {
             written_next: 0,
             written_adjustment: [feedback::Adjustment::NONE; WRITTEN],
             prev_reflected: start,
+            prev_reflected_adjustment: feedback::Adjustment::NONE,
             correction: correction::Correction::new(
                 config.feedback.orientation_gain,
                 config.feedback.max_correction_deg.to_radians(),
@@ -473,6 +476,7 @@ impl Executor {
         // held or repeated reflects the same setpoint: no motion expected).
         let age = measurement.map_or(0, |m| m.age as usize);
         let cmd = self.written(age);
+        let adjusted = self.written_adjustment(age);
         let prev_cmd = self.prev_reflected;
         if self.phase != Mode::SafeHold {
             match self.feedback.check(
@@ -481,7 +485,7 @@ impl Executor {
                 &prev_cmd,
                 self.prev_measurement.as_ref(),
                 &self.drift.map_or(UnitQuaternion::identity(), |d| d.offset),
-                &self.written_adjustment(age),
+                (&adjusted, &self.prev_reflected_adjustment),
             ) {
                 Ok(err) => {
                     error = err;
@@ -507,6 +511,7 @@ impl Executor {
             self.check_contacts(&cmd, m);
             self.prev_measurement = Some(*m);
             self.prev_reflected = cmd;
+            self.prev_reflected_adjustment = adjusted;
             self.measured_at = self.tick;
         }
         // Only a hand under control corrects (not in safe hold), and only

@@ -35,13 +35,15 @@ impl Executor {
     /// Forgets the setpoints written before `state` (a re-based estimate:
     /// the older ones belong to the old estimate).
     pub(super) fn reset_written(&mut self, state: HandState) {
-        self.written = [state; WRITTEN];
-        self.written_adjustment = [feedback::Adjustment {
+        let adjustment = feedback::Adjustment {
             rotation: UnitQuaternion::identity(),
             offsets: self.placement.shifts(&state),
-        }; WRITTEN];
+        };
+        self.written = [state; WRITTEN];
+        self.written_adjustment = [adjustment; WRITTEN];
         self.written_next = 0;
         self.prev_reflected = state;
+        self.prev_reflected_adjustment = adjustment;
         self.correction.clear();
     }
 }
