@@ -34,14 +34,31 @@ impl Planner {
         if !state_finite(start) {
             return Err(PlanError::NonFiniteState);
         }
+        // After a three-finger turn towards the goal, the cheap tiers only:
+        // the fallbacks are for when nothing else plans.
+        self.with_triple_turn_first(
+            start,
+            &goal,
+            |s| self.plan_from(s, &goal),
+            |short, s| short.in_tiers(|p: &Planner, spins| p.plan_orientation(s, &goal, spins)),
+        )
+    }
+
+    /// [`Planner::plan`] from `start` as it is: the tiers, then under load
+    /// the fallbacks.
+    pub(super) fn plan_from(
+        &self,
+        start: &HandState,
+        goal: &UnitQuaternion<f64>,
+    ) -> Result<Plan, PlanError> {
         // Spins come after the waypoints: a plan that spins a contact
         // under load is the last resort (its contact force flickers in
         // MuJoCo, and from some reached grasps the spinning plan was 100
         // gaits long where a waypoint plan has 22: LOAD-FIGURES §12).
-        let orientation = |p: &Planner, spins| p.plan_orientation(start, &goal, spins);
+        let orientation = |p: &Planner, spins| p.plan_orientation(start, goal, spins);
         match self.in_tiers(orientation) {
             Err(e) if self.load.active() && found_nothing(&e) => self
-                .plan_via_waypoints(start, &goal)
+                .plan_via_waypoints(start, goal)
                 .map_or_else(|| self.spinning_tier(orientation).map_err(|_| e), Ok),
             r => r,
         }

@@ -24,6 +24,7 @@ pub mod plan;
 pub mod search;
 pub mod start;
 pub mod timing;
+mod triple;
 pub mod zigzag;
 
 use nalgebra::{UnitQuaternion, Vector3};
@@ -170,7 +171,9 @@ pub struct Planner {
     cand: std::sync::Arc<Candidates>,
     /// The start's zigzag rolls found so far (shared by clones; a
     /// re-timed planner gets its own: the legs depend on the timing).
-    zigzags: std::sync::Arc<zigzag::ZigzagCache>,
+    /// `None`: the start rolls a pair apart by one great-circle roll only
+    /// (the cheap planning after a three-finger turn, [`triple`]).
+    zigzags: Option<std::sync::Arc<zigzag::ZigzagCache>>,
 }
 
 impl Planner {
@@ -185,7 +188,7 @@ impl Planner {
             load: load::PairLoad::new(config),
             grip: crate::executor::grip::GripModel::new(config),
             cand: std::sync::Arc::new(Candidates::new(&geom, config.planner.candidate_spacing_deg)),
-            zigzags: Default::default(),
+            zigzags: Some(Default::default()),
         })
     }
 
@@ -207,7 +210,7 @@ impl Planner {
             load: load::PairLoad::new(&config),
             grip: crate::executor::grip::GripModel::new(&config),
             cand: self.cand.clone(),
-            zigzags: Default::default(),
+            zigzags: Some(Default::default()),
         })
     }
 
@@ -293,7 +296,7 @@ impl Planner {
             &self.load,
             &self.grip,
             &self.config,
-            &self.zigzags,
+            self.zigzags.as_deref(),
             start,
             &axis,
             self.config.planner.pair_margin_deg.to_radians(),

@@ -70,7 +70,8 @@ const ROLL_SAMPLES: usize = 64;
 /// The ways to reach a two-finger grasp (empty if none was found). Under
 /// load (SPEC §1.3 I1') the pair must hold it: a lift only leaves a pair
 /// that does, and the roll apart goes on until the pair does (holding it
-/// while rotating about `axis` next, when the cones allow).
+/// while rotating about `axis` next, when the cones allow); beyond one
+/// great-circle roll's reach only with `zigzags`.
 #[allow(clippy::too_many_arguments)]
 pub fn starts(
     g: &Geometry,
@@ -78,7 +79,7 @@ pub fn starts(
     load: &PairLoad,
     grip: &GripModel,
     config: &HandConfig,
-    zigzags: &ZigzagCache,
+    zigzags: Option<&ZigzagCache>,
     hand: &HandState,
     axis: &Vector3<f64>,
     extra: f64,
@@ -116,6 +117,7 @@ pub fn starts(
                             // Beyond a great-circle roll's reach (the fingertip
                             // hemisphere): rolling paths of several legs.
                             _ => {
+                                let Some(zigzags) = zigzags else { continue };
                                 out.extend(
                                     roll_paths_apart(
                                         g, timing, grip, config, zigzags, hand, lose, want,
