@@ -12,14 +12,18 @@ impl Executor {
     /// The setpoint state written `age` ticks before the last one (0: the
     /// last).
     pub(super) fn written(&self, age: usize) -> HandState {
-        let i = (self.written_next + 2 * WRITTEN - 1 - age.min(WRITTEN - 1)) % WRITTEN;
-        self.written[i]
+        self.written[self.written_index(age)]
     }
 
     /// How the setpoint written `age` ticks before the last was commanded.
     pub(super) fn written_adjustment(&self, age: usize) -> feedback::Adjustment {
-        let i = (self.written_next + 2 * WRITTEN - 1 - age.min(WRITTEN - 1)) % WRITTEN;
-        self.written_adjustment[i]
+        self.written_adjustment[self.written_index(age)]
+    }
+
+    /// Where in the ring the setpoint written `age` ticks before the last
+    /// is (the oldest kept, beyond).
+    fn written_index(&self, age: usize) -> usize {
+        (self.written_next + 2 * WRITTEN - 1 - age.min(WRITTEN - 1)) % WRITTEN
     }
 
     /// Records the setpoint about to be written (and its correction).

@@ -56,10 +56,21 @@ impl Planner {
         // MuJoCo, and from some reached grasps the spinning plan was 100
         // gaits long where a waypoint plan has 22: LOAD-FIGURES §12).
         let orientation = |p: &Planner, spins| p.plan_orientation(start, goal, spins);
-        match self.in_tiers(orientation) {
-            Err(e) if self.load.active() && found_nothing(&e) => self
-                .plan_via_waypoints(start, goal)
-                .map_or_else(|| self.spinning_tier(orientation).map_err(|_| e), Ok),
+        self.detour_before_spins(orientation, || self.plan_via_waypoints(start, goal))
+    }
+
+    /// [`Planner::in_tiers`]; under load, when they find nothing,
+    /// `detour`, and last [`Planner::spinning_tier`]. The first error is
+    /// kept.
+    fn detour_before_spins(
+        &self,
+        plan: impl Fn(&Planner, bool) -> Result<Plan, PlanError>,
+        detour: impl FnOnce() -> Option<Plan>,
+    ) -> Result<Plan, PlanError> {
+        match self.in_tiers(&plan) {
+            Err(e) if self.load.active() && found_nothing(&e) => {
+                detour().map_or_else(|| self.spinning_tier(plan).map_err(|_| e), Ok)
+            }
             r => r,
         }
     }
@@ -221,12 +232,7 @@ impl Planner {
         // contact: from where a canceled goal stopped, one turn in five
         // found nothing in the tiers about its own axis, while the goal
         // orientation planned (LOAD-FIGURES §14).
-        match self.in_tiers(turn) {
-            Err(e) if self.load.active() && found_nothing(&e) => self
-                .short_turn_by_way_of(start, &axis, angle)
-                .map_or_else(|| self.spinning_tier(turn).map_err(|_| e), Ok),
-            r => r,
-        }
+        self.detour_before_spins(turn, || self.short_turn_by_way_of(start, &axis, angle))
     }
 
     /// Under load, a turn of at most [`TURN_CHUNK`] that the search about
