@@ -163,17 +163,13 @@ fn a_fingertip_spinning_under_load_pushes_along_its_normal_only() {
             .expect("the paper's turn")
             .end_state();
     }
-    // Goals 468 and 713 of Haar seed 23 from there: the two quickest to
-    // plan of the first eight such goals (40, 304, 319, 468, 469, 713,
-    // 818, 968), found by planning that sequence; the planner spins under
-    // load only when nothing else plans, so such goals are rare.
-    let goals: Vec<UnitQuaternion<f64>> = [
-        [-0.677076, 0.259604, -0.575704, 0.377808],
-        [-0.642449, 0.166818, -0.727305, -0.174527],
-    ]
-    .iter()
-    .map(|q| UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3])))
-    .collect();
+    // Goal 868 of Haar seed 23 from there: the only one of the first 1500
+    // whose plan spins (found by planning that sequence; the planner spins
+    // under load only when nothing else plans, so such goals are rare).
+    let goals: Vec<UnitQuaternion<f64>> = [[-0.266667, 0.750135, 0.487421, -0.358618]]
+        .iter()
+        .map(|q| UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3])))
+        .collect();
     for (i, g) in goals.iter().enumerate() {
         let plan = planner.plan(&start, g).expect("planned");
         assert!(

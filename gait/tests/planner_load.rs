@@ -234,6 +234,17 @@ fn the_paper_start_rolls_apart_in_three_legs_under_load() {
     let check = LoadCheck::new(&cfg);
     let checker = Checker::new(&cfg);
     let start = HandState::paper_start(&cfg);
+    // The widest pair one great-circle roll per finger can make (Theory 2:
+    // (r/R)·90° each); after a three-finger turn the pair may hold with
+    // less than 166°, but not within that reach.
+    let widest_at_start = {
+        let n: Vec<Vector3<f64>> = start.fingers.iter().map(|f| f.center.normalize()).collect();
+        (0..3)
+            .map(|a| n[a].angle(&n[(a + 1) % 3]).to_degrees())
+            .fold(0.0, f64::max)
+    };
+    let one_roll =
+        widest_at_start + 2.0 * 90.0 * cfg.model.fingertip_radius / cfg.model.object_radius;
     for (i, goal) in goals(12, 15).iter().enumerate() {
         let plan = planner.plan(&start, goal).expect("planned");
         // (After a turn with all three fingers, if the plan starts with
@@ -266,8 +277,8 @@ fn the_paper_start_rolls_apart_in_three_legs_under_load() {
             prefix.len()
         );
         assert!(
-            opened > 160.0,
-            "goal {i}: the pair opened to {opened:.1}° only"
+            opened > one_roll,
+            "goal {i}: the pair opened to {opened:.1}° only, within one great-circle roll's reach ({one_roll:.1}°)"
         );
         assert_held(&check, &checker, &cfg, &plan, &format!("goal {i}"));
     }

@@ -174,6 +174,10 @@ pub struct Planner {
     /// `None`: the start rolls a pair apart by one great-circle roll only
     /// (the cheap planning after a three-finger turn, [`triple`]).
     zigzags: Option<std::sync::Arc<zigzag::ZigzagCache>>,
+    /// Whether a failed search is followed by the escapes (rotation and
+    /// roll escapes, the unwind); not in the cheap planning after a
+    /// three-finger turn ([`triple`]), an alternative to a plan in hand.
+    escapes: bool,
 }
 
 impl Planner {
@@ -189,6 +193,7 @@ impl Planner {
             grip: crate::executor::grip::GripModel::new(config),
             cand: std::sync::Arc::new(Candidates::new(&geom, config.planner.candidate_spacing_deg)),
             zigzags: Some(Default::default()),
+            escapes: true,
         })
     }
 
@@ -211,6 +216,7 @@ impl Planner {
             grip: crate::executor::grip::GripModel::new(&config),
             cand: self.cand.clone(),
             zigzags: Some(Default::default()),
+            escapes: self.escapes,
         })
     }
 
@@ -334,6 +340,9 @@ impl Planner {
                 }
                 return Ok(self.detour(start, &goal, &starts, plan, &mut summary));
             }
+        }
+        if !self.escapes {
+            return Err(PlanError::SearchExhausted);
         }
         // 2. Escape: rotate about another axis first, or roll a grasping
         //    finger, to a state from which gaits work (Theory 1, SPEC §4.3).

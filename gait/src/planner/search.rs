@@ -245,15 +245,7 @@ impl<'a> Problem<'a> {
     /// How far the grasping pair of `hand` can rotate about the axis: in
     /// its cones, within its roll limits, holding the load.
     pub fn pair_range(&self, hand: &HandState, pair: [usize; 2]) -> f64 {
-        let mut range = f64::INFINITY;
-        for &k in &pair {
-            let f = &hand.fingers[k];
-            let c = f.contact_normal();
-            range = range
-                .min(cone_exit(self.geom, k, &self.axis, &c))
-                .min(roll_exit(self.geom, &self.axis, &f.pole_axis(), f.roll));
-        }
-        let range = (range - BOUNDARY_EPS).max(0.0);
+        let range = grasp_range(self.geom, hand, &pair, &self.axis);
         let (ca, cb) = (
             hand.fingers[pair[0]].contact_normal(),
             hand.fingers[pair[1]].contact_normal(),
@@ -707,6 +699,20 @@ pub fn lift_finger(g: &Geometry, hand: &mut HandState, finger: usize) {
     let f = &mut hand.fingers[finger];
     f.center = f.center.normalize() * g.transfer_radius;
     f.mode = FingerMode::Free;
+}
+
+/// How far the grasping `fingers` of `hand` can carry the object about
+/// `axis`: each contact in its cone, each roll within its limit (less
+/// [`BOUNDARY_EPS`]).
+pub fn grasp_range(g: &Geometry, hand: &HandState, fingers: &[usize], axis: &Vector3<f64>) -> f64 {
+    let mut range = f64::INFINITY;
+    for &k in fingers {
+        let f = &hand.fingers[k];
+        range = range
+            .min(cone_exit(g, k, axis, &f.contact_normal()))
+            .min(roll_exit(g, axis, &f.pole_axis(), f.roll));
+    }
+    (range - BOUNDARY_EPS).max(0.0)
 }
 
 /// Rotates the object and every grasping finger about `axis` by `angle`.
