@@ -155,13 +155,10 @@ pub fn zigzag(
             .map(|&(x, t)| ctx.refine(x, t, steps))
             .min_by(|p, q| p.1.total_cmp(&q.1))
     };
-    let first = refined(&found[..found.len().min(REFINE_FROM)])?;
-    if let Some(path) = ctx.path(&first.0) {
-        return Some(path);
-    }
+    let (first, next) = found.split_at(found.len().min(REFINE_FROM));
+    let best = refined(first)?;
     // None of the best few refines into the limits: the next ones may.
-    let more = refined(&found[found.len().min(REFINE_FROM)..])?;
-    ctx.path(&more.0)
+    ctx.path(&best.0).or_else(|| ctx.path(&refined(next)?.0))
 }
 
 /// Zigzags found so far, by their exact inputs (the search is a pure
