@@ -223,10 +223,11 @@ const PATH_SAMPLES: usize = 6;
 /// hemisphere, SPEC §2.4): each of the two fingers rolls in great-circle
 /// legs to half the separation wanted while the other fingers hold — the
 /// quickest three legs found ([`super::zigzag`]), else the rolling
-/// planner's Fig. 2 paths (paper Fig. 3) — the two fingers at the same
-/// time, leg by leg. Then `lose` lifts. Every sample keeps the three in
-/// their cones, clear of each other, force-closure (Fact 4 or a
-/// force-closure pair) and holding the load as hard contacts.
+/// planner's Fig. 2 paths (paper Fig. 3) — the two fingers in the
+/// quickest order of their legs ([`pair_legs`]). Then `lose` lifts. Every
+/// sample keeps the three in their cones, clear of each other,
+/// force-closure (Fact 4 or a force-closure pair) and holding the load as
+/// hard contacts.
 #[allow(clippy::too_many_arguments)]
 fn roll_paths_apart(
     g: &Geometry,
