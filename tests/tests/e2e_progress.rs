@@ -118,8 +118,7 @@ fn watch_prints_lines_when_piped() {
 #[test]
 fn demo_into_a_log_is_readable() {
     // A weightless object, as the demo starts its own daemon without
-    // `--gravity` (under the default load the paper's turn about x is
-    // refused: planner_load.rs). The motion limits scaled as time halved
+    // `--gravity`. The motion limits scaled as time halved
     // (velocity ×2, acceleration ×4, jerk ×8): this test reads what the
     // demo prints, and the scenario takes 21 s instead of 43 s.
     let mut d = TestDaemon::new("progress-demo", FAST_WEIGHTLESS);
@@ -144,4 +143,74 @@ fn demo_into_a_log_is_readable() {
         "gait events as lines:\n{text}"
     );
     assert!(text.contains("summary: succeeded"), "{text}");
+}
+
+/// The hand time (s) of a status line `t   12.345 s  tick …`.
+fn line_time(line: &str) -> f64 {
+    line.split_whitespace()
+        .nth(1)
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no time in {line:?}"))
+}
+
+/// The first number after `key` in `line` ("after 23.50 s …" → 23.50).
+fn number_after(line: &str, key: &str) -> f64 {
+    line.split(key)
+        .nth(1)
+        .and_then(|r| r.split_whitespace().next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no number after {key:?} in {line:?}"))
+}
+
+/// `gaitctl demo --plant sim`: the kinematic hand out of process, in
+/// lockstep, runs many times faster than real time. The time each goal
+/// took, and the summary's, are the hand's (the daemon's clock, which the
+/// plant drives): bracketed by the hand times of the status lines printed
+/// around the goal — not the wall time, a tenth of it here.
+#[test]
+fn demo_on_a_lockstep_plant_reports_the_hands_time() {
+    let out = gaitd_tests::output_within(
+        std::process::Command::new(gaitd_tests::workspace_bin("gaitctl"))
+            .args(["demo", "--plant", "sim"]),
+        std::time::Duration::from_secs(300),
+    );
+    let text = log_text("demo --plant sim", &out);
+    let ends: Vec<&str> = text
+        .lines()
+        .filter(|l| l.starts_with("   Succeeded (Reached) after "))
+        .collect();
+    assert_eq!(ends.len(), 2, "{text}");
+    // The plant's clock starts at 0; goal 2 is sent after goal 1's last
+    // line.
+    let mut before = 0.0;
+    let mut sum = 0.0;
+    for (goal, end) in ["1", "2"].into_iter().zip(ends) {
+        let lines: Vec<f64> = text
+            .lines()
+            .filter(|l| l.starts_with("t ") && l.contains(&format!(" goal {goal} ")))
+            .map(line_time)
+            .collect();
+        assert!(lines.len() >= 3, "goal {goal}:\n{text}");
+        let (first, running, last) = (lines[0], lines[lines.len() - 2], lines[lines.len() - 1]);
+        let took = number_after(end, "after ");
+        // It ran at least from its first line to its last one before
+        // the end, and at most from the line before it to its end line.
+        assert!(
+            took >= running - first - 0.01 && took <= last - before + 0.01,
+            "goal {goal}: {took} s, not within [{:.3}, {:.3}] s of the hand's clock:\n{text}",
+            running - first,
+            last - before
+        );
+        before = last;
+        sum += took;
+    }
+    let summary = text
+        .lines()
+        .find(|l| l.starts_with("summary: succeeded"))
+        .unwrap_or_else(|| panic!("{text}"));
+    let total = number_after(summary, "2 full turns in ");
+    assert!(
+        (total - sum).abs() < 0.02,
+        "{summary}: the goals took {sum} s"
+    );
 }

@@ -53,6 +53,26 @@ pub(crate) struct Embedded {
     pub(crate) opts: ConnectOptions,
 }
 
+/// How long a goal took: on the hand's clock (the daemon's, which a
+/// lockstep plant drives), and on the wall.
+#[derive(Clone, Copy, Default)]
+struct Took {
+    hand: f64,
+    wall: f64,
+}
+
+impl Took {
+    /// "25.34 s", with the wall time beside when a plant ran faster or
+    /// slower than real time (more than 5 % apart).
+    fn show(self) -> String {
+        if (self.wall - self.hand).abs() > 0.05 * self.hand.max(self.wall) {
+            format!("{:.2} s ({:.2} s wall)", self.hand, self.wall)
+        } else {
+            format!("{:.2} s", self.hand)
+        }
+    }
+}
+
 /// The `[load]` of a demo without `--gravity`.
 const WEIGHTLESS: &str = "[load]\ngravity = [0.0, 0.0, 0.0]\n";
 
@@ -258,8 +278,10 @@ fn run_goal(
     total: f64,
     timeout: Duration,
     (gaiting, view): (&mut Gaiting, &mut ProgressView),
-) -> Result<(GoalState, f64, u32), String> {
+) -> Result<(GoalState, Took, u32), String> {
     println!("\n== {label}");
+    // The hand's clock before the goal, in case its first event is missed.
+    let before = c.latest_status().ok().flatten().map(|s| s.time_ns);
     let t = c
         .reorient(goal, Duration::from_secs(5))
         .map_err(|e| e.to_string())?;
@@ -268,12 +290,14 @@ fn run_goal(
     }
     let t0 = Instant::now();
     let me = (c.client_id(), t.goal_id);
+    // The goal's first and terminal transitions, on the daemon's clock.
+    let mut began: Option<u64> = None;
     loop {
         if t0.elapsed() > timeout {
             return Err(format!("{label}: no outcome after {timeout:?}"));
         }
         // Every event of this goal once: its gaits, and its end.
-        let mut end = None;
+        let mut end: Option<(GoalState, _, Option<u64>)> = None;
         let events: Vec<_> = c
             .events()
             .map_err(|e| e.to_string())?
@@ -283,11 +307,13 @@ fn run_goal(
             if let Some(l) = gaiting.see(e) {
                 view.println(&format!("   {l}"));
             }
-            if e.kind() == Ok(EventKind::GoalTransition)
-                && let (Ok(state), Ok(reason)) = (e.state(), e.reason())
-                && state.is_terminal()
-            {
-                end = Some((state, reason));
+            if e.kind() == Ok(EventKind::GoalTransition) {
+                began = Some(began.map_or(e.time_ns, |b| b.min(e.time_ns)));
+                if let (Ok(state), Ok(reason)) = (e.state(), e.reason())
+                    && state.is_terminal()
+                {
+                    end = Some((state, reason, Some(e.time_ns)));
+                }
             }
         }
         let status = c.latest_status().map_err(|e| e.to_string())?;
@@ -298,20 +324,26 @@ fn run_goal(
             && let (Ok(state), Ok(reason)) = (s.goal_state(), s.goal_reason())
             && state.is_terminal()
         {
-            end = Some((state, reason));
+            end = Some((state, reason, Some(s.time_ns)));
         }
-        if let Some((state, reason)) = end {
+        if let Some((state, reason, at)) = end {
             let s = c
                 .wait_status(Duration::from_secs(1))
                 .map_err(|e| e.to_string())?;
             view.status(&s, || progress_line(&s, total));
             view.finish();
-            let secs = t0.elapsed().as_secs_f64();
+            let wall = t0.elapsed().as_secs_f64();
+            let hand = match (began.or(before), at) {
+                (Some(b), Some(e)) => e.saturating_sub(b) as f64 * 1e-9,
+                _ => wall,
+            };
+            let took = Took { hand, wall };
             println!(
-                "   {state} ({reason}) after {secs:.2} s, {} gaits",
+                "   {state} ({reason}) after {}, {} gaits",
+                took.show(),
                 s.goal.gaits_done
             );
-            return Ok((state, secs, s.goal.gaits_done));
+            return Ok((state, took, s.goal.gaits_done));
         }
         if let Some(s) = mine {
             view.status(&s, || progress_line(&s, total));
@@ -397,14 +429,15 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
         ),
     ];
     let mut ok = true;
-    let mut total_time = 0.0;
+    let mut total = Took::default();
     let mut total_gaits = 0;
     let mut gaiting = Gaiting::default();
     for (label, g) in &goals {
-        let (state, secs, gaits) =
+        let (state, took, gaits) =
             run_goal(&mut c, (label, g), tau, timeout, (&mut gaiting, &mut view))?;
         ok &= state == GoalState::Succeeded;
-        total_time += secs;
+        total.hand += took.hand;
+        total.wall += took.wall;
         total_gaits += gaits;
     }
     let s = c
@@ -418,9 +451,10 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
         .sum();
     let err = 2.0 * d.abs().min(1.0).acos();
     println!(
-        "\nsummary: {} — 2 full turns in {total_time:.1} s, {total_gaits} gaits ({} substitutions, {} rewinds); object back at its start \
+        "\nsummary: {} — 2 full turns in {}, {total_gaits} gaits ({} substitutions, {} rewinds); object back at its start \
          orientation within {err:.1e} rad\n         loop: tick compute p50 {:.1} µs p99 {:.1} µs max {:.1} µs, {} missed periods",
         if ok { "succeeded" } else { "FAILED" },
+        total.show(),
         gaiting.substitutions,
         gaiting.rewinds,
         s.timing.compute_p50_ns as f64 / 1e3,
