@@ -290,7 +290,7 @@ fn run_goal(
     }
     let t0 = Instant::now();
     let me = (c.client_id(), t.goal_id);
-    // The goal's first and terminal transitions, on the daemon's clock.
+    // When the goal was accepted, on the daemon's clock (its first event).
     let mut began: Option<u64> = None;
     loop {
         if t0.elapsed() > timeout {
@@ -307,11 +307,13 @@ fn run_goal(
             if let Some(l) = gaiting.see(e) {
                 view.println(&format!("   {l}"));
             }
-            if e.kind() == Ok(EventKind::GoalTransition) {
-                began = Some(began.map_or(e.time_ns, |b| b.min(e.time_ns)));
-                if let (Ok(state), Ok(reason)) = (e.state(), e.reason())
-                    && state.is_terminal()
-                {
+            if e.kind() == Ok(EventKind::GoalTransition)
+                && let (Ok(state), Ok(reason)) = (e.state(), e.reason())
+            {
+                if state == GoalState::Accepted {
+                    began = Some(e.time_ns);
+                }
+                if state.is_terminal() {
                     end = Some((state, reason, Some(e.time_ns)));
                 }
             }
