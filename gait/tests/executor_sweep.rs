@@ -7,7 +7,7 @@
 //! the plant's true state as on the command; setpoints are continuous.
 //!
 //! CI runs `GAIT_SWEEP_GOALS` goals from random states (default 300) and
-//! half as many from the paper start; the full sweep (10⁴ from random
+//! half as many from the paper start, on two threads; the full sweep (10⁴ from random
 //! states, 5000 from the paper start) is `GAIT_SWEEP_GOALS=10000 cargo
 //! test --release -p gait --test executor_sweep -- --nocapture`.
 
@@ -15,6 +15,7 @@ mod planning;
 
 use gait::executor::{ExecutorCommand, GoalStage, GoalTarget};
 use gait::{HandConfig, HandState};
+use nalgebra::UnitQuaternion;
 use planning::run::Rig;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -43,70 +44,46 @@ fn sweep(seed: u64, random_start: bool) {
     } else {
         goals().div_ceil(2)
     };
+    // The goals (and starts) in the seeded order, then executed on two
+    // threads: from the paper start, planning under load dominates (~280 s
+    // on one core in CI's profile, the other idle).
+    let cases: Vec<(HandState, UnitQuaternion<f64>)> = (0..n)
+        .map(|_| {
+            let start = if random_start {
+                planning::random_two_finger_state(&mut rng, &cfg)
+            } else {
+                HandState::paper_start(&cfg)
+            };
+            (start, planning::haar(&mut rng))
+        })
+        .collect();
+    let outcomes: Vec<Outcome> = std::thread::scope(|sc| {
+        let cases = &cases;
+        let part = |k: usize| {
+            sc.spawn(move || {
+                (k..n)
+                    .step_by(2)
+                    .map(|i| (i, execute(cfg, i, &cases[i], random_start)))
+                    .collect::<Vec<_>>()
+            })
+        };
+        let (a, b) = (part(0), part(1));
+        let mut all = a.join().unwrap();
+        all.extend(b.join().unwrap());
+        all.sort_by_key(|(i, _)| *i);
+        all.into_iter().map(|(_, o)| o).collect()
+    });
     let (mut ticks, mut worst_err, mut exec_s) = (0u64, 0.0f64, Vec::with_capacity(n));
     let mut failed = Vec::new();
     let mut refused_load = Vec::new();
-    for i in 0..n {
-        let start = if random_start {
-            planning::random_two_finger_state(&mut rng, &cfg)
-        } else {
-            HandState::paper_start(&cfg)
-        };
-        let goal = planning::haar(&mut rng);
-        let mut rig = Rig::new(cfg, start, 1e-3);
-        rig.command(ExecutorCommand::Goal {
-            id: 1,
-            target: GoalTarget::Orientation(goal),
-            limits: None,
-        });
-        let t = rig.run_until_idle(200_000);
-        let s = &rig.stats;
-        let err = rig.plant.state().object.angle_to(&goal);
-        // Every tick is checked whatever the outcome; a goal that did not
-        // succeed is listed (and fails the test at the end).
-        if s.goals.last() != Some(&(1, GoalStage::Succeeded)) {
-            // Under load a goal may be refused with its reason (SPEC §1.3
-            // I1'): the planner's answer for it, counted apart.
-            let refused = !random_start
-                && gait::planner::Planner::new(&cfg)
-                    .unwrap()
-                    .plan(&start, &goal)
-                    == Err(gait::planner::PlanError::LoadInfeasible { start: false });
-            if refused {
-                refused_load.push(i);
-            } else {
-                failed.push((i, s.goals.last().copied()));
-            }
+    for (i, o) in outcomes.into_iter().enumerate() {
+        match o.end {
+            End::Succeeded => worst_err = worst_err.max(o.err),
+            End::Failed(last) => failed.push((i, last)),
+            End::Refused => refused_load.push(i),
         }
-        assert!(
-            failed.last().is_some_and(|f| f.0 == i)
-                || refused_load.last() == Some(&i)
-                || err <= 1e-6,
-            "goal {i}: final error {err}"
-        );
-        assert!(
-            s.violations.is_empty(),
-            "goal {i}: {:?}",
-            &s.violations[..s.violations.len().min(3)]
-        );
-        assert_eq!(s.slips, 0, "goal {i}: slip");
-        assert!(
-            s.plant_violations.is_empty(),
-            "goal {i}, the plant's state: {:?}",
-            &s.plant_violations[..s.plant_violations.len().min(3)]
-        );
-        assert_eq!(s.plant_slips, 0, "goal {i}: the plant slipped");
-        assert!(
-            s.discontinuities.is_empty(),
-            "goal {i}: {:?}",
-            &s.discontinuities[..s.discontinuities.len().min(3)]
-        );
-        assert_eq!(s.faults, 0, "goal {i}: fault");
-        ticks += t;
-        if failed.last().is_none_or(|f| f.0 != i) && refused_load.last() != Some(&i) {
-            worst_err = worst_err.max(err);
-        }
-        exec_s.push(t as f64 * 1e-3);
+        ticks += o.ticks;
+        exec_s.push(o.ticks as f64 * 1e-3);
     }
     exec_s.sort_by(f64::total_cmp);
     println!("not succeeded: {failed:?}; refused under load (LoadInfeasible): {refused_load:?}");
@@ -129,6 +106,77 @@ fn sweep(seed: u64, random_start: bool) {
         refused_load.len() * 100 <= n,
         "refused under load: {refused_load:?}"
     );
+}
+
+/// How a goal ended: succeeded, refused under load with its reason, or
+/// not succeeded (the last goal stage seen).
+enum End {
+    Succeeded,
+    Refused,
+    Failed(Option<(u64, GoalStage)>),
+}
+
+/// One goal's outcome: its end, the plant's final error, ticks run.
+struct Outcome {
+    end: End,
+    err: f64,
+    ticks: u64,
+}
+
+/// Executes goal `i` from its start tick by tick; every tick checked
+/// (panics with the goal's number on a violation).
+fn execute(
+    cfg: HandConfig,
+    i: usize,
+    (start, goal): &(HandState, UnitQuaternion<f64>),
+    random_start: bool,
+) -> Outcome {
+    let mut rig = Rig::new(cfg, *start, 1e-3);
+    rig.command(ExecutorCommand::Goal {
+        id: 1,
+        target: GoalTarget::Orientation(*goal),
+        limits: None,
+    });
+    let t = rig.run_until_idle(200_000);
+    let s = &rig.stats;
+    let err = rig.plant.state().object.angle_to(goal);
+    // Every tick is checked whatever the outcome; a goal that did not
+    // succeed is listed (and fails the test at the end).
+    let end = if s.goals.last() == Some(&(1, GoalStage::Succeeded)) {
+        End::Succeeded
+    } else if !random_start
+        // Under load a goal may be refused with its reason (SPEC §1.3
+        // I1'): the planner's answer for it, counted apart.
+        && gait::planner::Planner::new(&cfg).unwrap().plan(start, goal)
+            == Err(gait::planner::PlanError::LoadInfeasible { start: false })
+    {
+        End::Refused
+    } else {
+        End::Failed(s.goals.last().copied())
+    };
+    assert!(
+        !matches!(end, End::Succeeded) || err <= 1e-6,
+        "goal {i}: final error {err}"
+    );
+    assert!(
+        s.violations.is_empty(),
+        "goal {i}: {:?}",
+        &s.violations[..s.violations.len().min(3)]
+    );
+    assert_eq!(s.slips, 0, "goal {i}: slip");
+    assert!(
+        s.plant_violations.is_empty(),
+        "goal {i}, the plant's state: {:?}",
+        &s.plant_violations[..s.plant_violations.len().min(3)]
+    );
+    assert_eq!(s.plant_slips, 0, "goal {i}: the plant slipped");
+    assert!(
+        s.discontinuities.is_empty(),
+        "goal {i}: {:?}",
+        &s.discontinuities[..s.discontinuities.len().min(3)]
+    );
+    assert_eq!(s.faults, 0, "goal {i}: fault");
+    Outcome { end, err, ticks: t }
 }
 
 #[test]
