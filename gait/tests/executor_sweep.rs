@@ -57,22 +57,7 @@ fn sweep(seed: u64, random_start: bool) {
             (start, planning::haar(&mut rng))
         })
         .collect();
-    let outcomes: Vec<Outcome> = std::thread::scope(|sc| {
-        let cases = &cases;
-        let part = |k: usize| {
-            sc.spawn(move || {
-                (k..n)
-                    .step_by(2)
-                    .map(|i| (i, execute(cfg, i, &cases[i], random_start)))
-                    .collect::<Vec<_>>()
-            })
-        };
-        let (a, b) = (part(0), part(1));
-        let mut all = a.join().unwrap();
-        all.extend(b.join().unwrap());
-        all.sort_by_key(|(i, _)| *i);
-        all.into_iter().map(|(_, o)| o).collect()
-    });
+    let outcomes = planning::on_two_threads(n, |i| execute(cfg, i, &cases[i], random_start));
     let (mut ticks, mut worst_err, mut exec_s) = (0u64, 0.0f64, Vec::with_capacity(n));
     let mut failed = Vec::new();
     let mut refused_load = Vec::new();

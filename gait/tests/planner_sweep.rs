@@ -69,22 +69,8 @@ fn sweep(n: usize, seed: u64, random_start: bool, load: bool) {
             (start, planning::haar(&mut rng))
         })
         .collect();
-    let outcomes: Vec<Option<(f64, f64, bool)>> = std::thread::scope(|sc| {
-        let (cases, planner, checker) = (&cases, &planner, &checker);
-        let part = |k: usize| {
-            sc.spawn(move || {
-                (k..n)
-                    .step_by(2)
-                    .map(|i| (i, plan_one(planner, checker, i, &cases[i], load)))
-                    .collect::<Vec<_>>()
-            })
-        };
-        let (a, b) = (part(0), part(1));
-        let mut all = a.join().unwrap();
-        all.extend(b.join().unwrap());
-        all.sort_by_key(|(i, _)| *i);
-        all.into_iter().map(|(_, o)| o).collect()
-    });
+    let outcomes =
+        planning::on_two_threads(n, |i| plan_one(&planner, &checker, i, &cases[i], load));
     let (mut durations, mut gaits, mut fails, mut escapes) = (Vec::new(), Vec::new(), 0, 0);
     for o in outcomes {
         match o {

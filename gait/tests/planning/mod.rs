@@ -143,3 +143,19 @@ pub fn spins_in_a_triple(plan: &gait::planner::Plan) -> bool {
                 .all(|f| f.mode == gait::FingerMode::Grasping)
     })
 }
+
+/// `f(i)` for every `i` in `0..n`, on two threads (interleaved, so both get
+/// a share of the slow cases); results in index order. A panic in `f`
+/// fails the caller.
+pub fn on_two_threads<R: Send>(n: usize, f: impl Fn(usize) -> R + Sync) -> Vec<R> {
+    std::thread::scope(|sc| {
+        let f = &f;
+        let part =
+            |k: usize| sc.spawn(move || (k..n).step_by(2).map(|i| (i, f(i))).collect::<Vec<_>>());
+        let (a, b) = (part(0), part(1));
+        let mut all = a.join().unwrap();
+        all.extend(b.join().unwrap());
+        all.sort_by_key(|(i, _)| *i);
+        all.into_iter().map(|(_, r)| r).collect()
+    })
+}
