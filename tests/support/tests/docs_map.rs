@@ -25,7 +25,7 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The map pages at the repository's root.
-const MAPS: [&str; 1] = ["ARCHITECTURE.md"];
+const MAPS: [&str; 2] = ["ARCHITECTURE.md", "TESTING.md"];
 /// The design pages.
 const DESIGN: &str = "docs/design";
 /// The design pages' index, with the table of section numbers.
