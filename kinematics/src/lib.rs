@@ -53,6 +53,7 @@ pub mod error;
 pub mod frame;
 pub mod patch;
 pub mod section;
+pub mod torque;
 
 pub use capsule::{Capsule, LinkCapsule};
 pub use chain::{CapsuleSet, Chain, ChainState, MAX_CAPSULES};
@@ -62,3 +63,4 @@ pub use description::{
 pub use error::DescriptionError;
 pub use frame::Frame;
 pub use patch::TipPatch;
+pub use torque::{gravity_torques, joint_torques, max_force_scale};
