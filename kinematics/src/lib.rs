@@ -35,14 +35,16 @@
 //! - [`rolling`]: the rolling law of a 3-joint finger (§14.2).
 //!
 //! ```
-//! use kinematics::{Chain, HandDescription};
+//! use kinematics::{Chain, ClosedFormIk, HandDescription};
 //! # let urdf = include_str!("../../deploy/hands/trifingerpro/trifingerpro.urdf");
 //! # let section = include_str!("../../deploy/hands/trifingerpro/hand.toml");
 //! let hand = HandDescription::parse(urdf, section)?;
 //! let chain = Chain::<3>::from_description(&hand.fingers[0], hand.joint_limit_margin)?;
 //! let q = nalgebra::Vector3::new(0.0, 0.9, -1.7);
 //! let s = chain.forward(&q);
-//! assert!((s.tip_centre().z - 0.079069).abs() < 1e-6);
+//! let ik = ClosedFormIk::new(&chain).expect("TriFingerPro structure");
+//! let back = ik.solve(&s.tip_centre(), &q).expect("reachable");
+//! assert!((back - q).norm() < 1e-9);
 //! # Ok::<(), kinematics::DescriptionError>(())
 //! ```
 
@@ -51,6 +53,8 @@ pub mod chain;
 pub mod description;
 pub mod error;
 pub mod frame;
+pub mod ik_closed;
+pub mod ik_dls;
 pub mod patch;
 pub mod section;
 pub mod torque;
@@ -62,5 +66,7 @@ pub use description::{
 };
 pub use error::DescriptionError;
 pub use frame::Frame;
+pub use ik_closed::{Branches, ClosedFormIk, IkError, NotClosedForm};
+pub use ik_dls::{DlsParams, DlsResult};
 pub use patch::TipPatch;
 pub use torque::{gravity_torques, joint_torques, max_force_scale};
