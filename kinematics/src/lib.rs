@@ -56,6 +56,7 @@ pub mod frame;
 pub mod ik_closed;
 pub mod ik_dls;
 pub mod patch;
+pub mod rolling;
 pub mod section;
 pub mod torque;
 
@@ -69,4 +70,5 @@ pub use frame::Frame;
 pub use ik_closed::{Branches, ClosedFormIk, IkError, NotClosedForm};
 pub use ik_dls::{DlsParams, DlsResult};
 pub use patch::TipPatch;
+pub use rolling::{RollingRates, rolling_rates};
 pub use torque::{gravity_torques, joint_torques, max_force_scale};
