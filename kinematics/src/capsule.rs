@@ -1,7 +1,7 @@
 //! Link capsules and clearance distances (SPEC §14.1 "Workspace": links
 //! clear of the object and of the other fingers; capsules are enough).
 //!
-//! A capsule is the set of points within `radius` of the segment $[a, b]$.
+//! A capsule is the set of points within `radius` of the segment $\[a, b\]$.
 //! The description encloses each URDF collision primitive in one: a sphere
 //! is a capsule with $a = b$; a cylinder (axis along its local z, length
 //! $L$, radius $\rho$) lies inside the capsule on its axis segment with
@@ -23,7 +23,7 @@ pub struct Capsule {
     pub a: Vector3<f64>,
     /// The other end.
     pub b: Vector3<f64>,
-    /// Radius [m].
+    /// Radius \[m\].
     pub radius: f64,
 }
 
@@ -55,7 +55,7 @@ impl Capsule {
     }
 }
 
-/// The point of segment [a, b] closest to `p`.
+/// The point of segment \[a, b\] closest to `p`.
 pub fn closest_on_segment(a: &Vector3<f64>, b: &Vector3<f64>, p: &Vector3<f64>) -> Vector3<f64> {
     let d = b - a;
     let dd = d.norm_squared();
@@ -65,7 +65,7 @@ pub fn closest_on_segment(a: &Vector3<f64>, b: &Vector3<f64>, p: &Vector3<f64>) 
     a + d * ((p - a).dot(&d) / dd).clamp(0.0, 1.0)
 }
 
-/// The distance between segments [p1, q1] and [p2, q2].
+/// The distance between segments \[p1, q1\] and \[p2, q2\].
 pub fn segment_distance(
     p1: &Vector3<f64>,
     q1: &Vector3<f64>,

@@ -8,7 +8,7 @@
 //! radius r centred at the tip frame's origin.
 //!
 //! Limits: a joint position is admissible when it lies in
-//! $[q_{min} + m, q_{max} - m]$, m the description's joint-limit margin.
+//! $\[q_{min} + m, q_{max} - m\]$, m the description's joint-limit margin.
 //!
 //! Everything here is `Copy` and fixed-size: a chain is built once from a
 //! [`FingerDescription`] and then used per tick without allocation.
@@ -35,11 +35,11 @@ pub struct Chain<const N: usize> {
     pub axes: [Unit<Vector3<f64>>; N],
     /// Joint limits as described.
     pub limits: [JointLimits; N],
-    /// Margin kept inside the position limits [rad].
+    /// Margin kept inside the position limits \[rad\].
     pub margin: f64,
     /// The tip frame in joint N's frame.
     pub tip: Frame,
-    /// Tip radius r [m].
+    /// Tip radius r \[m\].
     pub tip_radius: f64,
     /// The contactable patch of the tip (§14.1 "Tip patch").
     pub patch: TipPatch,
@@ -105,17 +105,17 @@ impl<const N: usize> Chain<N> {
         SVector::from_fn(|i, _| 0.5 * (self.limits[i].lower + self.limits[i].upper))
     }
 
-    /// Torque limits τ_max [N·m].
+    /// Torque limits τ_max \[N·m\].
     pub fn effort(&self) -> SVector<f64, N> {
         SVector::from_fn(|i, _| self.limits[i].effort)
     }
 
-    /// Velocity limits [rad/s].
+    /// Velocity limits \[rad/s\].
     pub fn velocity(&self) -> SVector<f64, N> {
         SVector::from_fn(|i, _| self.limits[i].velocity)
     }
 
-    /// The tightest joint-limit margin at `q` [rad]: the smallest distance
+    /// The tightest joint-limit margin at `q` \[rad\]: the smallest distance
     /// of a joint to its nearer limit, minus the configured margin. Non-negative
     /// exactly when every joint is admissible.
     pub fn limit_margin(&self, q: &SVector<f64, N>) -> f64 {

@@ -29,13 +29,13 @@ use crate::section::{FingerSection, HandSection};
 /// A joint's limits as the URDF gives them (SPEC §14.1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointLimits {
-    /// Lower position limit [rad].
+    /// Lower position limit \[rad\].
     pub lower: f64,
-    /// Upper position limit [rad].
+    /// Upper position limit \[rad\].
     pub upper: f64,
-    /// Velocity limit [rad/s].
+    /// Velocity limit \[rad/s\].
     pub velocity: f64,
-    /// Torque limit τ_max [N·m].
+    /// Torque limit τ_max \[N·m\].
     pub effort: f64,
 }
 
@@ -55,9 +55,9 @@ pub struct JointDescription {
 /// Mass and centre of mass of a moving link (fixed children merged).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Body {
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
-    /// Centre of mass in the frame of the joint that moves it [m].
+    /// Centre of mass in the frame of the joint that moves it \[m\].
     pub com: Vector3<f64>,
 }
 
@@ -76,11 +76,11 @@ pub struct FingerDescription {
     pub joints: Vec<JointDescription>,
     /// Tip frame in the last joint's frame.
     pub tip: Frame,
-    /// Tip radius r [m].
+    /// Tip radius r \[m\].
     pub tip_radius: f64,
     /// Tip pole p (unit, tip coordinates).
     pub tip_pole: Unit<Vector3<f64>>,
-    /// Patch half-angle α [rad].
+    /// Patch half-angle α \[rad\].
     pub tip_patch: f64,
     /// Per joint i, the link it moves.
     pub bodies: Vec<Body>,
@@ -93,11 +93,11 @@ pub struct FingerDescription {
 /// The object held (SPEC §14.1).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Object {
-    /// Radius R [m].
+    /// Radius R \[m\].
     pub radius: f64,
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
-    /// Centre O in the hand frame [m].
+    /// Centre O in the hand frame \[m\].
     pub centre: Vector3<f64>,
 }
 
@@ -106,7 +106,7 @@ pub struct Object {
 pub struct Friction {
     /// Coulomb coefficient μ.
     pub mu: f64,
-    /// Torsional coefficient μ_t [m].
+    /// Torsional coefficient μ_t \[m\].
     pub torsion: f64,
 }
 
@@ -119,9 +119,9 @@ pub struct HandDescription {
     pub frame: String,
     /// The URDF file named by the section, if any (for the caller).
     pub urdf_file: Option<String>,
-    /// Margin kept inside joint position limits [rad].
+    /// Margin kept inside joint position limits \[rad\].
     pub joint_limit_margin: f64,
-    /// Gravity in the hand frame [m/s²].
+    /// Gravity in the hand frame \[m/s²\].
     pub gravity: Vector3<f64>,
     /// The object.
     pub object: Object,

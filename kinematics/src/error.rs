@@ -20,7 +20,7 @@ pub enum DescriptionError {
     /// A link named in the hand section is not in the URDF.
     #[error("`{key}`: no link `{link}` in the URDF")]
     UnknownLink {
-        /// The hand-section key, e.g. `finger[1].tip`.
+        /// The hand-section key, e.g. `finger\[1\].tip`.
         key: String,
         /// The link named there.
         link: String,
@@ -66,7 +66,7 @@ pub enum DescriptionError {
     BadLimit {
         /// Joint name.
         joint: String,
-        /// What is wrong, e.g. "no <limit> (lower < upper required)".
+        /// What is wrong, e.g. "no `<limit>`, or lower ≥ upper".
         problem: &'static str,
     },
     /// A revolute joint's axis is zero or not finite.
@@ -106,7 +106,7 @@ pub enum DescriptionError {
         /// What it must be.
         requirement: &'static str,
     },
-    /// The hand section has no `[[finger]]`, or two fingers share a name.
+    /// The hand section has no `[\[finger\]]`, or two fingers share a name.
     #[error("hand section: {0}")]
     Fingers(&'static str),
     /// A finger has more collision primitives than a fixed-size chain holds.

@@ -14,7 +14,7 @@ use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
 pub struct Frame {
     /// Rotation (child axes in parent coordinates, as columns).
     pub rotation: Matrix3<f64>,
-    /// Origin of the child frame in parent coordinates [m].
+    /// Origin of the child frame in parent coordinates \[m\].
     pub translation: Vector3<f64>,
 }
 
@@ -25,7 +25,7 @@ impl Frame {
         translation: Vector3::new(0.0, 0.0, 0.0),
     };
 
-    /// A frame from a URDF pose: translation `xyz` [m], fixed-axis `rpy` [rad].
+    /// A frame from a URDF pose: translation `xyz` \[m\], fixed-axis `rpy` \[rad\].
     pub fn from_xyz_rpy(xyz: [f64; 3], rpy: [f64; 3]) -> Frame {
         Frame {
             rotation: *Rotation3::from_euler_angles(rpy[0], rpy[1], rpy[2]).matrix(),
@@ -33,7 +33,7 @@ impl Frame {
         }
     }
 
-    /// A pure rotation by `angle` [rad] about the unit `axis` (Rodrigues).
+    /// A pure rotation by `angle` \[rad\] about the unit `axis` (Rodrigues).
     #[inline]
     pub fn rotation_about(axis: &Unit<Vector3<f64>>, angle: f64) -> Matrix3<f64> {
         let (s, c) = angle.sin_cos();

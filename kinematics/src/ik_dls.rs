@@ -30,13 +30,13 @@ use crate::chain::{Chain, ChainState};
 pub struct DlsParams {
     /// Iteration bound.
     pub max_iterations: usize,
-    /// Converged when $|e|$ is below this [m].
+    /// Converged when $|e|$ is below this \[m\].
     pub tolerance: f64,
-    /// $\lambda_{min}$ [m].
+    /// $\lambda_{min}$ \[m\].
     pub min_damping: f64,
     /// Gain k of the secondary objective (toward mid-range).
     pub null_gain: f64,
-    /// Largest change of one joint per iteration [rad].
+    /// Largest change of one joint per iteration \[rad\].
     pub max_step: f64,
 }
 
@@ -57,7 +57,7 @@ impl Default for DlsParams {
 pub struct DlsResult<const N: usize> {
     /// The joints reached (inside the limits with margin).
     pub q: SVector<f64, N>,
-    /// The tip-centre error left, $|t - c(q)|$ [m].
+    /// The tip-centre error left, $|t - c(q)|$ \[m\].
     pub error: f64,
     /// Iterations used.
     pub iterations: usize,

@@ -15,7 +15,7 @@ use nalgebra::{Matrix3, Unit, Vector3};
 pub struct TipPatch {
     /// The pole p (unit, tip coordinates).
     pub pole: Unit<Vector3<f64>>,
-    /// Half-angle α [rad].
+    /// Half-angle α \[rad\].
     pub alpha: f64,
 }
 
@@ -25,19 +25,19 @@ impl TipPatch {
         -(tip_rotation.transpose() * n)
     }
 
-    /// The angle between the contact point and the pole [rad].
+    /// The angle between the contact point and the pole \[rad\].
     pub fn angle_from_pole(&self, tip_rotation: &Matrix3<f64>, n: &Vector3<f64>) -> f64 {
         let u = Self::contact_point(tip_rotation, n);
         // atan2 of |u × p| and u·p: accurate near 0 and π, unlike acos.
         u.cross(&self.pole).norm().atan2(u.dot(&self.pole))
     }
 
-    /// $\alpha - \angle(u, p)$ [rad]: positive inside the patch.
+    /// $\alpha - \angle(u, p)$ \[rad\]: positive inside the patch.
     pub fn margin(&self, tip_rotation: &Matrix3<f64>, n: &Vector3<f64>) -> f64 {
         self.alpha - self.angle_from_pole(tip_rotation, n)
     }
 
-    /// Whether the contact lies in the patch with `margin` [rad] to spare.
+    /// Whether the contact lies in the patch with `margin` \[rad\] to spare.
     pub fn contains(&self, tip_rotation: &Matrix3<f64>, n: &Vector3<f64>, margin: f64) -> bool {
         self.margin(tip_rotation, n) >= margin
     }

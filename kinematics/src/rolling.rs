@@ -7,10 +7,10 @@
 //!   \iff \dot c = (R\omega_o + r\omega_f) \times n .$$
 //! For a 3-joint finger with $J_v$ invertible, $\omega_f = A\dot c$ with
 //! $A = J_\omega J_v^{-1}$, so
-//! $$(I + r[n]_\times A)\,\dot c = R\,(\omega_o \times n),\qquad
-//!   \dot c = (I + r[n]_\times A)^{-1} R\,(\omega_o \times n),\qquad
+//! $$(I + r\lbrack n\rbrack_\times A)\,\dot c = R\,(\omega_o \times n),\qquad
+//!   \dot c = (I + r\lbrack n\rbrack_\times A)^{-1} R\,(\omega_o \times n),\qquad
 //!   \dot q = J_v^{-1}\dot c,$$
-//! with $[n]_\times v = n \times v$. The object's angular velocity fixes
+//! with $\lbrack n\rbrack_\times v = n \times v$. The object's angular velocity fixes
 //! the finger's motion: the contact follows. The relative spin about the
 //! normal is what the chain gives:
 //! $$s = (\omega_o - \omega_f)\cdot n$$
@@ -24,13 +24,13 @@ use crate::chain::ChainState;
 /// A grasping finger's motion under the rolling law.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RollingRates {
-    /// $\dot c$: tip-centre velocity [m/s].
+    /// $\dot c$: tip-centre velocity \[m/s\].
     pub c_dot: Vector3<f64>,
-    /// $\dot q$: joint velocities [rad/s].
+    /// $\dot q$: joint velocities \[rad/s\].
     pub q_dot: Vector3<f64>,
-    /// $\omega_f = J_\omega \dot q$: tip angular velocity [rad/s].
+    /// $\omega_f = J_\omega \dot q$: tip angular velocity \[rad/s\].
     pub omega_f: Vector3<f64>,
-    /// $s = (\omega_o - \omega_f)\cdot n$: relative spin [rad/s].
+    /// $s = (\omega_o - \omega_f)\cdot n$: relative spin \[rad/s\].
     pub spin: f64,
 }
 
@@ -38,7 +38,7 @@ pub struct RollingRates {
 /// angular velocity `omega_o`, unit contact normal `n`, object radius
 /// `object_radius` (R), tip radius `tip_radius` (r).
 ///
-/// `None` where $J_v$ or $I + r[n]_\times A$ is singular.
+/// `None` where $J_v$ or $I + r\lbrack n\rbrack_\times A$ is singular.
 pub fn rolling_rates(
     s: &ChainState<3>,
     omega_o: &Vector3<f64>,

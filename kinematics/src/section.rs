@@ -40,10 +40,10 @@ pub struct HandSection {
     /// The link whose frame is the hand frame (default: the URDF root).
     #[serde(default)]
     pub frame: Option<String>,
-    /// Margin kept inside every joint's position limits [rad] (default 0.05).
+    /// Margin kept inside every joint's position limits \[rad\] (default 0.05).
     #[serde(default = "default_margin")]
     pub joint_limit_margin: f64,
-    /// Gravity in the hand frame [m/s²] (default (0, 0, −9.81)).
+    /// Gravity in the hand frame \[m/s²\] (default (0, 0, −9.81)).
     #[serde(default = "default_gravity")]
     pub gravity: [f64; 3],
     /// The object.
@@ -59,11 +59,11 @@ pub struct HandSection {
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObjectSection {
-    /// Radius R [m].
+    /// Radius R \[m\].
     pub radius: f64,
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
-    /// Centre O in the hand frame [m].
+    /// Centre O in the hand frame \[m\].
     pub centre: [f64; 3],
 }
 
@@ -73,7 +73,7 @@ pub struct ObjectSection {
 pub struct FrictionSection {
     /// Coulomb coefficient μ.
     pub mu: f64,
-    /// Torsional coefficient μ_t [m] of the soft-finger model.
+    /// Torsional coefficient μ_t \[m\] of the soft-finger model.
     pub torsion: f64,
 }
 
@@ -87,14 +87,14 @@ pub struct FingerSection {
     pub base: String,
     /// Link whose frame is the tip frame (the tip sphere's centre).
     pub tip: String,
-    /// Tip radius r [m]; optional when the tip link has a collision sphere
+    /// Tip radius r \[m\]; optional when the tip link has a collision sphere
     /// centred at its origin.
     #[serde(default)]
     pub tip_radius: Option<f64>,
     /// The tip's pole p in tip coordinates (default (0, 0, −1)).
     #[serde(default = "default_pole")]
     pub tip_pole: [f64; 3],
-    /// Half-angle α of the contactable patch around the pole [deg] (default 90).
+    /// Half-angle α of the contactable patch around the pole \[deg\] (default 90).
     #[serde(default = "default_patch")]
     pub tip_patch_deg: f64,
 }

@@ -19,7 +19,7 @@ use nalgebra::{SVector, Vector3};
 
 use crate::chain::{Chain, ChainState};
 
-/// $g(q)$: the torques that hold the links still against `gravity` [N·m].
+/// $g(q)$: the torques that hold the links still against `gravity` \[N·m\].
 pub fn gravity_torques<const N: usize>(
     chain: &Chain<N>,
     s: &ChainState<N>,
@@ -41,7 +41,7 @@ pub fn gravity_torques<const N: usize>(
     tau
 }
 
-/// $\tau = J_v^\top f + g$: the joint torques for tip force `f` [N] given
+/// $\tau = J_v^\top f + g$: the joint torques for tip force `f` \[N\] given
 /// the gravity torques `g` (from [`gravity_torques`], or zero).
 pub fn joint_torques<const N: usize>(
     s: &ChainState<N>,
