@@ -1,0 +1,75 @@
+//! # kinematics — finger chains of a real hand
+//!
+//! Pure library (no I/O, no clocks, no threads) for hands whose fingers are
+//! serial chains of revolute joints (SPEC §14): reading a hand description,
+//! and the per-tick kinematics of a chain, allocation-free after
+//! construction (fixed-size nalgebra types).
+//!
+//! ## Frames and conventions
+//! - **Hand frame**: the frame of the hand section's `frame` link (default
+//!   the URDF root). TriFingerPro: `base_link`, the arena centre on the
+//!   floor, z up, `finger_0` along +y, the other fingers turned −120° and
+//!   −240° about z (upstream `doc/world_frame_and_joint_axes.rst`).
+//!   Unlike SPEC §1.1's free-fingertip hand, the origin is not the object
+//!   centre: the object's centre O is a point of the hand frame given in
+//!   the hand section (§14.1).
+//! - **Joints**: positive $q_i$ turns right-handed about the joint's URDF
+//!   axis; $q = 0$ is the URDF's zero pose (TriFingerPro: every finger
+//!   pointing straight down). SI units, radians.
+//! - **Tip**: a sphere of radius r centred at the tip frame's origin (the
+//!   forward-kinematics point). Its **pole** p (tip coordinates) is the
+//!   centre of its contactable patch; TriFingerPro: $-z$ of the tip frame,
+//!   the hemisphere below it ([`patch`]).
+//! - **Contact**: $n$ is the object's outward unit normal at a contact;
+//!   a grasping tip has its centre at $c = O + (R + r)n$.
+//!
+//! ## Modules
+//! - [`description`], [`section`], [`error`]: URDF + hand section → chains
+//!   (§14.4).
+//! - [`chain`]: fixed-size chain, forward kinematics $(R_k(q), c_k(q))$ and
+//!   the Jacobians $J_v$, $J_\omega$ (§14.1).
+//! - [`ik_closed`]: closed-form IK of TriFingerPro-like 3-joint fingers;
+//!   [`ik_dls`]: damped least squares for any chain (§14.3).
+//! - [`patch`]: the tip patch; [`capsule`]: link capsules and clearances;
+//!   [`torque`]: the torque box $\tau = J_v^\top f + g(q)$ (§14.1).
+//! - [`rolling`]: the rolling law of a 3-joint finger (§14.2).
+//!
+//! ```
+//! use kinematics::{Chain, ClosedFormIk, HandDescription};
+//! # let urdf = include_str!("../../deploy/hands/trifingerpro/trifingerpro.urdf");
+//! # let section = include_str!("../../deploy/hands/trifingerpro/hand.toml");
+//! let hand = HandDescription::parse(urdf, section)?;
+//! let chain = Chain::<3>::from_description(&hand.fingers[0], hand.joint_limit_margin)?;
+//! let q = nalgebra::Vector3::new(0.0, 0.9, -1.7);
+//! let s = chain.forward(&q);
+//! let ik = ClosedFormIk::new(&chain).expect("TriFingerPro structure");
+//! let back = ik.solve(&s.tip_centre(), &q).expect("reachable");
+//! assert!((back - q).norm() < 1e-9);
+//! # Ok::<(), kinematics::DescriptionError>(())
+//! ```
+
+pub mod capsule;
+pub mod chain;
+pub mod description;
+pub mod error;
+pub mod frame;
+pub mod ik_closed;
+pub mod ik_dls;
+pub mod patch;
+pub mod rolling;
+pub mod section;
+pub mod torque;
+mod urdf_chain;
+
+pub use capsule::{Capsule, LinkCapsule};
+pub use chain::{CapsuleSet, Chain, ChainState, MAX_CAPSULES};
+pub use description::{
+    Body, FingerDescription, Friction, HandDescription, JointDescription, JointLimits, Object,
+};
+pub use error::DescriptionError;
+pub use frame::Frame;
+pub use ik_closed::{Branches, ClosedFormIk, IkError, NotClosedForm};
+pub use ik_dls::{DlsParams, DlsResult};
+pub use patch::TipPatch;
+pub use rolling::{RollingRates, rolling_rates};
+pub use torque::{gravity_torques, joint_torques, max_force_scale};
