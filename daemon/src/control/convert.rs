@@ -112,7 +112,7 @@ pub fn fill_status(out: &ControlOutput, object_radius: f64, status: &mut Status)
 /// The measurement beside the command: orientation, fingertip poses,
 /// contacts and forces as the plant reported them, and the tracking errors.
 fn fill_measured(out: &ControlOutput, status: &mut Status) {
-    status.reserved0 = 0;
+    status.measured_age = 0;
     let Some((m, tick)) = &out.measured else {
         status.measured_tick = 0;
         status.measured_mask = 0;
