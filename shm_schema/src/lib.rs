@@ -66,7 +66,9 @@ pub const SCHEMA_CHANGES: &[(u32, &str)] = &[
     (
         4,
         "`ReasonCode` `PlanTimeout` (35), `NoFreshMeasurement` (36), `NotAtRest` (37); \
-         `FaultCode` `PlantTiming` (15); `Status.reserved0` became `measured_age`; \
+         `FaultCode` `PlantTiming` (15); `Status.reserved0` became `measured_age`, \
+         and `object_error`, `tip_error` compare the measurement with the setpoint it \
+         answers (v3: with the setpoint of the tick that read it); \
          `Timing` gained the plant timing-contract counters (`plant_commands_late` … \
          `plant_misses_in_row_max`): `Timing` is 248 bytes, `Status` 1208.",
     ),
