@@ -287,9 +287,12 @@ impl PlantHost {
                     // Wait for the command answering our last measurement;
                     // meanwhile republish it now and then (the daemon may
                     // have restarted) and keep the grasp.
-                    self.wait_commanded(Duration::from_millis(100))?;
+                    let interrupted = self.wait_commanded(Duration::from_millis(100))?;
                     let Some(c) = self.newest()? else {
-                        self.republish(model)?;
+                        // (A signal is no silence of the daemon's.)
+                        if !interrupted {
+                            self.republish(model)?;
+                        }
                         continue;
                     };
                     if c.answers != self.seq {
@@ -354,10 +357,12 @@ impl PlantHost {
 
     /// Waits up to `timeout` for the daemon's "commanded" wake-up. A signal
     /// that interrupts the wait (one the process handles) ends it early,
-    /// like a wake-up: the caller looks for a command either way.
-    fn wait_commanded(&self, timeout: Duration) -> Result<()> {
+    /// like a wake-up: the caller looks for a command either way. Returns
+    /// whether a signal ended it.
+    fn wait_commanded(&self, timeout: Duration) -> Result<bool> {
         match self.commanded.timed_wait(|_| {}, timeout) {
-            Ok(_) | Err(ListenerWaitError::InterruptSignal) => Ok(()),
+            Ok(_) => Ok(false),
+            Err(ListenerWaitError::InterruptSignal) => Ok(true),
             Err(e) => Err(ipc_err("wait for a command")(&e)),
         }
     }

@@ -70,7 +70,10 @@ pub const SCHEMA_CHANGES: &[(u32, &str)] = &[
          and `object_error`, `tip_error` compare the measurement with the setpoint it \
          answers (v3: with the setpoint of the tick that read it); \
          `Timing` gained the plant timing-contract counters (`plant_commands_late` … \
-         `plant_misses_in_row_max`): `Timing` is 248 bytes, `Status` 1208.",
+         `plant_misses_in_row_max`): `Timing` is 248 bytes, `Status` 1208; in lockstep \
+         `Status.time_ns` and `Event.time_ns` are the plant's time throughout (0 before \
+         its first measurement; v3 mixed in the daemon's clock while waiting and at a \
+         stop).",
     ),
     (
         3,

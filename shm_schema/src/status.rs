@@ -183,7 +183,8 @@ pub struct Status {
     pub tick: u64,
     /// Time of this tick \[ns\]: CLOCK_MONOTONIC at its wake-up; in
     /// lockstep the plant's time of the measurement it ran on (one clock
-    /// per run).
+    /// per run: 0 before the plant's first measurement, the last plant time
+    /// while it is gone).
     pub time_ns: u64,
     /// CLOCK_MONOTONIC time just before publishing \[ns\] (for latency measurements).
     pub publish_time_ns: u64,

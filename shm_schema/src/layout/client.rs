@@ -109,7 +109,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     Status,
                     time_ns,
                     "ns",
-                    "time of this tick: CLOCK_MONOTONIC wake-up; in lockstep the plant's time (one clock per run)"
+                    "time of this tick: CLOCK_MONOTONIC wake-up; in lockstep the plant's time (one clock per run; 0 before the plant's first measurement)"
                 ),
                 f!(
                     Status,

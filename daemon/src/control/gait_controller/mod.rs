@@ -319,6 +319,13 @@ impl Controller for GaitController {
                 if self.exec.phase() != executor::Mode::SafeHold {
                     return Verdict::Rejected(ReasonCode::NotFaulted);
                 }
+                // An external plant: only on a measurement read in this
+                // very tick (held or fresh), never on the last one from
+                // before the plant was lost, nor between ticks.
+                let measured_now = matches!(self.reading, Some((Some(_), _)));
+                if matches!(self.hand, Hand::External(_)) && !measured_now {
+                    return Verdict::Rejected(ReasonCode::NoFreshMeasurement);
+                }
                 let a = self.exec.command(ExecutorCommand::Reset);
                 // The state is the measured one again: the plant may follow.
                 if a == executor::ExecutorAnswer::Accepted {
