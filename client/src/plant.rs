@@ -24,7 +24,7 @@
 use crate::connection::{Attempt, Ipc, ipc_err, open_err, open_event, open_pubsub, wait_for_dir};
 use crate::error::{Error, Result};
 use crate::options::ConnectOptions;
-use iceoryx2::port::listener::Listener;
+use iceoryx2::port::listener::{Listener, ListenerWaitError};
 use iceoryx2::port::notifier::Notifier;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
@@ -287,12 +287,12 @@ impl PlantHost {
                     // Wait for the command answering our last measurement;
                     // meanwhile republish it now and then (the daemon may
                     // have restarted) and keep the grasp.
-                    let _ = self
-                        .commanded
-                        .timed_wait(|_| {}, Duration::from_millis(100))
-                        .map_err(|e| ipc_err("wait for a command")(&e))?;
+                    let interrupted = self.wait_commanded(Duration::from_millis(100))?;
                     let Some(c) = self.newest()? else {
-                        self.republish(model)?;
+                        // (A signal is no silence of the daemon's.)
+                        if !interrupted {
+                            self.republish(model)?;
+                        }
                         continue;
                     };
                     if c.answers != self.seq {
@@ -351,10 +351,20 @@ impl PlantHost {
         if let Some(c) = self.newest()? {
             return Ok(Some(c));
         }
-        self.commanded
-            .timed_wait(|_| {}, timeout)
-            .map_err(|e| ipc_err("wait for a command")(&e))?;
+        self.wait_commanded(timeout)?;
         self.newest()
+    }
+
+    /// Waits up to `timeout` for the daemon's "commanded" wake-up. A signal
+    /// that interrupts the wait (one the process handles) ends it early,
+    /// like a wake-up: the caller looks for a command either way. Returns
+    /// whether a signal ended it.
+    fn wait_commanded(&self, timeout: Duration) -> Result<bool> {
+        match self.commanded.timed_wait(|_| {}, timeout) {
+            Ok(_) => Ok(false),
+            Err(ListenerWaitError::InterruptSignal) => Ok(true),
+            Err(e) => Err(ipc_err("wait for a command")(&e)),
+        }
     }
 
     /// Lockstep with no command for a while: publishes the last measurement

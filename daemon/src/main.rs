@@ -8,7 +8,7 @@ use gaitd::io::ipc;
 use gaitd::process::config::{DEFAULT_CONFIG_PATH, DaemonConfig};
 use gaitd::process::logging::{self, LogFormat};
 use gaitd::process::startup::Daemon;
-use gaitd::process::{check, signals};
+use gaitd::process::{check, load_check, signals};
 use iceoryx2::prelude::{LogLevel, set_log_level_from_env_or};
 use std::process::ExitCode;
 
@@ -106,6 +106,14 @@ fn check_config(cfg: &DaemonConfig, path: &str) -> Result<()> {
         "ipc: service prefix {}, iceoryx2 root {}, file prefix {}",
         s.service_prefix, s.root_path, s.file_prefix
     );
+    let load = load_check::paper_start_load(cfg);
+    if !load.holds() {
+        let which = "the paper's start grasp (the embedded hand's, and gaitctl plant sim's)";
+        eprintln!(
+            "gaitd: warning: {}",
+            load_check::warning(which, load.peak, &cfg.load)
+        );
+    }
     eprintln!("config OK: {path}");
     Ok(())
 }

@@ -94,7 +94,7 @@ fn every_fault_ends_in_safe_hold_within_two_ticks() {
             {
                 assert_eq!(
                     rig.command(ExecutorCommand::Reset),
-                    gait::executor::ExecutorAnswer::Rejected(gait::executor::Reason::FaultActive),
+                    gait::executor::ExecutorAnswer::Rejected(gait::executor::Reason::NotAtRest),
                     "{fault:?} at {lead}: reset while braking"
                 );
             }
@@ -162,7 +162,7 @@ fn reset_after_the_fault_clears_resumes_goals() {
     // a new one arrived.
     assert_eq!(
         rig.command(ExecutorCommand::Reset),
-        gait::executor::ExecutorAnswer::Rejected(gait::executor::Reason::FaultActive)
+        gait::executor::ExecutorAnswer::Rejected(gait::executor::Reason::NoFreshMeasurement)
     );
     rig.tick();
     assert_eq!(

@@ -250,6 +250,12 @@ code_enum! {
         MeasuredStateInvalid = 33,
         /// No plan keeps the load feasible (SPEC §1.3 I1'): no sequence of grasps found holds the weight, the acceleration torque and the configured disturbance with every normal force within `load.max_grip` (also when the start grasp itself cannot).
         LoadInfeasible = 34,
+        /// Planning ran out of its time budget (`[planner] budget_ms`) before it found a plan.
+        PlanTimeout = 35,
+        /// Reset refused: no fresh valid measurement from the plant (it is lost, stalled or not started); start the plant, then reset.
+        NoFreshMeasurement = 36,
+        /// Reset refused: the hand is still braking to rest after the fault; reset once it is still.
+        NotAtRest = 37,
     }
 }
 
@@ -366,6 +372,8 @@ code_enum! {
         ContactLost = 13,
         /// Waiting for the plant's first valid measurement: nothing moves until it arrives.
         PlantWaiting = 14,
+        /// The plant exchange missed its timing contract `plant.max_misses_in_row` ticks in a row: commands late or repeated by the plant, measurements late or repeated (PLANT-GUIDE.md; the status's `timing` counts each).
+        PlantTiming = 15,
     }
 }
 

@@ -6,16 +6,17 @@ use iceoryx2::prelude::ZeroCopySend;
 /// Something that happened: goal transitions, gait events, faults, overruns
 /// (SPEC §7.3). Fields a kind does not use are 0 (`finger`: `NO_FINGER`).
 ///
-/// Type name `gaitd::Event.v3`, 88 bytes, alignment 8.
+/// Type name `gaitd::Event.v4`, 88 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Event.v3")]
+#[type_name("gaitd::Event.v4")]
 pub struct Event {
     /// Sequence number within this daemon instance, from 1, no gaps.
     pub seq: u64,
     /// Tick at which it happened.
     pub tick: u64,
-    /// CLOCK_MONOTONIC time of that tick \[ns\].
+    /// Time of that tick \[ns\], as [`Status::time_ns`](crate::Status):
+    /// CLOCK_MONOTONIC, or in lockstep the plant's time.
     pub time_ns: u64,
     /// Daemon instance id.
     pub instance: u64,

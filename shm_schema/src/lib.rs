@@ -18,7 +18,7 @@
 //!
 //! Every payload is `#[repr(C)]`, `Copy`, `ZeroCopySend`, fixed size with
 //! explicit padding and a versioned iceoryx2 type name
-//! (`gaitd::Status.v3`): iceoryx2 compares name, size and alignment when a
+//! (`gaitd::Status.v4`): iceoryx2 compares name, size and alignment when a
 //! service opens, so a client of another schema version cannot open the
 //! services instead of misreading memory. Enums travel as `u32` codes
 //! decoded with `TryFrom<u32>` ([`codes`]). The byte layout of every field is
@@ -58,7 +58,36 @@ pub use iceoryx2;
 
 /// Version of the payload layout. It is part of every payload's type name, so
 /// a client built against another version fails to open the services.
-pub const SCHEMA_VERSION: u32 = 3;
+pub const SCHEMA_VERSION: u32 = 4;
+
+/// What each schema version changed, newest first (rendered into
+/// `LAYOUT.md`; a test checks the newest entry is [`SCHEMA_VERSION`]).
+pub const SCHEMA_CHANGES: &[(u32, &str)] = &[
+    (
+        4,
+        "`ReasonCode` `PlanTimeout` (35), `NoFreshMeasurement` (36), `NotAtRest` (37); \
+         `FaultCode` `PlantTiming` (15); `Status.reserved0` became `measured_age`, \
+         and `object_error`, `tip_error` compare the measurement with the setpoint it \
+         answers (v3: with the setpoint of the tick that read it); \
+         `Timing` gained the plant timing-contract counters (`plant_commands_late` … \
+         `plant_misses_in_row_max`): `Timing` is 248 bytes, `Status` 1208; in lockstep \
+         `Status.time_ns` and `Event.time_ns` are the plant's time throughout (0 before \
+         its first measurement; v3 mixed in the daemon's clock while waiting and at a \
+         stop).",
+    ),
+    (
+        3,
+        "`Status.load_grip` and `load_margin` (the load the commanded grasp must hold, \
+         SPEC §1.3 I1'); `ReasonCode` `LoadInfeasible` (34).",
+    ),
+    (
+        2,
+        "the status reports the measured object and fingertips beside the commanded \
+         ones (`measured_*`, `object_error`, `tip_error`, `measured_mask`); a reason \
+         code per planner error; the plant payloads (`PlantCommand`, \
+         `PlantMeasurement`) and their codes.",
+    ),
+];
 
 /// The iceoryx2 version every peer (Rust and Python) must use.
 pub const ICEORYX2_VERSION: &str = "0.10.0";

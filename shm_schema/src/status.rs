@@ -37,7 +37,7 @@ pub const NO_FINGER: u32 = u32::MAX;
 /// The active goal and its progress.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::GoalStatus.v3")]
+#[type_name("gaitd::GoalStatus.v4")]
 pub struct GoalStatus {
     /// Id of the current (or last) goal, 0 if none.
     pub goal_id: u64,
@@ -84,7 +84,7 @@ pub mod measured {
 /// otherwise.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::FingerStatus.v3")]
+#[type_name("gaitd::FingerStatus.v4")]
 pub struct FingerStatus {
     /// [`FingerPhase`] code.
     pub state: u32,
@@ -114,8 +114,9 @@ pub struct FingerStatus {
     pub measured_tip_orientation: [f64; 4],
     /// Measured normal force \[N\] (valid with `measured::FORCES`).
     pub measured_normal_force: f64,
-    /// Tracking error: distance from the measured to the commanded
-    /// fingertip centre \[m\] (valid with `measured::TIPS`).
+    /// Tracking error: distance from the measured fingertip centre to the
+    /// one commanded by the setpoint the measurement answers (see
+    /// `Status::measured_age`) \[m\] (valid with `measured::TIPS`).
     pub tip_error: f64,
 }
 
@@ -123,7 +124,7 @@ pub struct FingerStatus {
 /// [`TIMING_REFRESH_TICKS`] ticks; last and max every tick.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Timing.v3")]
+#[type_name("gaitd::Timing.v4")]
 pub struct Timing {
     /// Loop period \[ns\].
     pub period_ns: u64,
@@ -145,6 +146,25 @@ pub struct Timing {
     pub overruns: u64,
     /// Coarse wake-up jitter histogram since start (see [`jitter_bucket`]).
     pub jitter_hist: [u64; JITTER_BUCKETS],
+    /// External plant: ticks whose command went out after the tick's
+    /// deadline (too late for the plant's next step) since start.
+    pub plant_commands_late: u64,
+    /// External plant: plant steps that applied the same command as the
+    /// step before although a newer one had been sent (the plant held the
+    /// last command) since start.
+    pub plant_commands_repeated: u64,
+    /// External plant: ticks that found no new measurement (the last one
+    /// held) since start.
+    pub plant_measurements_late: u64,
+    /// External plant: measurements received again with a sequence number
+    /// already taken since start.
+    pub plant_measurements_repeated: u64,
+    /// External plant: ticks in a row, up to this one, that missed the
+    /// timing contract (any of the four above); at `plant.max_misses_in_row`
+    /// the plant is faulted (`PlantTiming`).
+    pub plant_misses_in_row: u64,
+    /// External plant: the longest such run since start \[ticks\].
+    pub plant_misses_in_row_max: u64,
 }
 
 /// How often the timing percentiles are recomputed \[ticks\].
@@ -154,14 +174,17 @@ pub const TIMING_REFRESH_TICKS: u64 = 100;
 /// (SPEC §7.3): the commanded state beside the measured one, named so that
 /// neither is mistaken for the other.
 ///
-/// Type name `gaitd::Status.v3`, 1160 bytes, alignment 8.
+/// Type name `gaitd::Status.v4`, 1208 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Status.v3")]
+#[type_name("gaitd::Status.v4")]
 pub struct Status {
     /// Tick counter since daemon start.
     pub tick: u64,
-    /// CLOCK_MONOTONIC time of this tick's wake-up \[ns\].
+    /// Time of this tick \[ns\]: CLOCK_MONOTONIC at its wake-up; in
+    /// lockstep the plant's time of the measurement it ran on (one clock
+    /// per run: 0 before the plant's first measurement, the last plant time
+    /// while it is gone).
     pub time_ns: u64,
     /// CLOCK_MONOTONIC time just before publishing \[ns\] (for latency measurements).
     pub publish_time_ns: u64,
@@ -193,15 +216,19 @@ pub struct Status {
     pub commanded_object_omega: [f64; 3],
     /// Measured object orientation [w, x, y, z] (valid with `measured::OBJECT`).
     pub measured_object_q: [f64; 4],
-    /// Angle between the measured and the commanded object orientation
-    /// \[rad\] (valid with `measured::OBJECT`).
+    /// Angle between the measured object orientation and the one
+    /// commanded by the setpoint the measurement answers (see
+    /// `measured_age`) \[rad\] (valid with `measured::OBJECT`).
     pub object_error: f64,
     /// Tick at which the measurement reported here was read; 0 = none yet.
     pub measured_tick: u64,
     /// Which measured fields are valid ([`measured`] bits).
     pub measured_mask: u32,
-    /// Padding, 0.
-    pub reserved0: u32,
+    /// Commands sent after the one the measurement answers (0: it answers
+    /// the command of tick `measured_tick` − 1): `object_error` and
+    /// `tip_error` compare it with the setpoint of tick `measured_tick` −
+    /// 1 − `measured_age`, not with this tick's.
+    pub measured_age: u32,
     /// Active goal and progress.
     pub goal: GoalStatus,
     /// Fingers f1, f2, f3.
@@ -221,13 +248,13 @@ pub struct Status {
 
 const _: () = assert!(core::mem::size_of::<GoalStatus>() == 56);
 const _: () = assert!(core::mem::size_of::<FingerStatus>() == 232);
-const _: () = assert!(core::mem::size_of::<Timing>() == 200);
-const _: () = assert!(core::mem::size_of::<Status>() == 1160);
+const _: () = assert!(core::mem::size_of::<Timing>() == 248);
+const _: () = assert!(core::mem::size_of::<Status>() == 1208);
 const _: () = assert!(core::mem::align_of::<Status>() == 8);
 
 impl Status {
     /// Size of the payload in bytes.
-    pub const SIZE: usize = 1160;
+    pub const SIZE: usize = 1208;
 
     /// The payload that `bytes` encode (e.g. as received from a bridge).
     /// Every bit pattern is a `Status` (integers and floats only, no implicit
@@ -343,7 +370,7 @@ mod tests {
         let b = s.to_bytes();
         assert_eq!(Status::from_bytes(&b), s);
         assert_eq!(u64::from_ne_bytes(b[0..8].try_into().unwrap()), 42);
-        assert_eq!(u64::from_ne_bytes(b[1136..1144].try_into().unwrap()), 9);
+        assert_eq!(u64::from_ne_bytes(b[1184..1192].try_into().unwrap()), 9);
     }
 
     #[test]

@@ -36,7 +36,7 @@ where
 
 #[test]
 fn schema_version_is_pinned() {
-    assert_eq!(shm_schema::SCHEMA_VERSION, 3);
+    assert_eq!(shm_schema::SCHEMA_VERSION, 4);
 }
 
 #[test]
@@ -127,6 +127,9 @@ fn reason_codes() {
             (InvalidGoalTarget, 32),
             (MeasuredStateInvalid, 33),
             (LoadInfeasible, 34),
+            (PlanTimeout, 35),
+            (NoFreshMeasurement, 36),
+            (NotAtRest, 37),
         ],
     );
 }
@@ -193,6 +196,7 @@ fn fault_codes() {
             (PlantFault, 12),
             (ContactLost, 13),
             (PlantWaiting, 14),
+            (PlantTiming, 15),
         ],
     );
 }

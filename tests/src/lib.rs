@@ -257,6 +257,33 @@ impl TestDaemon {
     }
 }
 
+/// Waits (up to 20 s) until the status says the controller holds a valid
+/// start state: the plant's first measurement was taken. Panics with both
+/// logs otherwise.
+pub fn wait_plant_started(
+    c: &mut gaitd_client::Client,
+    d: &TestDaemon,
+    plant: &TestPlant,
+) -> gaitd_client::Status {
+    let t0 = std::time::Instant::now();
+    loop {
+        let s = c.wait_status(std::time::Duration::from_secs(5)).unwrap();
+        if s.fault == shm_schema::FaultCode::None.code()
+            && s.phase == shm_schema::Phase::Hold.code()
+        {
+            return s;
+        }
+        assert!(
+            t0.elapsed() < std::time::Duration::from_secs(20),
+            "never started: fault {} phase {}\n--- gaitd ---\n{}\n--- plant ---\n{}",
+            s.fault,
+            s.phase,
+            d.log(),
+            plant.log()
+        );
+    }
+}
+
 /// Removes /dev/shm files whose names start with `file_prefix`.
 pub fn remove_shm(file_prefix: &str) {
     if let Ok(dir) = std::fs::read_dir("/dev/shm") {
@@ -281,6 +308,12 @@ impl TestPlant {
     /// `gaitctl plant sim --config <the daemon's config>` (its `[ipc]` and
     /// `[plant]` settings).
     pub fn sim(d: &TestDaemon) -> Self {
+        Self::sim_with(d, &[])
+    }
+
+    /// As [`TestPlant::sim`], with more `gaitctl plant sim` arguments
+    /// (e.g. `--timing realtime`, `--lie-on-usr1 non-unit`).
+    pub fn sim_with(d: &TestDaemon, args: &[&str]) -> Self {
         let log = d.dir.join(format!(
             "plant-{}.log",
             NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
@@ -289,8 +322,17 @@ impl TestPlant {
         cmd.arg("plant")
             .arg("sim")
             .arg("--config")
-            .arg(d.config_path());
+            .arg(d.config_path())
+            .args(args);
         Self::spawn(cmd, log)
+    }
+
+    /// Sends `signal` to the plant process (e.g. `libc::SIGUSR1`).
+    pub fn signal(&self, signal: i32) {
+        if let Some(c) = &self.child {
+            // SAFETY: plain syscall on our own child.
+            unsafe { libc::kill(c.id() as i32, signal) };
+        }
     }
 
     /// The misbehaving fixture: `lie` after `after` good steps (see

@@ -188,7 +188,20 @@ fn a_killed_plant_is_a_fault_and_a_restarted_one_resumes_after_reset() {
         .unwrap();
     assert_eq!(refused.verdict, Verdict::Rejected(ReasonCode::Faulted));
     // A reset without a plant is refused.
-    assert_eq!(c.reset(T).unwrap(), Verdict::Rejected(ReasonCode::Faulted));
+    // A reset without a plant is refused: while braking because the hand
+    // is not at rest, then because nothing is measured.
+    let t0 = Instant::now();
+    loop {
+        match c.reset(T).unwrap() {
+            Verdict::Rejected(ReasonCode::NotAtRest) => {}
+            v => {
+                assert_eq!(v, Verdict::Rejected(ReasonCode::NoFreshMeasurement));
+                break;
+            }
+        }
+        assert!(t0.elapsed() < Duration::from_secs(20), "still braking");
+        std::thread::sleep(Duration::from_millis(50));
+    }
     let plant = TestPlant::sim(&d);
     let t0 = Instant::now();
     loop {

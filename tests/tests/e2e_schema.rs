@@ -8,21 +8,21 @@ use iceoryx2::prelude::*;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use std::time::Duration;
 
-/// The status as a hypothetical schema v4 would name it (same bytes).
+/// The status as a hypothetical schema v5 would name it (same bytes).
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+#[type_name("gaitd::Status.v5")]
+struct StatusV5 {
+    bytes: [u64; 151],
+}
+const _: () = assert!(size_of::<StatusV5>() == size_of::<Status>());
+
+/// Same name as v4 but another layout (a field added without a version bump).
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::Status.v4")]
-struct StatusV4 {
-    bytes: [u64; 145],
-}
-const _: () = assert!(size_of::<StatusV4>() == size_of::<Status>());
-
-/// Same name as v3 but another layout (a field added without a version bump).
-#[derive(Debug, Clone, Copy, ZeroCopySend)]
-#[repr(C)]
-#[type_name("gaitd::Status.v3")]
 struct StatusGrown {
-    bytes: [u64; 146],
+    bytes: [u64; 152],
 }
 
 /// An old daemon's command type.
@@ -52,13 +52,13 @@ fn another_schema_version_cannot_open_the_services() {
     let d = TestDaemon::start("schema-open");
     let _c = d.client(); // the daemon is up
     let n = node(&d);
-    let v3 = n
+    let v5 = n
         .service_builder(&status_service(&d))
-        .publish_subscribe::<StatusV4>()
+        .publish_subscribe::<StatusV5>()
         .open();
     assert!(
-        matches!(v3, Err(PublishSubscribeOpenError::IncompatibleTypes)),
-        "{v3:?}"
+        matches!(v5, Err(PublishSubscribeOpenError::IncompatibleTypes)),
+        "{v5:?}"
     );
     let grown = n
         .service_builder(&status_service(&d))
@@ -93,7 +93,7 @@ fn the_client_library_reports_a_schema_mismatch_clearly() {
     let msg = err.to_string();
     assert!(msg.contains("schema mismatch"), "{msg}");
     assert!(msg.contains(&format!("{}/commands", d.prefix)), "{msg}");
-    assert!(msg.contains("gaitd::Command.v3"), "{msg}");
+    assert!(msg.contains("gaitd::Command.v4"), "{msg}");
 }
 
 #[test]
@@ -104,7 +104,7 @@ fn a_stale_service_of_another_schema_is_replaced_at_start() {
     let n = node(&d);
     let stale = n
         .service_builder(&status_service(&d))
-        .publish_subscribe::<StatusV4>()
+        .publish_subscribe::<StatusV5>()
         .create()
         .unwrap();
     d.spawn();

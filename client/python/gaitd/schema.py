@@ -27,7 +27,7 @@ from typing import Any
 from collections.abc import Iterable
 
 #: Version of the payload layout (part of every type name).
-SCHEMA_VERSION = 3
+SCHEMA_VERSION = 4
 #: The iceoryx2 release the daemon is built with; resource names are
 #: version-tagged, so the Python bindings must be exactly this version.
 ICEORYX2_VERSION = "0.10.0"
@@ -158,6 +158,12 @@ class Timing(ctypes.Structure):
         ("jitter_max_ns", u64),
         ("overruns", u64),
         ("jitter_hist", u64 * 16),
+        ("plant_commands_late", u64),
+        ("plant_commands_repeated", u64),
+        ("plant_measurements_late", u64),
+        ("plant_measurements_repeated", u64),
+        ("plant_misses_in_row", u64),
+        ("plant_misses_in_row_max", u64),
     ]
 
 
@@ -183,7 +189,7 @@ class Status(ctypes.Structure):
         ("object_error", f64),
         ("measured_tick", u64),
         ("measured_mask", u32),
-        ("reserved0", u32),
+        ("measured_age", u32),
         ("goal", GoalStatus),
         ("fingers", FingerStatus * FINGERS),
         ("timing", Timing),
@@ -387,6 +393,9 @@ class ReasonCode(enum.IntEnum):
     InvalidGoalTarget = 32
     MeasuredStateInvalid = 33
     LoadInfeasible = 34
+    PlanTimeout = 35
+    NoFreshMeasurement = 36
+    NotAtRest = 37
 
 
 class Phase(enum.IntEnum):
@@ -437,6 +446,7 @@ class FaultCode(enum.IntEnum):
     PlantFault = 12
     ContactLost = 13
     PlantWaiting = 14
+    PlantTiming = 15
 
 
 class EventKind(enum.IntEnum):

@@ -142,6 +142,20 @@ pub struct FingerOutput {
     pub normal_force: f64,
 }
 
+/// A measurement as the status reports it, with the setpoint it answers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeasuredReport {
+    /// What the plant measured.
+    pub measurement: Measurement,
+    /// The tick it was read at.
+    pub tick: u64,
+    /// The commanded hand state of the setpoint it answers (written
+    /// `measurement.age` setpoints before the last one before `tick`): the
+    /// status's tracking errors compare with it, not with this tick's
+    /// setpoint, which the plant has not received yet.
+    pub answers: HandState,
+}
+
 /// What the controller reports after each tick (in maths types; the
 /// daemon converts it to the wire format in one place, `convert`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -150,9 +164,10 @@ pub struct ControlOutput {
     pub hand: HandState,
     /// Commanded object angular velocity, hand frame [rad/s].
     pub object_omega: Vector3<f64>,
-    /// What the plant measured, and the tick it was read at (`None`: no
-    /// measurement yet). Reported beside the command, never in its place.
-    pub measured: Option<(Measurement, u64)>,
+    /// What the plant measured, the tick it was read at and the setpoint
+    /// it answers (`None`: no measurement yet). Reported beside the
+    /// command, never in its place.
+    pub measured: Option<MeasuredReport>,
     /// Controller phase.
     pub phase: Phase,
     /// Current fault.

@@ -112,17 +112,23 @@ pub fn fill_status(out: &ControlOutput, object_radius: f64, status: &mut Status)
 /// The measurement beside the command: orientation, fingertip poses,
 /// contacts and forces as the plant reported them, and the tracking errors.
 fn fill_measured(out: &ControlOutput, status: &mut Status) {
-    status.reserved0 = 0;
-    let Some((m, tick)) = &out.measured else {
+    let Some(report) = &out.measured else {
         status.measured_tick = 0;
+        status.measured_age = 0;
         status.measured_mask = 0;
         status.measured_object_q = [0.0; 4];
         status.object_error = 0.0;
         return;
     };
-    status.measured_tick = *tick;
+    let m = &report.measurement;
+    // Against the setpoint the measurement answers (the plant has not
+    // seen this tick's yet): while moving, this tick's differs from it by
+    // the distance moved in a period, which is no tracking error.
+    let answered = &report.answers;
+    status.measured_tick = report.tick;
+    status.measured_age = m.age;
     status.measured_object_q = quat_to_wire(&m.object);
-    status.object_error = m.object.angle_to(&out.hand.object);
+    status.object_error = m.object.angle_to(&answered.object);
     let forces = m.fingers.iter().all(|f| f.normal_force.is_some());
     status.measured_mask = measured::OBJECT
         | measured::TIPS
@@ -134,7 +140,7 @@ fn fill_measured(out: &ControlOutput, status: &mut Status) {
         fs.measured_tip_orientation = quat_to_wire(&f.orientation);
         fs.measured_contact = u32::from(f.contact);
         fs.measured_normal_force = f.normal_force.unwrap_or(0.0);
-        fs.tip_error = (f.center - out.hand.fingers[k].center).norm();
+        fs.tip_error = (f.center - answered.fingers[k].center).norm();
     }
 }
 

@@ -8,7 +8,9 @@
 //! - reports what the loop only counts (missed periods, IPC errors, lost
 //!   events) as rate-limited warnings — the loop itself never logs;
 //! - `STATUS=` for systemd from the latest published status, which this
-//!   thread reads like any client.
+//!   thread reads like any client;
+//! - a warning with the numbers when the grasp the hand starts (or is
+//!   reset) in cannot hold the load (the status's `load_margin` < 0).
 //!
 //! It has its own iceoryx2 node (ports are not shared across threads).
 
@@ -21,7 +23,7 @@ use iceoryx2::identifiers::UniqueNodeId;
 use iceoryx2::node::NodeView;
 use iceoryx2::prelude::*;
 use shm_schema::ipc::HOUSEKEEPING_NODE_NAME;
-use shm_schema::{FaultCode, ServiceNames, Status};
+use shm_schema::{FaultCode, Phase, ServiceNames, Status};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -47,6 +49,8 @@ pub struct HousekeepingSetup {
     /// With an external plant: how long it may take to send its first
     /// valid measurement before that is warned about (`plant.connect_timeout_ms`).
     pub plant_connect_timeout: Option<Duration>,
+    /// `[load]`, for the warning about a grasp that cannot hold it.
+    pub load: gait::config::LoadConfig,
 }
 
 /// Handle of the running thread (stops it on `join` or drop).
@@ -80,6 +84,7 @@ fn run(s: HousekeepingSetup, stop: &AtomicBool) {
     let mut ipc_limit = RateLimit::new(Duration::from_secs(10));
     let mut event_limit = RateLimit::new(Duration::from_secs(10));
     let mut plant = PlantWatch::new(Instant::now());
+    let mut load = LoadWatch { armed: true };
     let (mut last_overruns, mut last_ipc, mut last_dropped, mut last_clients) = (0, 0, 0, 0);
     while !stop.load(Ordering::Acquire) {
         let now = Instant::now();
@@ -149,6 +154,7 @@ fn run(s: HousekeepingSetup, stop: &AtomicBool) {
         }
         if let Some(st) = &latest {
             plant.observe(st, now, s.plant_connect_timeout);
+            load.observe(st, &s.load);
         }
         if let (Some(sd), Some(st)) = (&s.sd, latest) {
             let t = &st.timing;
@@ -210,6 +216,30 @@ impl PlantWatch {
                 info!("plant: first valid measurement taken; the hand starts from it");
             }
             self.last_fault = st.fault;
+        }
+    }
+}
+
+/// The load margin of the grasp the hand holds once it starts, and again
+/// after every fault is cleared: a negative one is warned about once.
+struct LoadWatch {
+    armed: bool,
+}
+
+impl LoadWatch {
+    fn observe(&mut self, st: &Status, load: &gait::config::LoadConfig) {
+        let holding = st.fault == FaultCode::None.code() && st.phase == Phase::Hold.code();
+        if st.fault != FaultCode::None.code() {
+            self.armed = true;
+        } else if self.armed && holding {
+            self.armed = false;
+            if st.load_margin < 0.0 {
+                let which = "the grasp the hand holds";
+                warn!(
+                    "{}",
+                    crate::process::load_check::warning(which, st.load_grip, load)
+                );
+            }
         }
     }
 }

@@ -171,6 +171,13 @@ impl ExternalPlant {
         if (self.echoed && !ours && !new_run) || (ours && raw.applied > self.sent) {
             return lie(FaultKind::PlantSequence);
         }
+        // In sequence: the next command answers it, whatever it holds (a
+        // lockstep plant waits for that answer; one that never came would
+        // stall the exchange after a single bad measurement). Its content
+        // is taken only if it is valid.
+        self.last_seq = raw.seq;
+        self.last_time = raw.time_ns;
+        self.last_arrival = at;
         if raw.state & plant_state::FAULT != 0 {
             let code = raw.fault().unwrap_or(PlantFault::Other);
             return Err((FaultKind::PlantFault, code));
@@ -188,9 +195,6 @@ impl ExternalPlant {
             return Err((FaultKind::PlantLost, PlantFault::None));
         }
         self.echoed = ours;
-        self.last_seq = raw.seq;
-        self.last_time = raw.time_ns;
-        self.last_arrival = at;
         self.held = Some(m);
         Ok(true)
     }
@@ -356,6 +360,34 @@ mod tests {
             lie(&mut l.clone(), raw(7, 1, 0xbad)).map(|f| f.0),
             Some(FaultKind::PlantSequence)
         );
+    }
+
+    /// A measurement in sequence that cannot be used (non-unit, the
+    /// plant's own fault) is still answered: a lockstep plant waits for
+    /// exactly that answer. Its content is not taken.
+    #[test]
+    fn an_unusable_measurement_in_sequence_is_answered() {
+        let mut l = link(10);
+        l.read(&sample(raw(5, 0, 0), 1), 1);
+        assert_eq!(send(&mut l).answers, 5);
+        let mut bad = raw(6, 1, SESSION);
+        bad.object_q = [0.9, 0.0, 0.0, 0.0];
+        let r = l.read(&sample(bad, 2), 2);
+        assert_eq!(r.fault.map(|f| f.0), Some(FaultKind::PlantInvalid));
+        assert!(!r.fresh);
+        assert_eq!(
+            r.measurement.unwrap().object.w,
+            1.0,
+            "the last good one held"
+        );
+        assert_eq!(send(&mut l).answers, 6);
+        // The plant goes on: taken.
+        let r = l.read(&sample(raw(7, 2, SESSION), 3), 3);
+        assert!(r.fresh && r.fault.is_none(), "{r:?}");
+        // A lie about the sequence is not answered.
+        let mut l2 = l.clone();
+        l2.read(&sample(raw(3, 2, SESSION), 4), 4);
+        assert_eq!(send(&mut l2).answers, 7);
     }
 
     #[test]

@@ -4,6 +4,7 @@
 //! - [`config`]: the TOML file, every key validated by name.
 //! - [`plant_config`]: `[plant]`, which hand the daemon controls.
 //! - [`check`]: what `--check-config` prints: the configuration in effect.
+//! - [`load_check`]: whether the start grasp can hold the load.
 //! - [`rt`]: real-time set-up: SCHED_FIFO, affinity, memory locking.
 //! - [`sd_notify`]: systemd notification (`READY=1`, `WATCHDOG=1`, `STATUS=`).
 //! - [`signals`]: SIGTERM/SIGINT handling.
@@ -12,6 +13,7 @@
 
 pub mod check;
 pub mod config;
+pub mod load_check;
 pub mod logging;
 pub mod plant_config;
 pub mod rt;

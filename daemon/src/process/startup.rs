@@ -213,6 +213,7 @@ pub fn start_background(
             .plant
             .external()
             .then(|| Duration::from_millis(cfg.plant.connect_timeout_ms.into())),
+        load: cfg.load,
     })
     .map_err(StartupError::Housekeeping)?;
     let gait_planner = gait::planner::Planner::new(&cfg.hand()).map_err(StartupError::Planner)?;

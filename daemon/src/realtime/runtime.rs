@@ -155,6 +155,11 @@ pub struct Runtime<C: Controller, K: Clock> {
     plant: Option<PlantInput>,
     /// Lockstep: the plant paces the loop; how long to wait for it.
     lockstep: Option<Nanos>,
+    /// Lockstep: how long commands wait for the plant's first measurement
+    /// before the loop answers them itself (`plant.connect_timeout_ms`).
+    connect_timeout: Nanos,
+    /// Time of the last tick (`Wake::now`: in lockstep the plant's).
+    last_time: Nanos,
     /// Sequence number of the last plant measurement a tick ran on.
     plant_seq: u64,
     /// Lockstep: when the plant last made progress, the next heartbeat,
@@ -165,6 +170,8 @@ pub struct Runtime<C: Controller, K: Clock> {
 /// The lockstep loop's state between passes.
 #[derive(Debug, Clone, Copy, Default)]
 struct LockstepPace {
+    /// When the lockstep loop started (wall clock).
+    started: Nanos,
     last_progress: Nanos,
     next_beat: Nanos,
     timed_out: bool,
@@ -247,6 +254,8 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
                 .plant
                 .lockstep()
                 .then(|| u64::from(cfg.plant.lockstep_timeout_ms) * 1_000_000),
+            connect_timeout: u64::from(cfg.plant.connect_timeout_ms) * 1_000_000,
+            last_time: 0,
             plant_seq: 0,
             pace: LockstepPace::default(),
         }
@@ -312,22 +321,38 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         self.shutdown()
     }
 
-    /// Safe hold, final status (see module docs).
+    /// Safe hold, final status (see module docs). In lockstep the plant
+    /// keeps pacing the ticks and its time stamps the last events and
+    /// status (one clock per run); a plant that is gone leaves the hand
+    /// where it is.
     pub fn shutdown(&mut self) -> Summary {
         self.intake.begin_shutdown();
-        let now = self.clock.now();
+        let lockstep = self.lockstep.is_some() && self.plant.is_some();
+        let now = if lockstep {
+            self.last_time
+        } else {
+            self.clock.now()
+        };
         let mut ctx = TickContext {
             now,
             tick: self.tick,
             events: &mut self.events,
         };
         self.controller.begin_safe_hold(&mut ctx);
-        let give_up = now + self.settings.shutdown_timeout;
+        let give_up = self.clock.now() + self.settings.shutdown_timeout;
         while !self.controller.at_rest() && self.clock.now() < give_up {
-            self.run_once();
+            if lockstep {
+                self.lockstep_once();
+            } else {
+                self.run_once();
+            }
         }
         let at_rest = self.controller.at_rest();
-        let now = self.clock.now();
+        let now = if lockstep {
+            self.last_time
+        } else {
+            self.clock.now()
+        };
         self.events.push(Event::new(EventKind::DaemonStopping));
         self.publish_events(now);
         self.publish_status(now, DaemonState::Stopped);
@@ -347,10 +372,14 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
     /// status — the last one, published again — keep going); after
     /// `plant.lockstep_timeout_ms` without one, one tick runs to fault
     /// (`PlantLost`) and the wait goes on. Commands are handled on the
-    /// plant's ticks.
+    /// plant's ticks; while the plant is absent (lost, or no first
+    /// measurement within `plant.connect_timeout_ms`) the loop answers them
+    /// itself every period, at the last plant time and tick: time stays
+    /// the plant's.
     fn run_lockstep(&mut self, stop: &AtomicBool) {
         let now = self.clock.now();
         self.pace = LockstepPace {
+            started: now,
             last_progress: now,
             next_beat: now + self.settings.period,
             timed_out: false,
@@ -433,13 +462,24 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
                 timed_out: true,
                 ..PlantSample::default()
             };
-            let t = self.status.time_ns + period;
+            let t = self.last_time + period;
             self.step_with(t, &lost);
             self.pace.next_beat = now + period;
             true
         } else {
             if now >= self.pace.next_beat {
                 self.pace.next_beat = now + period;
+                let absent = if self.plant_seq == 0 {
+                    now.saturating_sub(self.pace.started) > self.connect_timeout
+                } else {
+                    self.pace.timed_out
+                };
+                if absent {
+                    // No plant to tick with: commands are answered at the
+                    // last plant time (the controller is in its fault).
+                    self.drain_commands(self.last_time);
+                    self.publish_events(self.last_time);
+                }
                 self.heartbeat(now);
             }
             false
@@ -460,8 +500,16 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
     /// (its publish time tells clients the daemon is alive).
     fn heartbeat(&mut self, now: Nanos) {
         if self.tick == 0 {
-            self.publish_status(now, DaemonState::Running);
+            // No plant time yet.
+            self.publish_status(0, DaemonState::Running);
         } else {
+            // The controller's part is the last tick's; the counters are
+            // current (commands may have been answered meanwhile).
+            let s = &mut self.status;
+            s.commands = self.intake.received();
+            s.rejected = self.intake.rejected();
+            s.clients = self.shared.clients.load(Ordering::Relaxed);
+            s.publish_time_ns = 0;
             self.outbox.push(Outbound::Status(self.status));
         }
         self.outbox.tick_done(now, now + self.settings.period);
@@ -481,6 +529,7 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         }
         let wall_start = self.clock.now();
         self.tick += 1;
+        self.last_time = w.now;
         // 1. preprocess
         self.stats.record_wake(w.jitter(), w.missed);
         if w.missed > 0 {

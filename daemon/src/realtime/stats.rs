@@ -105,6 +105,7 @@ impl LoopStats {
             jitter_max_ns: self.jitter.max(),
             overruns: self.overruns,
             jitter_hist: self.coarse_jitter,
+            ..Timing::default()
         }
     }
 }

@@ -204,11 +204,14 @@ impl Executor {
         }
         // Only at rest, and from a measurement of the last tick (not one
         // from before measurements stopped).
-        if self.braking || self.measured_at != self.tick {
-            return ExecutorAnswer::Rejected(Reason::FaultActive);
+        if self.braking {
+            return ExecutorAnswer::Rejected(Reason::NotAtRest);
+        }
+        if self.measured_at != self.tick {
+            return ExecutorAnswer::Rejected(Reason::NoFreshMeasurement);
         }
         let Some(state) = self.measured_state() else {
-            return ExecutorAnswer::Rejected(Reason::FaultActive);
+            return ExecutorAnswer::Rejected(Reason::NoFreshMeasurement);
         };
         // Resume from the measured state if it is valid.
         match self.checker.check(&state) {

@@ -79,6 +79,11 @@ pub enum Reason {
     /// A reset found the measured state breaking an invariant: the hand
     /// must be brought back to a valid grasp first.
     MeasuredStateInvalid,
+    /// A reset while the hand still brakes to rest after the fault.
+    NotAtRest,
+    /// A reset without a measurement in the last tick (the plant is lost,
+    /// stalled or not started).
+    NoFreshMeasurement,
 }
 
 /// What the plant or the checks reported (SPEC §6.3, §6.4).

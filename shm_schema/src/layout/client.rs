@@ -109,7 +109,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     Status,
                     time_ns,
                     "ns",
-                    "CLOCK_MONOTONIC wake-up time of this tick"
+                    "time of this tick: CLOCK_MONOTONIC wake-up; in lockstep the plant's time (one clock per run; 0 before the plant's first measurement)"
                 ),
                 f!(
                     Status,
@@ -172,7 +172,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     Status,
                     object_error,
                     "rad",
-                    "angle from measured to commanded orientation (mask bit OBJECT)"
+                    "angle from measured to commanded orientation, against the setpoint the measurement answers (`measured_age`) (mask bit OBJECT)"
                 ),
                 f!(
                     Status,
@@ -186,7 +186,12 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     "bits",
                     "valid measured fields: 1 OBJECT, 2 TIPS, 4 CONTACTS, 8 FORCES"
                 ),
-                f!(Status, reserved0, "", "padding, 0"),
+                f!(
+                    Status,
+                    measured_age,
+                    "commands",
+                    "commands sent after the one the measurement answers: the errors compare with the setpoint of tick measured_tick − 1 − measured_age"
+                ),
                 f!(Status, goal, "GoalStatus", "current goal and progress"),
                 f!(Status, fingers, "FingerStatus", "fingers f1, f2, f3"),
                 f!(Status, timing, "Timing", "loop timing"),
@@ -296,7 +301,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     FingerStatus,
                     tip_error,
                     "m",
-                    "distance measured → commanded fingertip centre (mask bit TIPS)"
+                    "distance measured → commanded fingertip centre, against the setpoint the measurement answers (`Status.measured_age`) (mask bit TIPS)"
                 ),
             ],
         ),
@@ -338,6 +343,42 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     "counts",
                     "bucket 0: < 1 µs; i: [2^(i-1), 2^i) µs; 15: ≥ 16.384 ms"
                 ),
+                f!(
+                    Timing,
+                    plant_commands_late,
+                    "ticks",
+                    "external plant: commands that went out after their tick's deadline, since start"
+                ),
+                f!(
+                    Timing,
+                    plant_commands_repeated,
+                    "steps",
+                    "external plant: steps that applied the command of the step before although a newer one was sent"
+                ),
+                f!(
+                    Timing,
+                    plant_measurements_late,
+                    "ticks",
+                    "external plant: ticks without a new measurement (the last one held)"
+                ),
+                f!(
+                    Timing,
+                    plant_measurements_repeated,
+                    "",
+                    "external plant: measurements received again with a sequence number already taken"
+                ),
+                f!(
+                    Timing,
+                    plant_misses_in_row,
+                    "ticks",
+                    "external plant: ticks in a row, up to this one, that missed the timing contract; faulted (PlantTiming) at plant.max_misses_in_row"
+                ),
+                f!(
+                    Timing,
+                    plant_misses_in_row_max,
+                    "ticks",
+                    "external plant: the longest such run since start"
+                ),
             ],
         ),
         layout::<Event>(
@@ -345,7 +386,12 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
             vec![
                 f!(Event, seq, "", "sequence number, from 1, no gaps"),
                 f!(Event, tick, "tick", "tick at which it happened"),
-                f!(Event, time_ns, "ns", "CLOCK_MONOTONIC time of that tick"),
+                f!(
+                    Event,
+                    time_ns,
+                    "ns",
+                    "time of that tick (as Status.time_ns: the plant's in lockstep)"
+                ),
                 f!(Event, instance, "", "daemon instance id"),
                 f!(Event, kind, "EventKind", "what happened"),
                 f!(Event, finger, "index", "finger 0-2, 0xFFFFFFFF = none"),

@@ -52,6 +52,16 @@ pub fn layout_markdown() -> String {
          {} = answer sent, {} = daemon node found dead.\n",
         names.notify, EVENT_ID_STATUS, EVENT_ID_EVENT, EVENT_ID_ANSWER, EVENT_ID_DAEMON_DEAD
     );
+    s.push_str(
+        "## Schema versions\n\n\
+         Every payload's type name carries the version (`gaitd::Status.v4`): a client of\n\
+         another version cannot open the services (iceoryx2 answers `IncompatibleTypes`).\n\
+         What each version changed, newest first:\n\n",
+    );
+    for (v, what) in SCHEMA_CHANGES {
+        let _ = writeln!(s, "- **v{v}**: {what}");
+    }
+    s.push_str("- **v1**: the first.\n\n");
     s.push_str("## Payloads\n\n");
     for t in layouts() {
         let _ = writeln!(

@@ -163,6 +163,17 @@ mod tests {
     }
 
     #[test]
+    fn the_change_list_names_this_version_first() {
+        let versions: Vec<u32> = SCHEMA_CHANGES.iter().map(|(v, _)| *v).collect();
+        assert_eq!(versions.first(), Some(&SCHEMA_VERSION), "{versions:?}");
+        assert!(
+            versions.windows(2).all(|w| w[0] == w[1] + 1),
+            "{versions:?}"
+        );
+        assert_eq!(versions.last(), Some(&2));
+    }
+
+    #[test]
     fn type_names_are_short() {
         assert_eq!(short_type_name::<[FingerStatus; 3]>(), "[FingerStatus; 3]");
         assert_eq!(short_type_name::<u64>(), "u64");

@@ -45,6 +45,8 @@ pub fn reason_code(r: Reason) -> ReasonCode {
         Reason::NewerGoal => ReasonCode::PreemptedByGoal,
         Reason::DuplicateId => ReasonCode::DuplicateGoalId,
         Reason::MeasuredStateInvalid => ReasonCode::MeasuredStateInvalid,
+        Reason::NotAtRest => ReasonCode::NotAtRest,
+        Reason::NoFreshMeasurement => ReasonCode::NoFreshMeasurement,
     }
 }
 

@@ -23,7 +23,7 @@ mod report;
 mod trace;
 
 use crate::control::controller::{
-    ClientTarget, ControlCommand, ControlOutput, Controller, TickContext,
+    ClientTarget, ControlCommand, ControlOutput, Controller, MeasuredReport, TickContext,
 };
 use crate::control::planner::{BackgroundPlanner, PlannerLink};
 use crate::io::tracer::TraceRecorder;
@@ -82,8 +82,15 @@ pub struct GaitController {
     safe_hold_requested: bool,
     /// The configured workspace margin \[rad\].
     workspace_margin: f64,
-    /// The last measurement and the tick it was read at.
-    measured: Option<(Measurement, u64)>,
+    /// The last fresh measurement, the tick it was read at and the
+    /// setpoint it answers.
+    measured: Option<MeasuredReport>,
+    /// The commanded hand state of the last [`executor::WRITTEN`] ticks,
+    /// a ring (allocated once): a measurement answers the one written
+    /// `age` ticks before the last.
+    sent: Box<[HandState]>,
+    /// Where the next tick's commanded state goes in `sent`.
+    sent_next: usize,
     /// Goal traces, when configured ([`GaitController::set_trace`]).
     trace: Option<TraceRecorder>,
     /// Terminal state of the goal being traced, seen in this tick's events.
@@ -155,6 +162,8 @@ impl GaitController {
             safe_hold_requested: false,
             workspace_margin: config.model.workspace_margin_deg.to_radians(),
             measured: None,
+            sent: vec![start; executor::WRITTEN].into_boxed_slice(),
+            sent_next: 0,
             trace: None,
             trace_end: None,
         })
@@ -227,6 +236,14 @@ impl GaitController {
                 (m, r.fresh)
             }
         }
+    }
+
+    /// The commanded hand state written `age` ticks before the last one
+    /// (0: the last; the oldest kept beyond the ring).
+    fn sent_before(&self, age: u32) -> HandState {
+        let n = self.sent.len();
+        let age = (age as usize).min(n - 1);
+        self.sent[(self.sent_next + 2 * n - 1 - age) % n]
     }
 
     /// Writes this tick's setpoint: the embedded hand applies it; an
@@ -302,6 +319,13 @@ impl Controller for GaitController {
                 if self.exec.phase() != executor::Mode::SafeHold {
                     return Verdict::Rejected(ReasonCode::NotFaulted);
                 }
+                // An external plant: only on a measurement read in this
+                // very tick (held or fresh), never on the last one from
+                // before the plant was lost, nor between ticks.
+                let measured_now = matches!(self.reading, Some((Some(_), _)));
+                if matches!(self.hand, Hand::External(_)) && !measured_now {
+                    return Verdict::Rejected(ReasonCode::NoFreshMeasurement);
+                }
                 let a = self.exec.command(ExecutorCommand::Reset);
                 // The state is the measured one again: the plant may follow.
                 if a == executor::ExecutorAnswer::Accepted {
@@ -333,7 +357,11 @@ impl Controller for GaitController {
         if let Some(m) = m
             && fresh
         {
-            self.measured = Some((m, ctx.tick));
+            self.measured = Some(MeasuredReport {
+                measurement: m,
+                tick: ctx.tick,
+                answers: self.sent_before(m.age),
+            });
         }
         let r = *self.exec.tick(m.as_ref());
         self.planning.pump(&mut self.exec, false);
@@ -341,6 +369,8 @@ impl Controller for GaitController {
         self.record_trace(&r);
         self.output(&r, out);
         self.write_plant(&r, out);
+        self.sent[self.sent_next] = r.setpoint.state;
+        self.sent_next = (self.sent_next + 1) % self.sent.len();
     }
 
     fn feed_plant(&mut self, sample: &PlantSample, now: Nanos) {

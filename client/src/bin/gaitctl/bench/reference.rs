@@ -44,7 +44,7 @@ pub struct BenchPing {
     seq: u64,
     t_send: u64,
     t_echo: u64,
-    pad: [u64; 142],
+    pad: [u64; 148],
 }
 
 const _: () = assert!(size_of::<BenchPing>() == size_of::<Status>());
@@ -54,7 +54,7 @@ impl BenchPing {
         seq: 0,
         t_send: 0,
         t_echo: 0,
-        pad: [0; 142],
+        pad: [0; 148],
     };
 }
 

@@ -49,6 +49,10 @@ pub struct Args {
     /// Python interpreter for `mujoco` [env: GAITD_PYTHON; default python3].
     #[arg(long)]
     pub python: Option<String>,
+    /// `sim` only, to test fault handling: each SIGUSR1 makes the next
+    /// measurement tell this lie once (`kill -USR1 <pid>`).
+    #[arg(long, value_enum)]
+    pub lie_on_usr1: Option<sim::Lie>,
 }
 
 /// Runs the plant.
@@ -65,7 +69,11 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<(), String> {
             let mut host = PlantHost::open(&opts).map_err(|e| e.to_string())?;
             let stop = &sim::STOP;
             crate::common::stop_on_signal(stop);
-            let mut model = sim::KinematicPlant::new(&view.hand, view.period_ns(), a.seconds);
+            if a.lie_on_usr1.is_some() {
+                sim::lie_on_usr1();
+            }
+            let mut model = sim::KinematicPlant::new(&view.hand, view.period_ns(), a.seconds)
+                .with_lie(a.lie_on_usr1);
             eprintln!(
                 "kinematic plant: {timing:?}, {} Hz, paper start grasp",
                 view.tick_hz
@@ -90,6 +98,9 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<(), String> {
 
 /// Runs the Python MuJoCo plant (`python -m gaitd.plants.mujoco`).
 fn mujoco(conn: &ConnArgs, a: &Args, timing: Pacing) -> Result<(), String> {
+    if a.lie_on_usr1.is_some() {
+        return Err("--lie-on-usr1 is for `gaitctl plant sim` only".into());
+    }
     let python = a
         .python
         .clone()

@@ -12,6 +12,31 @@ use gaitd_client::shm_schema::{
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use std::sync::atomic::{AtomicBool, Ordering};
 
+/// A lie the plant tells once, on SIGUSR1 (`gaitctl plant sim
+/// --lie-on-usr1 KIND`): to see how a daemon (and its clients) handle a
+/// plant that misbehaves for one measurement.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lie {
+    /// The next measurement's object quaternion is (0.9, 0, 0, 0): not of
+    /// unit norm.
+    NonUnit,
+}
+
+/// Set by SIGUSR1; the next measurement lies (then it is cleared).
+static LIE_NOW: AtomicBool = AtomicBool::new(false);
+
+extern "C" fn on_usr1(_: libc::c_int) {
+    LIE_NOW.store(true, Ordering::Release);
+}
+
+/// Makes SIGUSR1 arm a one-time lie.
+pub fn lie_on_usr1() {
+    // SAFETY: the handler only stores to an atomic (async-signal-safe).
+    unsafe {
+        libc::signal(libc::SIGUSR1, on_usr1 as *const () as libc::sighandler_t);
+    }
+}
+
 /// The kinematic plant; stops the run after `seconds` simulated, if given.
 pub struct KinematicPlant {
     hand: KinematicHand,
@@ -20,6 +45,8 @@ pub struct KinematicPlant {
     period_ns: u64,
     /// |centre| of a fingertip touching the object, R + r \[m\].
     contact_radius: f64,
+    /// The lie told on SIGUSR1, if any.
+    lie: Option<Lie>,
 }
 
 fn quat(q: [f64; 4]) -> UnitQuaternion<f64> {
@@ -43,7 +70,14 @@ impl KinematicPlant {
             time_ns: 0,
             period_ns,
             contact_radius: config.model.object_radius + config.model.fingertip_radius,
+            lie: None,
         }
+    }
+
+    /// Tells `lie` once for every SIGUSR1 received ([`lie_on_usr1`]).
+    pub fn with_lie(mut self, lie: Option<Lie>) -> Self {
+        self.lie = lie;
+        self
     }
 }
 
@@ -96,6 +130,14 @@ impl PlantModel for KinematicPlant {
             w.orientation = q4(&f.orientation);
             w.contact = u32::from(f.mode == FingerMode::Grasping);
             w.roll = f.roll;
+        }
+        if let Some(lie) = self.lie
+            && LIE_NOW.swap(false, Ordering::AcqRel)
+        {
+            match lie {
+                Lie::NonUnit => m.object_q = [0.9, 0.0, 0.0, 0.0],
+            }
+            eprintln!("kinematic plant: lied once ({lie:?})");
         }
     }
 }
