@@ -13,7 +13,7 @@ mod ipc_rig;
 use gait::executor::{Mode, PlanRequest};
 use gait::planner::{Plan, PlanError};
 use gaitd::control::gait_controller::GaitPlanner;
-use gaitd::control::planner::BackgroundPlanner;
+use gaitd::control::planner::{BackgroundPlanner, Wanted};
 use ipc_rig::Namespace;
 use shm_schema::{Command, GoalFrame};
 use std::sync::Arc;
@@ -31,12 +31,12 @@ impl BackgroundPlanner for Gated {
     type Request = PlanRequest;
     type Plan = Plan;
     type Error = PlanError;
-    fn plan(&mut self, r: &PlanRequest) -> Result<Plan, PlanError> {
+    fn plan(&mut self, r: &PlanRequest, wanted: &Wanted) -> Result<Plan, PlanError> {
         self.entered.fetch_add(1, Ordering::AcqRel);
         while !self.open.load(Ordering::Acquire) {
             std::thread::sleep(Duration::from_millis(1));
         }
-        self.inner.plan(r)
+        self.inner.plan(r, wanted)
     }
 }
 
@@ -60,7 +60,7 @@ fn a_plan_in_flight_holds_the_lockstep_tick_and_the_loop_beats_meanwhile() {
         Arc::new(AtomicU64::new(0)),
     );
     let planner = Gated {
-        inner: GaitPlanner(gait::planner::Planner::new(&ns.cfg.hand()).unwrap()),
+        inner: GaitPlanner::new(gait::planner::Planner::new(&ns.cfg.hand()).unwrap(), None),
         open: open.clone(),
         entered: entered.clone(),
     };

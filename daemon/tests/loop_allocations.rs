@@ -21,7 +21,7 @@ mod hold;
 mod ipc_rig;
 
 use gaitd::control::controller::{ControlCommand, ControlOutput, Controller, TickContext};
-use gaitd::control::planner::{self, BackgroundPlanner, PlannerLink};
+use gaitd::control::planner::{self, BackgroundPlanner, PlannerLink, Wanted};
 use gaitd::realtime::clock::MockClock;
 use gaitd::realtime::runtime::Runtime;
 use hold::HoldController;
@@ -169,7 +169,7 @@ impl BackgroundPlanner for VecPlanner {
     type Request = u64;
     type Plan = TestPlan;
     type Error = ReasonCode;
-    fn plan(&mut self, n: &u64) -> Result<TestPlan, ReasonCode> {
+    fn plan(&mut self, n: &u64, _: &Wanted) -> Result<TestPlan, ReasonCode> {
         Ok(TestPlan {
             steps: (0..(n % 64 + 1)).map(|i| i as f64).collect(),
         })
@@ -362,6 +362,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
             dt: 1e-3,
             cpus: Vec::new(),
             keep: 0,
+            plan_notes: None,
         },
         gaitd::io::tracer::DEFAULT_CAPACITY,
     )

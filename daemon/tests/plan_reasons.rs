@@ -10,7 +10,7 @@ mod ipc_rig;
 
 use gait::executor::PlanRequest;
 use gait::planner::{Plan, PlanError};
-use gaitd::control::planner::BackgroundPlanner;
+use gaitd::control::planner::{BackgroundPlanner, Wanted};
 use ipc_rig::{Namespace, gait_loop_with};
 use shm_schema::{Command, EventKind, GoalFrame, GoalState, NO_FINGER, ReasonCode};
 
@@ -21,7 +21,7 @@ impl BackgroundPlanner for Failing {
     type Request = PlanRequest;
     type Plan = Plan;
     type Error = PlanError;
-    fn plan(&mut self, _: &PlanRequest) -> Result<Plan, PlanError> {
+    fn plan(&mut self, _: &PlanRequest, _: &Wanted) -> Result<Plan, PlanError> {
         Err(self.0)
     }
 }
@@ -38,6 +38,7 @@ fn each_planner_reason_reaches_the_event_and_the_status() {
         (PlanError::SearchExhausted, 19, NO_FINGER),
         (PlanError::Blocked { finger: 2 }, 31, 2),
         (PlanError::LoadInfeasible { start: true }, 34, NO_FINGER),
+        (PlanError::Timeout, 35, NO_FINGER),
         (PlanError::LoadInfeasible { start: false }, 34, NO_FINGER),
     ];
     for (i, (error, code, finger)) in table.into_iter().enumerate() {

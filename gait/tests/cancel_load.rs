@@ -7,7 +7,7 @@
 //! at every sample by the test's own SOCP, and be reached by the plant.
 //!
 //! CI runs `GAIT_CANCEL_ROUNDS` canceled goals (default 8), each followed
-//! by a turn and an orientation; the figure of gait/LOAD-FIGURES.md §14 is
+//! by a turn and an orientation; the long run (gait/PLANNER-FIGURES.md) is
 //! `GAIT_CANCEL_ROUNDS=60 cargo test --release -p gait --test cancel_load
 //! -- --nocapture`.
 
@@ -88,11 +88,9 @@ fn turn_by(axis: Vector3<f64>, deg: f64) -> GoalTarget {
 
 #[test]
 fn a_turn_after_the_canceled_turn_of_the_walkthrough_plans_and_holds() {
-    // Session 15's walkthrough (deploy/gaitd.toml, 0.1 kg): 90° about z,
-    // then 120° about x canceled after 1.2 s, then 28.65° about z was
-    // refused (LoadInfeasible) in 0.2 s — no tier found a turn about z
-    // from that two-finger grasp, while the same orientation planned as
-    // an orientation goal by way of a waypoint.
+    // A user's walkthrough (deploy/gaitd.toml, 0.1 kg): 90° about z, then
+    // 120° about x canceled after 1.2 s, then 28.65° about z, from a
+    // two-finger grasp no plan ends in: it must plan, hold and be reached.
     let cfg = HandConfig::default();
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), DT);
     turn(&mut rig, 1, Vector3::z(), 90.0);

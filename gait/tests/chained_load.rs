@@ -2,10 +2,11 @@
 //! daemon runs them), under the default load (SPEC §1.3 I1'): after the
 //! paper's full turns about z and x, seeded Haar goals. Every plan must
 //! hold the load at every sample by the test's own SOCP and stay within
-//! `load.max_grip`; a goal the planner refuses must be refused with
-//! `LoadInfeasible`, the hand staying where it is. How many are refused
-//! is printed: a figure, the planner's coverage from reached states (the
-//! MuJoCo closed loop's refusals, gait/LOAD-FIGURES.md §10).
+//! `load.max_grip`; a goal the planner refuses must be refused with a
+//! reason that says no plan was found (`LoadInfeasible`, or `Timeout`
+//! when the search budget ran out), the hand staying where it is. How
+//! many are refused is printed: the planner's coverage from reached
+//! states.
 
 mod planning;
 
@@ -36,13 +37,7 @@ fn chained_goals_hold_the_load_or_are_refused_with_their_reason() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(30);
-    let mut cfg = HandConfig::default();
-    if let Some(w) = std::env::var("GAIT_WAYPOINTS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-    {
-        cfg.planner.waypoint_axes = w;
-    }
+    let cfg = HandConfig::default();
     let planner = Planner::new(&cfg).unwrap();
     // The same goal from the same reached state without gravity (the
     // disturbance kept): what holding the weight costs in time to goal.
@@ -75,10 +70,12 @@ fn chained_goals_hold_the_load_or_are_refused_with_their_reason() {
                 at = end;
             }
             Err(e) => {
-                assert_eq!(
-                    e,
-                    PlanError::LoadInfeasible { start: false },
-                    "goal {i}: refused for another reason"
+                assert!(
+                    matches!(
+                        e,
+                        PlanError::LoadInfeasible { start: false } | PlanError::Timeout
+                    ),
+                    "goal {i}: refused for another reason: {e:?}"
                 );
                 refused.push(i);
             }
@@ -99,10 +96,9 @@ fn chained_goals_hold_the_load_or_are_refused_with_their_reason() {
             .unwrap_or(f64::NAN)
     };
     println!(
-        "{n} chained goals after the paper's scenario, 0.1 kg, {} waypoint axes: {} planned, \
+        "{n} chained goals after the paper's scenario, 0.1 kg: {} planned, \
          refused {refused:?}; gaits median {}, max {}; time to goal median {:.2} s, p95 {:.2}, \
          max {:.2}; largest F* {peak:.2} N; planning wall time median {:.3} s, max {:.2} s",
-        cfg.planner.waypoint_axes,
         n - refused.len(),
         gaits.get(gaits.len() / 2).copied().unwrap_or(0),
         gaits.last().copied().unwrap_or(0),
@@ -127,57 +123,12 @@ fn chained_goals_hold_the_load_or_are_refused_with_their_reason() {
 }
 
 #[test]
-fn a_reached_grasp_the_search_cannot_leave_plans_by_way_of_a_waypoint() {
-    // Goal 7 of the chain above: from where goals 0–6 left the hand, the
-    // search about the goal's axis runs out of nodes in every tier
-    // (refused with waypoint_axes = 0); by way of the start turned 90°
-    // about one of 8 directions it plans, held at every sample.
-    let cfg = HandConfig::default();
-    let planner = Planner::new(&cfg).unwrap();
-    let mut at = after_the_paper_turns(&cfg, &planner);
-    let mut rng = ChaCha8Rng::seed_from_u64(17);
-    for i in 0..7 {
-        let goal = planning::haar(&mut rng);
-        at = planner
-            .plan(&at, &goal)
-            .unwrap_or_else(|e| panic!("chain goal {i}: {e}"))
-            .end_state();
-    }
-    let goal = planning::haar(&mut rng);
-    let mut without = cfg;
-    without.planner.waypoint_axes = 0;
-    assert_eq!(
-        Planner::new(&without).unwrap().plan(&at, &goal),
-        Err(PlanError::LoadInfeasible { start: false }),
-        "goal 7 plans without waypoints: pick another stuck grasp"
-    );
-    let plan = planner
-        .plan(&at, &goal)
-        .expect("planned by way of a waypoint");
-    let f = assert_held(
-        &LoadCheck::new(&cfg),
-        &Checker::new(&cfg),
-        &cfg,
-        &plan,
-        "goal 7",
-    );
-    assert_eq!(plan.start, at);
-    assert!(plan.end_state().object.angle_to(&goal) < 1e-9);
-    println!(
-        "goal 7 by way of a waypoint: {} gaits, {:.2} s, largest F* {f:.2} N",
-        plan.summary.gaits, plan.summary.duration
-    );
-}
-
-#[test]
-fn a_waypoint_comes_before_spinning_a_contact() {
+fn the_mujoco_counts_first_goal_plans_without_spinning_a_contact() {
     // The MuJoCo gravity count's first random goal (seed 0x156A17,
     // tests/tests/python_plant_e2e.rs) from where the paper's turns leave
-    // the hand: only the last tiers plan it. Spinning contacts (the
-    // exact tier with spins) planned it in 100 gaits, 102.6 s — in
-    // MuJoCo the fingertips slipped 1.9 mm over it and the next goal
-    // faulted (Slip). By way of a waypoint it takes 20 gaits, 20.0 s, no
-    // spin (gait/LOAD-FIGURES.md §12).
+    // the hand: a grasp from which a plan that spins contacts under load
+    // is long (in MuJoCo a spinning fingertip slipped and the next goal
+    // faulted), so the plan must not spin, and must stay short.
     let cfg = HandConfig::default();
     let planner = Planner::new(&cfg).unwrap();
     let at = after_the_paper_turns(&cfg, &planner);

@@ -14,8 +14,11 @@
 mod planning;
 
 use gait::executor::{ExecutorCommand, GoalStage, GoalTarget, Mode};
+use gait::planner::fingertips::{Fingertips, StillAction};
+use gait::planner::hand_model::{Action, HandModel, RegraspFor};
+use gait::planner::{StepKind, Unbounded};
 use gait::{FingerMode, HandConfig, HandState};
-use nalgebra::{Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{UnitQuaternion, Vector3};
 use planning::load::{Kind, LoadCheck};
 use planning::run::Rig;
 use rand::SeedableRng;
@@ -140,46 +143,62 @@ fn grips_hold_the_load_every_tick_and_never_jump() {
 
 #[test]
 fn a_fingertip_spinning_under_load_pushes_along_its_normal_only() {
-    // Goals whose plans unwind a fingertip's roll by spinning it in a
-    // three-finger grasp under load (SPEC §1.3 I1'). Every tick of every
-    // spin the commanded normal forces — the spinner's with no tangential
-    // force and no torsion (its cone is used up by the spin), the other
-    // two's inside their coupled cones — must hold the weight, by the
-    // test's own SOCP; and the spinner is told to press (it stays in
-    // contact) within max_grip.
-    // Without the waypoint fallback, which the planner tries before it
-    // spins (so with it such plans are rarer still).
-    let mut cfg = HandConfig::default();
-    cfg.planner.waypoint_axes = 0;
-    let planner = gait::planner::Planner::new(&cfg).unwrap();
+    // Plans that unwind a fingertip's roll by spinning it in a
+    // three-finger grasp under load (SPEC §1.3 I1'): the fingertips' last
+    // resort, which the planner makes only when nothing else plans — so
+    // the test makes them itself, from random two-finger states, with the
+    // fingertips' own regrasp, and has the executor run them. Every tick
+    // of every spin the commanded normal forces — the spinner's with no
+    // tangential force and no torsion (its cone is used up by the spin),
+    // the other two's inside their coupled cones — must hold the weight,
+    // by the test's own SOCP; and the spinner is told to press (it stays
+    // in contact) within max_grip.
+    let cfg = HandConfig::default();
     let check = LoadCheck::new(&cfg);
-    // From where the paper's full turns about z, then x, leave the hand:
-    // from the paper start itself no goal of seed 23 spins any more (its
-    // start rolls apart with zigzag legs, gait/LOAD-FIGURES.md §12).
-    let mut start = HandState::paper_start(&cfg);
-    for axis in [Vector3::z(), Vector3::x()] {
-        start = planner
-            .plan_rotation(&start, &axis, std::f64::consts::TAU)
-            .expect("the paper's turn")
-            .end_state();
+    let hand = Fingertips::new(&cfg).for_pass(true, true);
+    let mut rng = ChaCha8Rng::seed_from_u64(23);
+    let mut scripted: Vec<(HandState, gait::planner::Plan)> = Vec::new();
+    while scripted.len() < 2 {
+        let start = planning::random_two_finger_state(&mut rng, &cfg);
+        let mut never = Unbounded;
+        let offers = hand.regrasps(&start, RegraspFor::Unstick, &Vector3::z(), &mut never);
+        let Some(o) = offers.into_iter().find(|o| {
+            o.regrasp
+                .actions
+                .iter()
+                .any(|a| matches!(a, StillAction::Spin(..)))
+        }) else {
+            continue;
+        };
+        let actions = [Action::Regrasp {
+            regrasp: o.regrasp,
+            why: RegraspFor::Unstick,
+        }];
+        let steps = hand.build(&start, &actions).expect("built");
+        hand.check(&start, &steps).expect("held at every sample");
+        let gaits = steps
+            .iter()
+            .filter(|s| matches!(s.kind, StepKind::Place | StepKind::Lift))
+            .count() as u32;
+        let plan = gait::planner::Plan {
+            start,
+            goal: start.object,
+            summary: gait::planner::PlanSummary {
+                gaits,
+                duration: steps.iter().map(|s| s.duration).sum(),
+                ..Default::default()
+            },
+            steps,
+            route: Default::default(),
+        };
+        assert!(planning::spins_in_a_triple(&plan));
+        scripted.push((start, plan));
     }
-    // Goal 868 of Haar seed 23 from there: the only one of the first 1500
-    // whose plan spins (found by planning that sequence; the planner spins
-    // under load only when nothing else plans, so such goals are rare).
-    let goals: Vec<UnitQuaternion<f64>> = [[-0.266667, 0.750135, 0.487421, -0.358618]]
-        .iter()
-        .map(|q| UnitQuaternion::from_quaternion(Quaternion::new(q[0], q[1], q[2], q[3])))
-        .collect();
-    for (i, g) in goals.iter().enumerate() {
-        let plan = planner.plan(&start, g).expect("planned");
-        assert!(
-            planning::spins_in_a_triple(&plan),
-            "goal {i} no longer spins under load: pick new goals (the first that do of seed 23 from there)"
-        );
-    }
+    let goals: Vec<UnitQuaternion<f64>> = scripted.iter().map(|(s, _)| s.object).collect();
     let mut spin_ticks = 0;
-    for (i, goal) in goals.iter().enumerate() {
+    for (i, (goal, (start, plan))) in goals.iter().zip(scripted).enumerate() {
         let mut rig = Rig::new(cfg, start, 1e-3);
+        rig.script(plan);
         rig.command(ExecutorCommand::Goal {
             id: 1,
             target: GoalTarget::Orientation(*goal),

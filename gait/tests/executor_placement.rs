@@ -22,7 +22,7 @@ use gait::{FingerMode, HandConfig, HandState};
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// Where the real object centre is \[m\]: about what MuJoCo measured
-/// after 16 goals at 0.1 kg (gait/LOAD-FIGURES.md §10).
+/// after 16 goals at 0.1 kg.
 const SAG: Vector3<f64> = Vector3::new(0.0003, -0.0001, -0.0012);
 /// The press spring of a fingertip \[N/m\] (mujoco_scene.py's
 /// `grip_stiffness`).

@@ -111,8 +111,8 @@ fn a_goal_preempts_the_initial_roll() {
         target: GoalTarget::Orientation(planning::haar(&mut rng)),
         limits: None,
     });
-    // Tick into the roll to a two-finger grasp (after a turn with all
-    // three fingers, if the plan starts with one: LOAD-FIGURES §15).
+    // Tick into the roll to a two-finger grasp (after a turn or a tilt
+    // with all three fingers, if the plan starts with one).
     let mut ticks = 0;
     while rig.exec.report().step_kind != Some(StepKind::Roll) {
         rig.tick();

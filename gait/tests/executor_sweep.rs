@@ -1,5 +1,5 @@
 //! Haar-random goals planned and executed tick by tick on the kinematic
-//! hand, from the paper's start and from random valid states (issue 4):
+//! hand, from the paper's start and from random valid states:
 //! every goal succeeds with final error ≤ 1e-6 rad *of the plant's true
 //! object* (not the controller's setpoint), and an independent per-tick
 //! check (force closure, workspace, hemisphere, roll, collisions, no slip:
@@ -36,9 +36,8 @@ fn sweep(seed: u64, random_start: bool) {
         HandConfig::default()
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    // From the paper start, under load, half as many: each goal is also
-    // planned after a turn with all three fingers (~0.3 s of planning a
-    // goal, gait/LOAD-FIGURES.md §15).
+    // From the paper start, under load, half as many: its goals plan
+    // slowest (tilts, rolls apart and turns with all three fingers).
     let n = if random_start {
         goals()
     } else {

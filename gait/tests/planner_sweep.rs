@@ -108,11 +108,9 @@ fn paper_start_random_goals() {
 
 #[test]
 fn paper_start_random_goals_under_load() {
-    // Fewer: planning under load takes ~20× longer in the debug profile
-    // (the tail of goals that need the load-limited search's fallbacks),
-    // and from the paper start each goal is also planned after a turn with
-    // all three fingers (~0.3 s a goal, LOAD-FIGURES §15); the count of
-    // 2000 and 10⁴ goals is planner_load.rs's release run.
+    // Fewer: planning under load takes far longer (the load tests, the
+    // paper start's rolls apart); the count of 2000 and 10⁴ goals is
+    // planner_load.rs's release run.
     sweep(200, 3, false, true);
 }
 

@@ -2,7 +2,7 @@
 //! tests/oracles/ruckig_oracle.py: 5000 cases per configuration (1, 3, 7, 18
 //! DoF; position and velocity kinds; `core` and `all` categories).
 //!
-//! Checks (issue 3): same status where Ruckig succeeds; duration within
+//! Checks: same status where Ruckig succeeds; duration within
 //! 1e-9·max(1, T); final state within 1e-8 (p, v) and 1e-10 (a); limits
 //! never exceeded at 1 ms sampling (1e-12 relative); phase-synchronised
 //! cases are straight lines; re-planning from states on the trajectory is

@@ -1,5 +1,5 @@
-//! End to end, separate processes: gaitd (stand-in hold controller until
-//! issue 4's executor) and the client library.
+//! End to end, separate processes: gaitd and the client library —
+//! commands, their answers and the reasons of refusals.
 
 use gaitd_client::{
     Command, DaemonState, FingerPhase, GoalFrame, GoalSpec, GoalState, LimitKind, LimitOrder,

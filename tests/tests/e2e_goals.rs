@@ -68,9 +68,8 @@ fn a_full_turn_is_a_full_turn() {
 fn a_newer_goal_preempts_the_running_one() {
     let d = TestDaemon::start("preempt");
     let mut c = d.client();
-    // About y: under load (the default 0.1 kg under gravity) a 3 rad turn
-    // about x from the paper start plans, but as a 144 s plan of 161 gaits
-    // (gait/LOAD-FIGURES.md §10); this one is short.
+    // About y: under load (the default 0.1 kg under gravity) from the
+    // paper start this one is short.
     let first = c
         .reorient(&GoalSpec::turn([0.0, 1.0, 0.0], 3.0).unwrap(), T)
         .unwrap();
@@ -131,5 +130,42 @@ fn cancel_and_hold_stop_smoothly_and_hold() {
             }
             assert!(t0.elapsed() < Duration::from_secs(10), "never came to rest");
         }
+    }
+}
+
+/// A goal the planner cannot plan within its budget is accepted, then
+/// aborted with `PlanTimeout` — by the expansion count (every run) and by
+/// the wall clock (real time) — and the daemon plans the next goal.
+#[test]
+fn a_goal_over_the_planning_budget_ends_in_plan_timeout() {
+    for (tag, planner) in [
+        ("ptexp", "[planner]\nmax_expansions = 3\n"),
+        ("ptclock", "[planner]\nbudget_ms = 0.001\n"),
+    ] {
+        let mut d = TestDaemon::new(tag, planner);
+        d.spawn();
+        let mut c = d.client();
+        // From the paper start every goal needs more than three expansions
+        // (the start itself has several children), and more than 1 µs.
+        let goal =
+            GoalSpec::axis_angle([1.0, 1.0, 0.0], 2.0, gaitd_client::GoalFrame::Absolute).unwrap();
+        let t = c.reorient(&goal, T).unwrap();
+        assert_eq!(t.verdict, Verdict::Accepted, "{tag}");
+        let o = c.wait_outcome(t.goal_id, LONG).unwrap();
+        assert_eq!(
+            (o.state, o.reason),
+            (GoalState::Aborted, ReasonCode::PlanTimeout),
+            "{tag}"
+        );
+        // Still planning: a goal with nothing to do succeeds.
+        let s = c.wait_status(T).unwrap();
+        let stay = GoalSpec::absolute(s.measured_object_q);
+        let t = c.reorient(&stay, T).unwrap();
+        let o = c.wait_outcome(t.goal_id, LONG).unwrap();
+        assert_eq!(
+            (o.state, o.reason),
+            (GoalState::Succeeded, ReasonCode::Reached),
+            "{tag}"
+        );
     }
 }

@@ -168,7 +168,20 @@ fn a_goal_is_recorded_in_gait_trajectory_format() {
     let path = the_trace(&d, &dir);
     let name = path.file_name().unwrap().to_string_lossy().into_owned();
     assert!(name.ends_with(&format!("-goal-{goal}.jsonl")), "{name}");
-    let (_, n) = check_trace(&path, goal, target());
+    let (h, n) = check_trace(&path, goal, target());
+    // The plan's route, effort and planning time, from the planner thread.
+    let route = h["plan_route"]
+        .as_str()
+        .unwrap_or_else(|| panic!("no plan_route: {h}"));
+    assert!(route.starts_with("pass 1"), "{route}");
+    assert!(route.contains("turn"), "{route}");
+    assert!(
+        h["plan_effort"]["expansions"]
+            .as_u64()
+            .is_some_and(|e| e > 0),
+        "{h}"
+    );
+    assert!(h["planning_ms"].as_f64().is_some_and(|t| t > 0.0), "{h}");
     // One INFO line per trace, never one per tick.
     let log = d.log();
     assert_eq!(log.matches("trace written").count(), 1, "{log}");

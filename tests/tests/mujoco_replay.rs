@@ -1,5 +1,5 @@
-//! Exported plans replay in an independent physics simulator (SPEC §10,
-//! issue 4): `gaitctl plan` writes `gait-trajectory/1` traces of the
+//! Exported plans replay in an independent physics simulator (SPEC §10):
+//! `gaitctl plan` writes `gait-trajectory/1` traces of the
 //! paper's scenario and of a few goals, and MuJoCo (tests/oracles/mujoco,
 //! compliant fingertips, no gravity) checks that the object follows the
 //! plan: orientation within 2° at all times and 1° at the end, centre

@@ -1,4 +1,4 @@
-//! gaitd with an external Python plant (issue 14 §3): the daemon's shm
+//! gaitd with an external Python plant: the daemon's shm
 //! plant backend in lockstep drives
 //!
 //! - the MuJoCo physics hand (`python -m gaitd.plants.mujoco`): the
@@ -439,17 +439,15 @@ impl GravityRun {
 /// Closed loop with gravity (issue "Holding against gravity"): the default
 /// load (0.1 kg under gravity, the configuration's μ, torsion and mass in
 /// the MuJoCo scene), the paper's scenario (full turns about z, then x:
-/// each must be reached), then `GAITD_GRAVITY_GOALS` (default 15: goal
-/// 14 is the placement that failed before fingertips were placed where the
-/// object is measured, gait/LOAD-FIGURES.md §11) seeded random goals, each from where
-/// the last one ended. A goal not reached within 1° as the simulator
+/// each must be reached), then `GAITD_GRAVITY_GOALS` (default 15) seeded
+/// random goals, each from where the last one ended. A goal not reached within 1° as the simulator
 /// measures (a fault, a drop) is counted and the daemon and the plant are
 /// started afresh from the paper start for the next goal; a goal the
 /// daemon refuses (a typed rejection, e.g. LoadInfeasible) is counted as
 /// refused. Printed per goal: the outcome, the measured error, and per
 /// contact the largest slip over the object's surface and the largest
 /// commanded and measured normal forces. The share reached is a figure
-/// (gait/LOAD-FIGURES.md §5, §10); checked: the paper's two turns are reached,
+/// (gait/PLANNER-FIGURES.md); checked: the paper's two turns are reached,
 /// every goal executed is reached (no drop), every goal ends, every daemon
 /// survives, every plant ran and refused no command.
 #[test]
@@ -580,8 +578,8 @@ fn gravity_goals_on_the_mujoco_plant_are_counted() {
     );
     // Graded: the paper's scenario is reached (`gaitctl demo --plant
     // mujoco --gravity`), and no goal the hand executed ends unreached —
-    // a drop, a fault, a miss (at 60 goals: none, gait/LOAD-FIGURES.md
-    // §11). A goal the planner refuses is a typed answer, counted.
+    // a drop, a fault, a miss. A goal the planner refuses is a typed
+    // answer, counted.
     let paper: Vec<_> = [&failed, &unplanned, &refused]
         .into_iter()
         .flatten()
@@ -611,13 +609,12 @@ fn turned(q: [f64; 4], axis: [f64; 3], deg: f64) -> [f64; 4] {
     ]
 }
 
-/// Closed loop with gravity after a cancel (gait/LOAD-FIGURES.md §14):
-/// session 15's walkthrough on the MuJoCo hand. 90° about z; 120° about
-/// x canceled after 1.2 simulated seconds, mid-motion; the hand must hold
-/// the object where it stopped (measured, with no fault, for 1 s); then
-/// 28.65° about z — refused (LoadInfeasible) before turns had the
-/// orientation goals' fallbacks — must be reached within 1° as the
-/// simulator measures. Graded on the plant's measured object.
+/// Closed loop with gravity after a cancel, on the MuJoCo hand: 90° about
+/// z; 120° about x canceled after 1.2 simulated seconds, mid-motion; the
+/// hand must hold the object where it stopped (measured, with no fault,
+/// for 1 s); then 28.65° about z, from a grasp no plan ends in, must be
+/// reached within 1° as the simulator measures. Graded on the plant's
+/// measured object.
 #[test]
 fn a_turn_after_a_canceled_turn_is_reached_on_the_mujoco_plant() {
     let mut run = GravityRun::start(100);

@@ -1,5 +1,5 @@
 //! The MuJoCo physics hand of the `gaitd` Python package
-//! (`gaitd.plants.mujoco_plant`, issue 14), checked without gaitd's plant
+//! (`gaitd.plants.mujoco_plant`), checked without gaitd's plant
 //! backend:
 //!
 //! - driven open loop by the setpoints of a `gaitctl plan` trace of the

@@ -53,7 +53,7 @@ class Load:
 
 @dataclass(frozen=True)
 class PlantSection:
-    """``[plant]`` (issue 14): which plant and its timing; unknown to older daemons."""
+    """``[plant]``: which plant and its timing; unknown to older daemons."""
 
     kind: str = "embedded"
     timing: str = "lockstep"

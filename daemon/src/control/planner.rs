@@ -10,8 +10,13 @@
 //! ```
 //!
 //! The loop only moves boxes: nothing is allocated or freed on it. A
-//! controller that plans (issue 4's executor) owns a [`PlannerLink`]; the
-//! daemon starts the thread with [`spawn`].
+//! controller that plans owns a [`PlannerLink`]; the daemon starts the
+//! thread with [`spawn`].
+//!
+//! A request the loop no longer wants (its goal was canceled or preempted)
+//! is stopped while it is planned: the loop publishes, with one atomic
+//! store, which request it still waits for ([`PlannerLink::want`]); the
+//! planner polls it through [`Wanted`] between search expansions.
 //!
 //! Waking the planner is a futex syscall (plus an inter-processor interrupt
 //! on a VM, several µs). By default the link makes it at once; the daemon
@@ -20,7 +25,7 @@
 //! goals costs the loop no syscalls, and planning starts a few µs later.
 
 use crate::control::handoff::{self, Consumer, Producer};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, OnceLock};
 use std::thread::Thread;
 use std::time::Duration;
@@ -33,8 +38,27 @@ pub trait BackgroundPlanner: Send + 'static {
     type Plan: Send + 'static;
     /// Why there is no plan (plain data: it crosses to the loop as is).
     type Error: Send + 'static;
-    /// Plans one request, or says why not.
-    fn plan(&mut self, request: &Self::Request) -> Result<Self::Plan, Self::Error>;
+    /// Plans one request, or says why not; should stop soon once
+    /// `wanted` says the loop no longer waits for it.
+    fn plan(&mut self, request: &Self::Request, wanted: &Wanted)
+    -> Result<Self::Plan, Self::Error>;
+}
+
+/// No request is wanted (the loop waits for no plan).
+const NONE_WANTED: u64 = u64::MAX;
+
+/// Whether the loop still waits for the request being planned.
+#[derive(Debug)]
+pub struct Wanted {
+    seq: u64,
+    wanted: Arc<AtomicU64>,
+}
+
+impl Wanted {
+    /// Whether the loop still waits for this request (one atomic load).
+    pub fn still(&self) -> bool {
+        self.wanted.load(Ordering::Acquire) == self.seq
+    }
 }
 
 /// A planner's answer to request number `seq`.
@@ -75,6 +99,7 @@ impl Doorbell {
 /// allocation-free.
 pub struct PlannerLink<Req, P, E> {
     requests: Producer<(u64, Req)>,
+    wanted: Arc<AtomicU64>,
     replies: Consumer<Reply<P, E>>,
     retired: Producer<Box<P>>,
     planner: Thread,
@@ -106,13 +131,24 @@ impl<Req: Send, P: Send, E: Send> PlannerLink<Req, P, E> {
     }
 
     /// Queues a request and wakes the planner; returns its sequence number,
-    /// or the request back when the queue is full.
+    /// or the request back when the queue is full. It is the wanted one
+    /// from now on ([`PlannerLink::want`]).
     pub fn submit(&mut self, request: Req) -> Result<u64, Req> {
         let seq = self.next_seq;
-        self.requests.push((seq, request)).map_err(|(_, r)| r)?;
+        self.wanted.store(seq, Ordering::Release);
+        if let Err((_, r)) = self.requests.push((seq, request)) {
+            return Err(r);
+        }
         self.next_seq += 1;
         self.wake();
         Ok(seq)
+    }
+
+    /// Says which request the loop still waits for (`None`: none); a
+    /// request being planned that is not it stops (one atomic store).
+    pub fn want(&self, seq: Option<u64>) {
+        self.wanted
+            .store(seq.unwrap_or(NONE_WANTED), Ordering::Release);
     }
 
     /// Whether a reply waits to be polled (wait-free).
@@ -162,6 +198,8 @@ pub fn spawn<Pl: BackgroundPlanner>(
     let (ret_tx, mut ret_rx) = handoff::channel::<Box<Pl::Plan>>(queue + 2);
     let stop = Arc::new(AtomicBool::new(false));
     let stop2 = stop.clone();
+    let wanted = Arc::new(AtomicU64::new(NONE_WANTED));
+    let wanted2 = wanted.clone();
     let handle = std::thread::Builder::new()
         .name("gaitd-planner".into())
         .spawn(move || {
@@ -171,7 +209,11 @@ pub fn spawn<Pl: BackgroundPlanner>(
                     drop(old);
                 }
                 if let Some((seq, req)) = req_rx.pop() {
-                    let result = planner.plan(&req).map(Box::new);
+                    let wanted = Wanted {
+                        seq,
+                        wanted: wanted2.clone(),
+                    };
+                    let result = planner.plan(&req, &wanted).map(Box::new);
                     let mut reply = Reply { seq, result };
                     // The loop drains replies every tick; wait for room.
                     loop {
@@ -194,6 +236,7 @@ pub fn spawn<Pl: BackgroundPlanner>(
         })?;
     let link = PlannerLink {
         requests: req_tx,
+        wanted,
         replies: rep_rx,
         retired: ret_tx,
         planner: handle.thread().clone(),
@@ -227,7 +270,7 @@ mod tests {
         type Request = u64;
         type Plan = Plan;
         type Error = ReasonCode;
-        fn plan(&mut self, n: &u64) -> Result<Plan, ReasonCode> {
+        fn plan(&mut self, n: &u64, _: &Wanted) -> Result<Plan, ReasonCode> {
             if *n == 0 {
                 return Err(ReasonCode::NoPlan);
             }

@@ -218,7 +218,18 @@ pub fn start_background(
     .map_err(StartupError::Housekeeping)?;
     let gait_planner = gait::planner::Planner::new(&cfg.hand()).map_err(StartupError::Planner)?;
     let cpus = cfg.rt.background_cpus.clone();
-    let (mut link, planner) = planner::spawn(GaitPlanner(gait_planner), PLANNER_QUEUE, move || {
+    // In lockstep the expansion budget alone bounds planning: a plan must
+    // not depend on how fast this machine was.
+    let budget = (!cfg.plant.lockstep())
+        .then(|| Duration::from_secs_f64(cfg.hand().planner.budget_ms * 1e-3));
+    // The planner's notes on its plans go to the trace headers (off the
+    // loop), when traces are written.
+    let notes = (!cfg.daemon.trace_dir.is_empty()).then(|| Arc::new(tracer::PlanNotes::default()));
+    let mut planning = GaitPlanner::new(gait_planner, budget);
+    if let Some(n) = &notes {
+        planning.keep_notes(n.clone());
+    }
+    let (mut link, planner) = planner::spawn(planning, PLANNER_QUEUE, move || {
         let _ = rt::pin_current_thread(&cpus);
     })
     .map_err(StartupError::PlannerThread)?;
@@ -231,7 +242,7 @@ pub fn start_background(
         GaitController::new(&cfg.hand(), dt, link)
     }
     .map_err(StartupError::Controller)?;
-    let tracer = start_tracer(cfg, instance, &mut controller)?;
+    let tracer = start_tracer(cfg, instance, &mut controller, notes)?;
     Ok(Background {
         controller,
         housekeeping,
@@ -246,6 +257,7 @@ fn start_tracer(
     cfg: &DaemonConfig,
     instance: u64,
     controller: &mut GaitController,
+    plan_notes: Option<Arc<tracer::PlanNotes>>,
 ) -> Result<Option<TraceWriter>, StartupError> {
     if cfg.daemon.trace_dir.is_empty() {
         return Ok(None);
@@ -258,6 +270,7 @@ fn start_tracer(
             dt: 1.0 / cfg.control.tick_hz,
             cpus: cfg.rt.background_cpus.clone(),
             keep: cfg.daemon.trace_keep as usize,
+            plan_notes,
         },
         tracer::DEFAULT_CAPACITY,
     )?;

@@ -274,7 +274,7 @@ pub fn gait_loop(
 ) -> GaitLoop {
     use gaitd::control::gait_controller::GaitPlanner;
     let planner = gait::planner::Planner::new(&ns.cfg.hand()).unwrap();
-    gait_loop_with(ns, instance, GaitPlanner(planner), setup)
+    gait_loop_with(ns, instance, GaitPlanner::new(planner, None), setup)
 }
 
 /// [`gait_loop`] with another planner on the planner thread (e.g. one that

@@ -210,35 +210,27 @@ pub struct PlannerConfig {
     pub candidate_spacing_deg: f64,
     /// Children kept per relocation pattern in the search.
     pub branching: u32,
-    /// Search budget: node expansions per search. 12 000: with 3 000 the
-    /// paper's full turn about z under load ends where the turn about x
-    /// finds no plan within 20 N (gait/LOAD-FIGURES.md §10); a search
-    /// that finds its plan stops early, so only a refusal pays for it.
+    /// Search budget in node expansions, over every pass of a request:
+    /// what bounds planning where no clock may (lockstep runs, offline
+    /// planning); a request that spends it is refused as `PlanTimeout`.
     pub max_expansions: u32,
-    /// Directions tried when the object must first rotate about another
-    /// axis (paper Theory 1 fails, SPEC §4.3).
-    pub escape_axes: u32,
-    /// Plans longer than this \[s\] also try a first rotation about other
-    /// axes and keep the quickest (PLANNER-NOTES; costs planning time only
-    /// for long plans).
-    pub detour_above_s: f64,
-    /// Axes tried for such a detour (0: never).
+    /// Wall-clock budget of one request \[ms\], for a caller that has a
+    /// clock (the daemon in real time): planning never runs longer, and a
+    /// request that needs longer is refused as `PlanTimeout`. The library
+    /// reads no clock; its caller enforces this (with `max_expansions`).
+    pub budget_ms: f64,
+    /// Directions a pair may first turn about: from a root, as far as it
+    /// can and half as far (0: never); from a grasp no gait can leave
+    /// (paper Theory 1 fails, SPEC §4.3), the least turn that lets one.
     pub detour_axes: u32,
-    /// Under load, intermediate orientations tried (the start turned 90°
-    /// about this many directions) when nothing else plans a goal (0:
-    /// never). From some reached grasps the search about the goal's axis
-    /// runs out of nodes while most other goals still plan
-    /// (gait/LOAD-FIGURES.md §10); a refusal then takes longer.
-    pub waypoint_axes: u32,
+    /// Directions tried from a grasp no gait can leave.
+    pub escape_axes: u32,
     /// Extra separation \[deg\] beyond the force-closure boundary (with its
     /// margin) of every pair the planner makes, and the extra the roll
     /// from a three-finger start aims for. Pairs near the boundary need
     /// huge grip forces to hold any load (SPEC §3.3; the MuJoCo oracle's
     /// pitfall 5), so wider pairs make executable plans.
     pub pair_margin_deg: f64,
-    /// Weight of the search's time-to-go estimate: 1 is plain A* (shortest
-    /// plans), larger is greedier (fewer nodes, slightly longer plans).
-    pub heuristic_weight: f64,
 }
 
 impl Default for PlannerConfig {
@@ -247,12 +239,10 @@ impl Default for PlannerConfig {
             transfer_height: 0.03,
             candidate_spacing_deg: 6.0,
             branching: 3,
-            max_expansions: 12_000,
-            escape_axes: 64,
-            detour_above_s: 13.0,
+            max_expansions: 30_000,
+            budget_ms: 2000.0,
             detour_axes: 48,
-            waypoint_axes: 8,
-            heuristic_weight: 1.5,
+            escape_axes: 64,
             pair_margin_deg: 1.0,
         }
     }

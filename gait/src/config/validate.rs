@@ -318,18 +318,11 @@ impl PlannerConfig {
             "in [1, 1000000]",
         )?;
         in_range(
-            "planner.escape_axes",
-            f64::from(p.escape_axes),
-            3.0,
-            4096.0,
-            "in [4, 4096]",
-        )?;
-        in_range(
-            "planner.detour_above_s",
-            p.detour_above_s,
+            "planner.budget_ms",
+            p.budget_ms,
             0.0,
-            1e4,
-            "in (0, 10000] s",
+            6e4,
+            "in (0, 60000] ms",
         )?;
         in_range(
             "planner.detour_axes",
@@ -339,11 +332,11 @@ impl PlannerConfig {
             "in [0, 1024]",
         )?;
         in_range(
-            "planner.waypoint_axes",
-            f64::from(p.waypoint_axes),
-            -1.0,
-            64.0,
-            "in [0, 64]",
+            "planner.escape_axes",
+            f64::from(p.escape_axes),
+            3.0,
+            4096.0,
+            "in [4, 4096]",
         )?;
         // > 0: the roll from a three-finger start must end strictly inside
         // the force-closure margin (SPEC §4.3).
@@ -353,13 +346,6 @@ impl PlannerConfig {
             0.0,
             30.0,
             "in (0°, 30°]",
-        )?;
-        in_closed(
-            "planner.heuristic_weight",
-            p.heuristic_weight,
-            1.0,
-            10.0,
-            "in [1, 10]",
         )?;
         Ok(())
     }

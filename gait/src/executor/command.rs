@@ -6,7 +6,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use super::Reason;
 use crate::config::LimitsConfig;
-use crate::planner::{Plan, PlanError};
+use crate::planner::{Budget, Plan, PlanError, Target, Unbounded};
 use crate::state::HandState;
 
 /// Where a goal wants the object.
@@ -48,16 +48,29 @@ impl GoalTarget {
         }
     }
 
-    /// Plans it from `start`.
+    /// Plans it from `start` within the planner's expansion budget.
     pub fn plan(
         &self,
         planner: &crate::planner::Planner,
         start: &HandState,
     ) -> Result<Plan, PlanError> {
-        match self {
-            Self::Orientation(q) => planner.plan(start, q),
-            Self::Rotation { axis, angle } => planner.plan_rotation(start, axis, *angle),
-        }
+        let mut never = Unbounded;
+        let mut budget = Budget::new(planner.config().planner.max_expansions, &mut never);
+        self.plan_within(planner, start, &mut budget)
+    }
+
+    /// Plans it from `start` within `budget`.
+    pub fn plan_within(
+        &self,
+        planner: &crate::planner::Planner,
+        start: &HandState,
+        budget: &mut Budget<'_>,
+    ) -> Result<Plan, PlanError> {
+        let target = match *self {
+            Self::Orientation(q) => Target::Orientation(q),
+            Self::Rotation { axis, angle } => Target::Turn { axis, angle },
+        };
+        planner.plan_within(start, &target, budget)
     }
 }
 
@@ -111,12 +124,24 @@ impl PlanRequest {
     /// differ from the planner's (SPEC §4.3: a plan's cost is its execution
     /// time under the limits it runs with).
     pub fn plan(&self, planner: &crate::planner::Planner) -> Result<Plan, PlanError> {
+        let mut never = Unbounded;
+        let mut budget = Budget::new(planner.config().planner.max_expansions, &mut never);
+        self.plan_within(planner, &mut budget)
+    }
+
+    /// [`PlanRequest::plan`] within `budget` (the caller's clock and
+    /// cancel flag, and the expansion count).
+    pub fn plan_within(
+        &self,
+        planner: &crate::planner::Planner,
+        budget: &mut Budget<'_>,
+    ) -> Result<Plan, PlanError> {
         if self.limits == planner.config().limits {
-            return self.target.plan(planner, &self.start);
+            return self.target.plan_within(planner, &self.start, budget);
         }
         let timed = planner
             .with_limits(&self.limits)
             .map_err(|_| PlanError::InvalidLimits)?;
-        self.target.plan(&timed, &self.start)
+        self.target.plan_within(&timed, &self.start, budget)
     }
 }

@@ -381,6 +381,15 @@ impl Executor {
         self.events.dropped
     }
 
+    /// The goal whose plan the executor waits for, if any.
+    pub fn planning_for(&self) -> Option<u64> {
+        if self.phase == Mode::Planning {
+            self.goal.map(|g| g.id)
+        } else {
+            None
+        }
+    }
+
     /// The plan request left for the planner, if any.
     pub fn take_plan_request(&mut self) -> Option<PlanRequest> {
         self.request.take()

@@ -118,9 +118,8 @@ impl PairLoad {
     /// `grasp::hold` as well (the model a plan is checked with). It
     /// accepts more pairs (119 against 102 of 400 random pairs 140–180°
     /// apart, `gait/tests/load_exact.rs`) but costs far more per refused
-    /// pair: always on, it made the paper-start plan's p99 planning time
-    /// 0.14 s → 3.9 s (gait/LOAD-FIGURES.md §10), so the planner asks it
-    /// only when the sufficient test finds nothing.
+    /// pair (~1 µs against ~0.1 µs): the planner asks its hold table
+    /// ([`super::fingertips::hold_table`]) first.
     pub fn with_exact(&self, c: &HandConfig) -> Self {
         Self {
             exact: Some(HoldModel::new(c)),
@@ -144,6 +143,20 @@ impl PairLoad {
             m.pair(&[*n1, *n2], &m.loads_with_weight(*w, accel))
                 .feasible
         })
+    }
+
+    /// F* of the exact model for the pair holding the configured weight at
+    /// rest (`None` without the exact model; +∞ where nothing holds).
+    pub fn exact_peak(&self, n1: &Vector3<f64>, n2: &Vector3<f64>) -> Option<f64> {
+        self.exact.map(|m| {
+            m.pair(&[*n1, *n2], &m.loads_with_weight(self.weight, Accel::None))
+                .max_peak
+        })
+    }
+
+    /// The largest normal force a pair may need (`load.max_grip`) \[N\].
+    pub fn max_grip(&self) -> f64 {
+        self.max_grip
     }
 
     /// Whether the test constrains anything.

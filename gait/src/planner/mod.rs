@@ -1,49 +1,65 @@
 //! The reorientation planner (SPEC §4; paper §2, §3.2).
 //!
-//! From any state satisfying SPEC §1.3 to any goal orientation: reach a
-//! two-finger force-closure grasp ([`start`]), then A* over rotation segments
-//! about the goal's axis with gaits between them ([`search`]). If no gait is
-//! possible (paper Theory 1 fails for the pair) or the search finds nothing,
-//! first rotate about another axis to a state where it does ([`Planner::plan`]
-//! tries a set of axes). The result is a list of primitive [`Step`]s with
-//! exact start states ([`plan`]).
+//! # What it does, top to bottom
+//! 1. **Check the request**: a finite goal, a finite start that is a
+//!    force-closure grasp of two or three fingers and holds the load
+//!    ([`PlanError`] says what is wrong otherwise).
+//! 2. **State the progress**: the rotation still to do, from the start to
+//!    an orientation goal or for a turn of a given size ([`goal`]).
+//! 3. **Search**: one A* over grasps and the rotation left ([`search`]),
+//!    whose actions — turns by two or three fingers, substitutions, lifts,
+//!    tilts, detours, the hand's regrasps — and their order are listed in
+//!    [`alternatives`]. It asks the hand everything through one trait,
+//!    [`hand_model::HandModel`]; the paper's free fingertips implement it
+//!    ([`fingertips`]).
+//! 4. **Under one budget, in passes**: the search runs again with a more
+//!    permissive load test, then with spinning contacts, only when the
+//!    pass before proved it finds nothing ([`alternatives::PASSES`]). The
+//!    caller's [`budget::Budget`] bounds all of it: expansions, and the
+//!    caller's clock and cancel flag, polled before every expansion.
+//! 5. **Certify**: the first plan found is built into steps ([`plan`]) and
+//!    checked at every sample (SPEC §1.3, I1' exactly); a plan that fails
+//!    is dropped and the search goes on.
 //!
-//! Planning allocates and is not bounded by a tick: it never runs on the
-//! control-loop thread (SPEC §4.3, §7.2). It is deterministic: the same state,
-//! goal and configuration give the same plan, bit for bit.
+//! Every plan records its route (the actions, and the pass that found it)
+//! and its effort ([`PlanSummary`]). Planning allocates and is bounded by
+//! the budget, not by a tick: it never runs on the control-loop thread
+//! (SPEC §7.2). With an expansion budget only, it is deterministic: the
+//! same state, goal and configuration give the same plan, bit for bit.
 
+pub mod alternatives;
+pub mod budget;
 pub mod candidates;
 pub mod collision;
-pub mod convert;
-mod detour;
-pub mod escape;
+pub mod fingertips;
 pub mod geometry;
-mod goals;
+pub mod goal;
+pub mod hand_model;
 pub mod load;
 pub mod plan;
+pub mod route;
 pub mod search;
-pub mod start;
 pub mod timing;
-mod triple;
 pub mod zigzag;
 
 use nalgebra::{UnitQuaternion, Vector3};
 
+pub use budget::{Budget, Effort, Halt, Stop, Unbounded};
+pub use goal::rotation_to;
 pub use plan::{
     FreeMove, FreePath, Handover, MAX_DOFS, Motion, Setpoint, Step, StepDofs, StepKind, StepLimit,
 };
+pub use route::Route;
 
 use crate::config::{ConfigError, HandConfig};
 use crate::state::{FingerMode, HandState};
-use candidates::Candidates;
-use convert::Builder;
+use alternatives::{PASSES, Role, TURN_PIECE};
+use fingertips::Fingertips;
 use geometry::{Geometry, rotation};
-use search::{Problem, Root, split};
-use start::{Start, starts};
+use goal::Remaining;
+use hand_model::HandModel;
+use search::{NotFound, Params};
 use timing::DurationModel;
-
-/// Heuristic weight of the retry when the first search runs out of budget.
-const GREEDY_WEIGHT: f64 = 3.0;
 
 /// Why no plan was returned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, thiserror::Error)]
@@ -65,9 +81,15 @@ pub enum PlanError {
     /// force-closure pair.
     #[error("no roll reaches a two-finger force-closure grasp from this three-finger grasp")]
     NoTwoFingerGrasp,
-    /// The search (with every escape rotation) found no plan in its budget.
-    #[error("no plan found within the search budget")]
+    /// The search proved that no plan exists at its resolution.
+    #[error("no plan reaches the goal")]
     SearchExhausted,
+    /// The planning budget ran out before a plan was found.
+    #[error("planning ran out of its time budget before it found a plan")]
+    Timeout,
+    /// The caller canceled the request while it was being planned.
+    #[error("planning was canceled")]
+    Canceled,
     /// A free finger could not travel without coming too close to another.
     #[error("finger {finger} cannot travel clear of the other fingertips")]
     Blocked {
@@ -85,7 +107,8 @@ pub enum PlanError {
     },
 }
 
-/// Plan statistics (SPEC §11 plan quality).
+/// Plan statistics (SPEC §11 plan quality), its route's pass and the
+/// effort of finding it.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct PlanSummary {
     /// Place and Lift steps.
@@ -102,23 +125,12 @@ pub struct PlanSummary {
     pub duration: f64,
     /// Angle of the rotation from start to goal \[rad\].
     pub goal_angle: f64,
-    /// Whether an escape rotation about another axis was needed.
+    /// Whether the object first turned about another axis, or the grasp
+    /// was changed on the still object, because no gait could follow
+    /// (paper Theory 1), or a detour made the plan quicker.
     pub escaped: bool,
-    /// Search nodes expanded (all searches).
-    pub expansions: u32,
-}
-
-impl PlanSummary {
-    /// Adds the counts, time and expansions of a plan that follows (the
-    /// gaits' kinds and the goal angle are the caller's to recount).
-    fn add(&mut self, o: &PlanSummary) {
-        self.gaits += o.gaits;
-        self.rotations += o.rotations;
-        self.rolls += o.rolls;
-        self.duration += o.duration;
-        self.escaped |= o.escaped;
-        self.expansions += o.expansions;
-    }
+    /// The effort of finding it.
+    pub effort: Effort,
 }
 
 /// A complete plan.
@@ -132,6 +144,8 @@ pub struct Plan {
     pub steps: Vec<Step>,
     /// Statistics.
     pub summary: PlanSummary,
+    /// The actions the search chose and the pass that found them.
+    pub route: Route,
 }
 
 impl Plan {
@@ -141,18 +155,21 @@ impl Plan {
             .last()
             .map_or(self.start, |s| s.eval(&s.dofs().length, &[0.0; 3]).state)
     }
+}
 
-    /// This plan followed by `next` (which starts where this one ends):
-    /// one plan to `next`'s goal, its statistics summed.
-    pub fn then(mut self, next: Plan) -> Plan {
-        let s = &mut self.summary;
-        s.add(&next.summary);
-        s.goal_angle = self.start.object.angle_to(&next.goal);
-        self.steps.extend(next.steps);
-        (s.substitutions, s.rewinds) = count_finger_gaits(&self.steps);
-        self.goal = next.goal;
-        self
-    }
+/// What a request asks for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Target {
+    /// The object at this orientation (any path).
+    Orientation(UnitQuaternion<f64>),
+    /// The object turned by `angle` about `axis` (hand frame): that far,
+    /// full turns included.
+    Turn {
+        /// Axis (any length > 0).
+        axis: Vector3<f64>,
+        /// Angle \[rad\] (negative: the other way).
+        angle: f64,
+    },
 }
 
 /// The planner: configuration plus precomputed geometry. Cheap to share
@@ -160,48 +177,30 @@ impl Plan {
 #[derive(Debug, Clone)]
 pub struct Planner {
     config: HandConfig,
-    geom: Geometry,
-    timing: DurationModel,
-    /// The search's load test.
-    load: load::PairLoad,
-    /// The exact grip model a built plan is checked with.
-    grip: crate::executor::grip::GripModel,
-    /// Shared: a planner re-timed for other limits
-    /// ([`Planner::with_limits`]) reuses the candidate grids.
-    cand: std::sync::Arc<Candidates>,
-    /// The start's zigzag rolls found so far (shared by clones; a
-    /// re-timed planner gets its own: the legs depend on the timing).
-    /// `None`: the start rolls a pair apart by one great-circle roll only
-    /// (the cheap planning after a three-finger turn, [`triple`]).
-    zigzags: Option<std::sync::Arc<zigzag::ZigzagCache>>,
-    /// Whether a failed search is followed by the escapes (rotation and
-    /// roll escapes, the unwind); not in the cheap planning after a
-    /// three-finger turn ([`triple`]), an alternative to a plan in hand.
-    escapes: bool,
+    hand: Fingertips,
+    params: Params,
 }
 
 impl Planner {
     /// Builds the planner for a configuration (validated here).
     pub fn new(config: &HandConfig) -> Result<Self, ConfigError> {
         config.validate()?;
-        let geom = Geometry::new(config);
+        let p = &config.planner;
         Ok(Self {
             config: *config,
-            geom,
-            timing: DurationModel::new(config),
-            load: load::PairLoad::new(config),
-            grip: crate::executor::grip::GripModel::new(config),
-            cand: std::sync::Arc::new(Candidates::new(&geom, config.planner.candidate_spacing_deg)),
-            zigzags: Some(Default::default()),
-            escapes: true,
+            hand: Fingertips::new(config),
+            params: Params {
+                branching: p.branching as usize,
+                detour_axes: fibonacci_sphere(p.detour_axes as usize),
+                escape_axes: fibonacci_sphere(p.escape_axes as usize),
+            },
         })
     }
 
     /// The same planner costing and timing plans under `limits` instead of
     /// the configured ones (a goal's motion-limit overrides, SPEC §7.3): the
     /// plan's cost is its execution time under the limits it is executed
-    /// with (SPEC §4.3). Cheap: the candidate grids are shared; only the
-    /// timing tables are rebuilt.
+    /// with (SPEC §4.3). Cheap: the candidate grids are shared.
     pub fn with_limits(&self, limits: &crate::config::LimitsConfig) -> Result<Self, ConfigError> {
         let config = HandConfig {
             limits: *limits,
@@ -210,29 +209,24 @@ impl Planner {
         config.validate()?;
         Ok(Self {
             config,
-            geom: self.geom,
-            timing: DurationModel::new(&config),
-            load: load::PairLoad::new(&config),
-            grip: crate::executor::grip::GripModel::new(&config),
-            cand: self.cand.clone(),
-            zigzags: Some(Default::default()),
-            escapes: self.escapes,
+            hand: self.hand.with_config(&config),
+            params: self.params.clone(),
         })
     }
 
     /// Model constants.
     pub fn geometry(&self) -> &Geometry {
-        &self.geom
+        self.hand.geometry()
     }
 
     /// Step durations.
     pub fn timing(&self) -> &DurationModel {
-        &self.timing
+        self.hand.timing()
     }
 
     /// The search's load test (SPEC §1.3 I1').
     pub fn load(&self) -> &load::PairLoad {
-        &self.load
+        self.hand.pair_load()
     }
 
     /// The configuration.
@@ -240,329 +234,273 @@ impl Planner {
         &self.config
     }
 
-    /// Plans the rotation by `total` about `axis` to `goal`. For an
-    /// orientation goal (`turn` false) a first rotation about another axis
-    /// is allowed when that is quicker; a requested turn must turn that far,
-    /// and when an escape is unavoidable it still makes its full turns
-    /// (`rest_after_escape`).
-    fn plan_about(
+    /// Plans from `start` to the object orientation `goal`, within the
+    /// configured expansion budget (deterministic).
+    pub fn plan(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Result<Plan, PlanError> {
+        let mut never = Unbounded;
+        let mut budget = Budget::new(self.config.planner.max_expansions, &mut never);
+        self.plan_within(start, &Target::Orientation(*goal), &mut budget)
+    }
+
+    /// Plans a turn of the object by `angle` (any size, e.g. a full turn)
+    /// about the hand-frame `axis`: the object turns that far, not just to
+    /// the orientation it ends at. Within the configured expansion budget.
+    pub fn plan_rotation(
         &self,
         start: &HandState,
-        goal: &UnitQuaternion<f64>,
-        axis: Vector3<f64>,
-        total: f64,
-        turn: bool,
-        spins: bool,
+        axis: &Vector3<f64>,
+        angle: f64,
     ) -> Result<Plan, PlanError> {
-        let detours = !turn;
-        let full_turns = if turn {
-            Some((axis, (total / std::f64::consts::TAU + 1e-9).floor()))
-        } else {
-            None
+        let mut never = Unbounded;
+        let mut budget = Budget::new(self.config.planner.max_expansions, &mut never);
+        let t = Target::Turn { axis: *axis, angle };
+        self.plan_within(start, &t, &mut budget)
+    }
+
+    /// Plans `target` from `start` within `budget` (module docs).
+    pub fn plan_within(
+        &self,
+        start: &HandState,
+        target: &Target,
+        budget: &mut Budget<'_>,
+    ) -> Result<Plan, PlanError> {
+        if !state_finite(start) {
+            return Err(PlanError::NonFiniteState);
+        }
+        let (goal, rem) = match *target {
+            Target::Orientation(q) => {
+                let gq = q.quaternion();
+                if !gq.coords.iter().all(|x| x.is_finite()) || gq.norm() < 1e-9 {
+                    return Err(PlanError::InvalidGoal);
+                }
+                let goal = UnitQuaternion::new_normalize(*gq);
+                (goal, Remaining::orientation(&start.object, &goal))
+            }
+            Target::Turn { axis, angle } => {
+                let n = axis.norm();
+                if !(n.is_finite() && n > 1e-9 && angle.is_finite()) {
+                    return Err(PlanError::InvalidGoal);
+                }
+                let (axis, angle) = if angle < 0.0 {
+                    (-axis / n, -angle)
+                } else {
+                    (axis / n, angle)
+                };
+                (
+                    rotation(&axis, angle) * start.object,
+                    Remaining::turn(axis, angle),
+                )
+            }
         };
-        let goal = *goal;
-        let n_grasp = start.grasping().1;
-        if n_grasp < 2 {
+        self.check_start(start)?;
+        let mut effort = Effort::default();
+        // A long turn in pieces, each from where the last ended.
+        let pieces = match rem.turn {
+            Some(_) => (rem.angle / TURN_PIECE).ceil().max(1.0),
+            None => 1.0,
+        };
+        let mut at = *start;
+        let (mut steps, mut route, mut pass) = (Vec::new(), Vec::new(), 0);
+        for _ in 0..pieces as usize {
+            let piece = if pieces > 1.0 {
+                Remaining::turn(rem.axis, rem.angle / pieces)
+            } else {
+                rem
+            };
+            if piece.reached() {
+                break;
+            }
+            let (s, r, p) = self.search(&at, piece, budget, &mut effort)?;
+            at = s
+                .last()
+                .map_or(at, |st| st.eval(&st.dofs().length, &[0.0; 3]).state);
+            steps.extend(s);
+            route.extend(r);
+            pass = pass.max(p);
+        }
+        effort.expansions = budget.used();
+        Ok(self.finish(
+            start,
+            goal,
+            rem.angle,
+            join_turns(steps, &self.config.limits),
+            route,
+            pass,
+            effort,
+        ))
+    }
+
+    /// The portfolio's passes for `rem` from `start` (module docs): the
+    /// steps, the route and the pass that found them.
+    fn search(
+        &self,
+        start: &HandState,
+        rem: Remaining,
+        budget: &mut Budget<'_>,
+        effort: &mut Effort,
+    ) -> Result<(Vec<Step>, Vec<route::RouteStep>, usize), PlanError> {
+        let mut best: Option<(search::Found<Fingertips>, usize, Fingertips)> = None;
+        let mut last = NotFound::Exhausted {
+            blocked: None,
+            refused: false,
+            pairs: false,
+        };
+        for (i, pass) in PASSES.iter().enumerate() {
+            let mode = match (pass.role, &best) {
+                (Role::Find, None) => search::Mode {
+                    weight: pass.weight,
+                    bound: f64::INFINITY,
+                    cap: u32::MAX,
+                    turn_detours: pass.turn_detours,
+                },
+                (Role::Improve { effort: e }, Some((found, _, _))) => search::Mode {
+                    weight: pass.weight,
+                    bound: found.duration,
+                    cap: e * budget.used().max(1),
+                    turn_detours: pass.turn_detours,
+                },
+                _ => continue,
+            };
+            // A pass that would search as one before it did is skipped.
+            let same_as_before = PASSES[..i].iter().any(|p| {
+                p.role == pass.role
+                    && (p.spins == pass.spins || !self.hand.load_active())
+                    && (p.turn_detours == pass.turn_detours || rem.turn.is_none())
+            });
+            if same_as_before {
+                continue;
+            }
+            effort.passes += 1;
+            let hand = self.hand.for_pass(true, pass.spins);
+            match search::run(&hand, &self.params, mode, start, rem, budget, effort) {
+                Ok(found) => best = Some((found, i, hand)),
+                Err(NotFound::Halted(h)) if best.is_none() => {
+                    return Err(match h {
+                        Halt::OutOfBudget => PlanError::Timeout,
+                        Halt::Canceled => PlanError::Canceled,
+                    });
+                }
+                Err(NotFound::Halted(Halt::Canceled)) => return Err(PlanError::Canceled),
+                Err(NotFound::Halted(Halt::OutOfBudget) | NotFound::Capped) => {}
+                Err(e) if best.is_none() => last = e,
+                Err(_) => {}
+            }
+        }
+        if let Some((found, pass, hand)) = best {
+            let route = Route::new(pass, start, &hand, &found.actions);
+            return Ok((found.steps, route.steps, pass));
+        }
+        Err(match last {
+            NotFound::Exhausted {
+                blocked: Some(finger),
+                ..
+            } => PlanError::Blocked { finger },
+            NotFound::Exhausted { pairs: false, .. } if start.grasping().1 == 3 => {
+                PlanError::NoTwoFingerGrasp
+            }
+            _ if self.hand.load_active() => PlanError::LoadInfeasible { start: false },
+            _ => PlanError::SearchExhausted,
+        })
+    }
+
+    /// The start must be a force-closure grasp that holds the load.
+    fn check_start(&self, start: &HandState) -> Result<(), PlanError> {
+        let (idx, n) = start.grasping();
+        if n < 2 {
             return Err(PlanError::NoGrasp);
         }
-        let mut summary = PlanSummary {
-            goal_angle: total,
-            ..PlanSummary::default()
-        };
-        if total < 1e-12 {
-            return Ok(Plan {
-                start: *start,
-                goal,
-                steps: Vec::new(),
-                summary,
-            });
-        }
-        if n_grasp == 2 {
-            let ([a, b], _) = split(start).ok_or(PlanError::NoGrasp)?;
+        if n == 2 {
+            let g = self.hand.geometry();
             let (ca, cb) = (
-                start.fingers[a].contact_normal(),
-                start.fingers[b].contact_normal(),
+                start.fingers[idx[0]].contact_normal(),
+                start.fingers[idx[1]].contact_normal(),
             );
-            if ca.dot(&cb) > self.geom.cos_fc + 1e-9 {
+            if ca.dot(&cb) > g.cos_fc + 1e-9 {
                 return Err(PlanError::NoGrasp);
             }
         }
-        // The start must hold the load (at rest) for anything to follow.
-        if self.load.active()
-            && !self
-                .grip
-                .carried_with(start, crate::grasp::Accel::None, 0b111)
-                .feasible
-        {
+        if !self.hand.holds_at_rest(start) {
             return Err(PlanError::LoadInfeasible { start: true });
         }
-        let starts = starts(
-            &self.geom,
-            &self.timing,
-            &self.load,
-            &self.grip,
-            &self.config,
-            self.zigzags.as_deref(),
-            start,
-            &axis,
-            self.config.planner.pair_margin_deg.to_radians(),
-        );
-        if starts.is_empty() {
-            return Err(if self.load.active() {
-                PlanError::LoadInfeasible { start: false }
-            } else {
-                PlanError::NoTwoFingerGrasp
-            });
-        }
-        // 1. Straight: search about the goal axis from every start.
-        let roots: Vec<Root> = starts
-            .iter()
-            .enumerate()
-            .map(|(i, s)| Root {
-                hand: s.hand,
-                cost: s.cost,
-                tag: i,
-            })
-            .collect();
-        // A greedier retry finds long plans the first budget misses.
-        for weight in [self.config.planner.heuristic_weight, GREEDY_WEIGHT] {
-            let mut problem = self.problem(axis, total);
-            problem.heuristic_weight = weight;
-            let Some(found) = problem.solve(&roots) else {
-                summary.expansions += self.config.planner.max_expansions;
-                continue;
-            };
-            summary.expansions += found.expansions as u32;
-            let s = &starts[found.tag];
-            if let Ok(plan) = self.build(start, &goal, s, None, &axis, &found.segments, summary) {
-                if !detours {
-                    return Ok(plan);
-                }
-                return Ok(self.detour(start, &goal, &starts, plan, &mut summary));
-            }
-        }
-        if !self.escapes {
-            return Err(PlanError::SearchExhausted);
-        }
-        // 2. Escape: rotate about another axis first, or roll a grasping
-        //    finger, to a state from which gaits work (Theory 1, SPEC §4.3).
-        summary.escaped = true;
-        let mut last_err = PlanError::SearchExhausted;
-        for s in &starts {
-            match self.escape_from(start, &goal, s, full_turns, &mut summary) {
-                Ok(plan) if detours => {
-                    return Ok(self.detour(start, &goal, &starts, plan, &mut summary));
-                }
-                Ok(plan) => return Ok(plan),
-                Err(e) => last_err = e,
-            }
-        }
-        // 3. Still stuck (both contacts at their limits): place the free
-        //    finger for a three-finger grasp, spin the other two back to roll
-        //    zero, lift it again, and escape from there (escape::unwind).
-        //    Not so under load: a contact spinning on the object has used
-        //    its whole coupled cone for the spin's torsion (MuJoCo's
-        //    elliptic cone alike) and the other two do not hold the weight
-        //    (replayed with gravity, the object slid out during a spin).
-        //    There the free finger is first only relocated (no spins);
-        //    failing that, the two spin one at a time, each pushing along
-        //    its normal only while the other two carry the rest
-        //    (escape::unwind_loaded) — only when `spins`: [`Planner::plan`]
-        //    tries every way without spins first.
-        let plain = starts.iter().filter_map(|s| {
-            let spin = !self.load.active();
-            escape::unwind(
-                &self.geom,
-                &self.cand,
-                &self.grip,
-                &self.config,
-                &s.hand,
-                spin,
-            )
-            .map(|u| (s, u))
-        });
-        let loaded = starts
-            .iter()
-            .filter(|_| spins && self.load.active())
-            .filter_map(|s| {
-                escape::unwind_loaded(&self.geom, &self.cand, &self.grip, &self.config, &s.hand)
-                    .map(|u| (s, u))
-            });
-        let unwinds = plain.chain(loaded);
-        for (s, unwound) in unwinds {
-            let mut s2 = s.clone();
-            s2.actions.extend(unwound.actions);
-            s2.hand = unwound.hand;
-            let (axis2, total2) = rest_after_escape(&s2.hand.object, &goal, full_turns);
-            let root = Root {
-                hand: s2.hand,
-                cost: 0.0,
-                tag: 0,
-            };
-            if let Some(found) = self.problem(axis2, total2).solve(&[root]) {
-                summary.expansions += found.expansions as u32;
-                if let Ok(plan) =
-                    self.build(start, &goal, &s2, None, &axis2, &found.segments, summary)
-                {
-                    return Ok(plan);
-                }
-            }
-            match self.escape_from(start, &goal, &s2, full_turns, &mut summary) {
-                Ok(plan) => return Ok(plan),
-                Err(e) => last_err = e,
-            }
-        }
-        // Under load, the search failing means no load-feasible plan.
-        if self.load.active() && last_err == PlanError::SearchExhausted {
-            last_err = PlanError::LoadInfeasible { start: false };
-        }
-        Err(last_err)
+        Ok(())
     }
 
-    /// Rotation and roll escapes from the state a start reaches, each
-    /// followed by a search (budget halved: these are the rare hard cases).
-    fn escape_from(
-        &self,
-        start: &HandState,
-        goal: &UnitQuaternion<f64>,
-        s: &Start,
-        full_turns: Option<(Vector3<f64>, f64)>,
-        summary: &mut PlanSummary,
-    ) -> Result<Plan, PlanError> {
-        let mut last_err = PlanError::SearchExhausted;
-        let axes = fibonacci_sphere(self.config.planner.escape_axes as usize);
-        let rotations =
-            escape::rotation_escapes(&self.geom, &self.cand, &self.load, &s.hand, &axes, 8);
-        let rolls =
-            escape::roll_escapes(&self.geom, &self.cand, &self.load, &self.config, &s.hand, 2);
-        let tries = rotations
-            .into_iter()
-            .map(Escape::Rotate)
-            .chain(rolls.into_iter().map(|(f, p)| Escape::Roll(f, Box::new(p))));
-        for esc in tries {
-            let h = esc.apply(&s.hand);
-            let (axis2, total2) = rest_after_escape(&h.object, goal, full_turns);
-            let root = Root {
-                hand: h,
-                cost: 0.0,
-                tag: 0,
-            };
-            let mut problem = self.problem(axis2, total2);
-            problem.max_expansions = (problem.max_expansions / 2).max(1);
-            let Some(found) = problem.solve(&[root]) else {
-                summary.expansions += problem.max_expansions as u32;
-                continue;
-            };
-            summary.expansions += found.expansions as u32;
-            match self.build(
-                start,
-                goal,
-                s,
-                Some(&esc),
-                &axis2,
-                &found.segments,
-                *summary,
-            ) {
-                Ok(plan) => return Ok(plan),
-                Err(e) => last_err = e,
-            }
-        }
-        Err(last_err)
-    }
-
-    fn problem(&self, axis: Vector3<f64>, total: f64) -> Problem<'_> {
-        Problem {
-            geom: &self.geom,
-            timing: &self.timing,
-            cand: &self.cand,
-            load: &self.load,
-            axis,
-            total,
-            branching: self.config.planner.branching as usize,
-            heuristic_weight: self.config.planner.heuristic_weight,
-            max_expansions: self.config.planner.max_expansions as usize,
-        }
-    }
-
-    /// Paper Theory 1: some placement of the free finger is force-closure
-    /// with one of the grasping fingers (and clear of both).
-    pub fn theory1(&self, hand: &HandState, pair: [usize; 2], free: usize) -> bool {
-        self.problem(Vector3::z(), 0.0).theory1(hand, pair, free)
-    }
-
+    /// The plan of `steps`, with its statistics.
     #[allow(clippy::too_many_arguments)]
-    fn build(
+    fn finish(
         &self,
         start: &HandState,
-        goal: &UnitQuaternion<f64>,
-        s: &Start,
-        escape: Option<&Escape>,
-        axis: &Vector3<f64>,
-        segments: &[search::Segment],
-        mut summary: PlanSummary,
-    ) -> Result<Plan, PlanError> {
-        let blocked = |b: convert::Blocked| PlanError::Blocked { finger: b.finger };
-        let mut b = Builder::new(
-            &self.geom,
-            self.config.limits,
-            self.config.load.handover_time,
-            *start,
-        );
-        for a in &s.actions {
-            b.prefix(a).map_err(blocked)?;
-        }
-        match escape {
-            Some(Escape::Rotate((e_axis, e_angle))) => {
-                let next = segments.first().and_then(first_place);
-                b.rotate(e_axis, *e_angle, next).map_err(blocked)?;
-            }
-            Some(Escape::Roll(finger, path)) => b.roll_path(*finger, path),
-            None => {}
-        }
-        for (i, seg) in segments.iter().enumerate() {
-            for gait in &seg.gaits {
-                match *gait {
-                    search::Gait::Place {
-                        finger,
-                        contact,
-                        roll,
-                    } => b.place(finger, &contact, roll).map_err(blocked)?,
-                    search::Gait::Lift { finger } => b.lift(finger),
-                }
-            }
-            if seg.rotate > 0.0 {
-                let next = segments.get(i + 1).and_then(first_place);
-                b.rotate(axis, seg.rotate, next).map_err(blocked)?;
-            }
-        }
-        for st in &b.steps {
+        goal: UnitQuaternion<f64>,
+        goal_angle: f64,
+        steps: Vec<Step>,
+        route: Vec<route::RouteStep>,
+        pass: usize,
+        effort: Effort,
+    ) -> Plan {
+        let mut s = PlanSummary {
+            goal_angle,
+            effort,
+            ..PlanSummary::default()
+        };
+        for st in &steps {
             match st.kind {
-                StepKind::Place | StepKind::Lift => summary.gaits += 1,
+                StepKind::Place | StepKind::Lift => s.gaits += 1,
                 StepKind::Rotate if step_rotation_angle(st) == 0.0 => {}
-                StepKind::Rotate => summary.rotations += 1,
-                StepKind::Roll => summary.rolls += 1,
+                StepKind::Rotate => s.rotations += 1,
+                StepKind::Roll => s.rolls += 1,
                 StepKind::Transfer => {}
             }
-            summary.duration += st.duration;
+            s.duration += st.duration;
         }
-        (summary.substitutions, summary.rewinds) = count_finger_gaits(&b.steps);
-        // The exact load check of every sample (SPEC §1.3 I1').
-        if self.load.active() {
-            load::check_steps(
-                &self.grip,
-                self.config.limits.object.acceleration,
-                start,
-                &b.steps,
-            )
-            .map_err(|_| PlanError::LoadInfeasible { start: false })?;
-        }
-        Ok(Plan {
+        (s.substitutions, s.rewinds) = count_finger_gaits(&steps);
+        let route = Route { pass, steps: route };
+        s.escaped = route.escaped();
+        Plan {
             start: *start,
-            goal: *goal,
-            steps: b.steps,
-            summary,
-        })
+            goal,
+            steps,
+            summary: s,
+            route,
+        }
     }
+}
+
+/// `steps` with each turn that continues the one before it (same axis, the
+/// same grasp, nothing between: where two pieces of a long turn meet)
+/// made one, so the object does not stop between them.
+fn join_turns(steps: Vec<Step>, limits: &crate::config::LimitsConfig) -> Vec<Step> {
+    let mut out: Vec<Step> = Vec::with_capacity(steps.len());
+    for st in steps {
+        if let (
+            Some(prev),
+            Motion::Rotate {
+                axis,
+                angle,
+                free: None,
+            },
+        ) = (out.last_mut(), st.motion)
+            && let Motion::Rotate {
+                axis: a0,
+                angle: t0,
+                free: None,
+            } = prev.motion
+            && prev.handover.is_none()
+            && st.handover.is_none()
+            && (a0 - axis).norm() < 1e-12
+            && t0 > 0.0
+            && angle > 0.0
+        {
+            prev.motion = Motion::Rotate {
+                axis,
+                angle: t0 + angle,
+                free: None,
+            };
+            prev.duration = prev.planned_duration(limits);
+            continue;
+        }
+        out.push(st);
+    }
+    out
 }
 
 /// The angle of a Rotate step (0 for a still handover step).
@@ -585,74 +523,6 @@ fn count_finger_gaits(steps: &[Step]) -> (u32, u32) {
         rewinds += u32::from(done.rewind.is_some());
     }
     (substitutions, rewinds)
-}
-
-/// What a plan does first when gaits are impossible (module [`escape`]).
-#[derive(Debug, Clone)]
-enum Escape {
-    /// Rotate the object about (axis, angle).
-    Rotate((Vector3<f64>, f64)),
-    /// Roll a finger along a path.
-    Roll(usize, Box<crate::rolling::RollingPath>),
-}
-
-impl Escape {
-    fn apply(&self, hand: &HandState) -> HandState {
-        let mut h = *hand;
-        match self {
-            Escape::Rotate((axis, angle)) => search::rotate_hand(&mut h, axis, *angle),
-            Escape::Roll(finger, path) => {
-                let end = path.eval(path.length());
-                h.fingers[*finger] = end.finger_state(&hand.object, path.geometry());
-            }
-        }
-        h
-    }
-}
-
-fn first_place(seg: &search::Segment) -> Option<(usize, Vector3<f64>, f64)> {
-    match seg.gaits.first() {
-        Some(&search::Gait::Place {
-            finger,
-            contact,
-            roll,
-        }) => Some((finger, contact, roll)),
-        _ => None,
-    }
-}
-
-/// Axis (unit) and angle in [0, π] of the hand-frame rotation taking `from`
-/// to `to` (q_d = to · from⁻¹).
-pub fn rotation_to(from: &UnitQuaternion<f64>, to: &UnitQuaternion<f64>) -> (Vector3<f64>, f64) {
-    let d = to * from.inverse();
-    match d.axis_angle() {
-        Some((axis, angle)) if angle > 0.0 => (axis.into_inner(), angle),
-        _ => (Vector3::z(), 0.0),
-    }
-}
-
-/// The rotation left after an escape: the shortest one to `goal`, or, for
-/// a requested turn of `n` ≥ 1 full turns about `k` (`full_turns`), the
-/// same end orientation reached with `n` full turns added, turning the way
-/// `k` points (the escape has moved the object off the axis, so the turn
-/// cannot stay exactly about `k`; it must not become a no-op either).
-fn rest_after_escape(
-    from: &UnitQuaternion<f64>,
-    goal: &UnitQuaternion<f64>,
-    full_turns: Option<(Vector3<f64>, f64)>,
-) -> (Vector3<f64>, f64) {
-    let (a, t) = rotation_to(from, goal);
-    match full_turns {
-        Some((k, n)) if n >= 1.0 => {
-            let turns = std::f64::consts::TAU * n;
-            if a.dot(&k) >= 0.0 {
-                (a, t + turns)
-            } else {
-                (-a, turns - t)
-            }
-        }
-        _ => (a, t),
-    }
 }
 
 fn state_finite(h: &HandState) -> bool {

@@ -4,8 +4,8 @@
 //! One great-circle roll from the fingertip pole moves the object contact
 //! at most (r/R)·90° (Theory 2: the fingertip contact reaches its
 //! hemisphere's rim), 18° at the defaults. Under load the paper start's
-//! pair must open 21–24° per finger before it holds the weight
-//! (gait/LOAD-FIGURES.md §10, §12). The rolling planner then relocates the
+//! pair must open 21–24° per finger before it holds the weight. The
+//! rolling planner then relocates the
 //! contact with the paper's Fig. 2 paths plus a closing roll: four
 //! rest-to-rest legs (4.7 s at the defaults). Pure rolling cannot do
 //! better with two legs (at most 20.4° under the roll limit), but three
@@ -14,8 +14,8 @@
 //! target direction, the third crosses back to the rim on the other, their
 //! roll changes (τ̇ = ω_f·a_f, SPEC §1.1) cancelling in part. Found by
 //! differential evolution over the legs' directions and lengths (22° in
-//! 2.88 s, 24° in 3.37 s, against 4.7 s; the figures are in LOAD-FIGURES
-//! §12) and computed here by a deterministic grid search refined by Nelder–Mead.
+//! 2.88 s, 24° in 3.37 s, against 4.7 s) and computed here by a
+//! deterministic grid search refined by Nelder–Mead.
 //!
 //! A leg about the unit axis w ⊥ n by δ turns the contact normal n and the
 //! fingertip about w, the fingertip by c δ with c = (R + r)/r (SPEC §2.3
@@ -84,9 +84,8 @@ const DELTA1_GRID: [f64; 4] = [0.0, 0.12, 0.25, 0.4];
 const DELTA2_GRID: [f64; 4] = [0.0, 0.7, 0.85, 1.0];
 /// Starting points of the Nelder–Mead refinement kept from the grid, and
 /// its iterations per run. Three first, not all eight at once: the
-/// refinement is ~70 % of a search, and 60 plans from the paper start
-/// under load came out as quick (8.84 s on average against 8.85 s,
-/// LOAD-FIGURES §16).
+/// refinement is ~70 % of a search, and the other five rarely find a
+/// quicker path.
 const REFINE_FROM: usize = 3;
 /// Further starting points refined when none of the first
 /// [`REFINE_FROM`] ends inside the limits.

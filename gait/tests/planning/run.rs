@@ -56,6 +56,8 @@ pub struct Rig {
     prev_vel: Option<[Vector3<f64>; 4]>,
     prev_acc: Option<[Vector3<f64>; 4]>,
     pub stats: RunStats,
+    /// A plan to answer the next request with ([`Rig::script`]).
+    scripted: Option<gait::planner::Plan>,
 }
 
 fn velocities(sp: &Setpoint) -> [Vector3<f64>; 4] {
@@ -82,7 +84,14 @@ impl Rig {
             prev_vel: None,
             prev_acc: None,
             stats: RunStats::default(),
+            scripted: None,
         }
+    }
+
+    /// The next plan request is answered with `plan` instead of the
+    /// planner's (a plan made by hand for what the test needs).
+    pub fn script(&mut self, plan: gait::planner::Plan) {
+        self.scripted = Some(plan);
     }
 
     /// One tick: read, tick, write, answer plan requests, check.
@@ -100,7 +109,10 @@ impl Rig {
         let rep = *self.exec.tick(m.as_ref());
         self.plant.write(&rep.setpoint);
         if let Some(req) = self.exec.take_plan_request() {
-            let plan = req.plan(&self.planner).map(Box::new);
+            let plan = match self.scripted.take() {
+                Some(p) => Ok(Box::new(p)),
+                None => req.plan(&self.planner).map(Box::new),
+            };
             drop(self.exec.deliver_plan(req.goal, plan));
         }
         while let Some(e) = self.exec.pop_event() {

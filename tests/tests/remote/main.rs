@@ -1,4 +1,4 @@
-//! Remote clients end to end (issue 16), in one test binary (Zenoh links
+//! Remote clients end to end, in one test binary (Zenoh links
 //! once): gaitd, gaitd-bridge and the remote clients are separate
 //! processes on loopback, talking Zenoh with mutual TLS.
 //!

@@ -46,8 +46,8 @@ fn report_panics_at_once() {
 
 /// A daemon holding a weightless object, for the tests whose goals run to
 /// their end: the bridge is what they check, and a weightless object's
-/// turns take 2–6 s where the default 0.1 kg one's take 9–14 s (its pair
-/// first rolls apart to carry the weight: gait/LOAD-FIGURES.md §12).
+/// turns take 2–6 s where the default 0.1 kg one's take longer (its pair
+/// first rolls apart to carry the weight).
 pub fn weightless_daemon(tag: &str) -> TestDaemon {
     let mut d = TestDaemon::new(tag, "[load]\ngravity = [0.0, 0.0, 0.0]\n");
     d.spawn();

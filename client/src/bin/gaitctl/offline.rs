@@ -9,7 +9,7 @@ use std::path::Path;
 use gait::executor::{
     Executor, ExecutorCommand, ExecutorEvent, GoalStage, GoalTarget, Mode, Reason,
 };
-use gait::planner::{PlanSummary, Planner, StepKind};
+use gait::planner::{PlanSummary, Planner, Route, StepKind};
 use gait::sim::{KinematicHand, Plant};
 use gait::{HandConfig, HandState};
 
@@ -43,6 +43,8 @@ pub struct GoalRun {
     pub reason: Reason,
     /// The plan's statistics (if one was made).
     pub plan: Option<PlanSummary>,
+    /// The plan's route: its actions and the pass that found them.
+    pub route: Option<Route>,
     /// Steps of the plan by kind: roll, rotate, transfer, place, lift.
     pub steps: [u32; 5],
     /// Execution time [s].
@@ -121,6 +123,7 @@ impl OfflineRun {
             min_fc_margin: f64::INFINITY,
             max_grip: 0.0,
             planning_ms: 0.0,
+            route: None,
         };
         let end = target.resolve(&self.state().object);
         let t0 = self.tick;
@@ -135,6 +138,7 @@ impl OfflineRun {
                 run.planning_ms = clock.elapsed().as_secs_f64() * 1e3;
                 if let Ok(p) = &plan {
                     run.plan = Some(p.summary);
+                    run.route = Some(p.route.clone());
                     for s in &p.steps {
                         let i = match s.kind {
                             StepKind::Roll => 0,

@@ -150,11 +150,19 @@ fn summary(label: &str, r: &GoalRun) {
             p.duration,
             r.planning_ms,
             if p.escaped {
-                "; escape first (Theory 1)"
+                "; a detour or regrasp where no gait could follow (Theory 1)"
             } else {
                 ""
             }
         );
+        let e = &p.effort;
+        println!(
+            "  effort: {} expansions, {} nodes, {} deferred actions evaluated, {} plans built ({} refused by the exact check), {} passes",
+            e.expansions, e.generated, e.evaluated, e.built, e.refused, e.passes
+        );
+    }
+    if let Some(route) = &r.route {
+        println!("  route: {route}");
     }
     println!(
         "  executed {:.3} s; final orientation error {:.2e} rad; min force-closure margin {:.4}; max grip {:.2} N",

@@ -61,6 +61,10 @@ pub fn plan_error_code(e: PlanError) -> ReasonCode {
         PlanError::SearchExhausted => ReasonCode::NoPlan,
         PlanError::Blocked { .. } => ReasonCode::FingerBlocked,
         PlanError::LoadInfeasible { .. } => ReasonCode::LoadInfeasible,
+        PlanError::Timeout => ReasonCode::PlanTimeout,
+        // A request is canceled only when its goal is no longer waited for
+        // (canceled or preempted): its goal has its answer already.
+        PlanError::Canceled => ReasonCode::CanceledByClient,
     }
 }
 
@@ -109,6 +113,8 @@ mod tests {
             PlanError::NoTwoFingerGrasp,
             PlanError::SearchExhausted,
             PlanError::Blocked { finger: 2 },
+            PlanError::LoadInfeasible { start: false },
+            PlanError::Timeout,
         ];
         let codes: Vec<_> = all.iter().map(|e| plan_error_code(*e)).collect();
         assert_eq!(
@@ -121,6 +127,8 @@ mod tests {
                 ReasonCode::NoTwoFingerGrasp,
                 ReasonCode::NoPlan,
                 ReasonCode::FingerBlocked,
+                ReasonCode::LoadInfeasible,
+                ReasonCode::PlanTimeout,
             ]
         );
         let blocked = Reason::NoPlan(PlanError::Blocked { finger: 2 });

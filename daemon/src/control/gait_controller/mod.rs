@@ -25,8 +25,8 @@ mod trace;
 use crate::control::controller::{
     ClientTarget, ControlCommand, ControlOutput, Controller, MeasuredReport, TickContext,
 };
-use crate::control::planner::{BackgroundPlanner, PlannerLink};
-use crate::io::tracer::TraceRecorder;
+use crate::control::planner::{BackgroundPlanner, PlannerLink, Wanted};
+use crate::io::tracer::{PlanNote, PlanNotes, TraceRecorder};
 use crate::plant::external::ExternalPlant;
 use crate::plant::{Hand, PlantSample};
 use crate::realtime::clock::Nanos;
@@ -35,7 +35,7 @@ use gait::executor::TickReport;
 use gait::executor::feedback::NOT_A_FINGER;
 use gait::executor::{self, Executor, ExecutorCommand, FaultKind, PlanRequest, Reason};
 use gait::gaiting::GaitTracker;
-use gait::planner::{Plan, PlanError};
+use gait::planner::{Budget, Halt, Plan, PlanError, Stop};
 use gait::sim::{KinematicHand, Measurement, Plant};
 use gait::{HandConfig, HandState};
 use goal_ids::GoalIds;
@@ -45,17 +45,78 @@ use shm_schema::{
     EventKind, FingerPhase, GoalState, PlantFault, PlantFingerMode, ReasonCode, Verdict,
     command_flags,
 };
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
-/// Plans on the planner thread (SPEC §4), timed with each goal's limits.
+/// Plans on the planner thread (SPEC §4), timed with each goal's limits,
+/// within the configured budget: `planner.max_expansions` always, and in
+/// real time `planner.budget_ms` of wall clock too (a lockstep run plans
+/// on expansions alone, so that it is reproducible bit for bit); a goal
+/// canceled or preempted while planned stops its planning at once.
 #[derive(Debug)]
-pub struct GaitPlanner(pub gait::planner::Planner);
+pub struct GaitPlanner {
+    planner: gait::planner::Planner,
+    budget: Option<Duration>,
+    notes: Option<Arc<PlanNotes>>,
+}
+
+impl GaitPlanner {
+    /// `planner`, with a wall-clock budget per request or none.
+    pub fn new(planner: gait::planner::Planner, budget: Option<Duration>) -> Self {
+        Self {
+            planner,
+            budget,
+            notes: None,
+        }
+    }
+
+    /// From now on each plan's route, effort and planning time is noted
+    /// in `notes` (for the goal's trace header).
+    pub fn keep_notes(&mut self, notes: Arc<PlanNotes>) {
+        self.notes = Some(notes);
+    }
+}
+
+/// The planner's stop: the request is no longer wanted, or its wall-clock
+/// budget is spent.
+struct Deadline<'a> {
+    until: Option<Instant>,
+    wanted: &'a Wanted,
+}
+
+impl Stop for Deadline<'_> {
+    fn poll(&mut self) -> Option<Halt> {
+        if !self.wanted.still() {
+            return Some(Halt::Canceled);
+        }
+        match self.until {
+            Some(t) if Instant::now() >= t => Some(Halt::OutOfBudget),
+            _ => None,
+        }
+    }
+}
 
 impl BackgroundPlanner for GaitPlanner {
     type Request = PlanRequest;
     type Plan = Plan;
     type Error = PlanError;
-    fn plan(&mut self, r: &PlanRequest) -> Result<Plan, PlanError> {
-        r.plan(&self.0)
+    fn plan(&mut self, r: &PlanRequest, wanted: &Wanted) -> Result<Plan, PlanError> {
+        let mut stop = Deadline {
+            until: self.budget.map(|b| Instant::now() + b),
+            wanted,
+        };
+        let started = Instant::now();
+        let mut budget = Budget::new(self.planner.config().planner.max_expansions, &mut stop);
+        let plan = r.plan_within(&self.planner, &mut budget);
+        if let (Some(notes), Ok(p)) = (&self.notes, &plan) {
+            notes.add(PlanNote {
+                goal: r.goal,
+                route: p.route.to_string(),
+                effort: p.summary.effort,
+                planning_ms: started.elapsed().as_secs_f64() * 1e3,
+            });
+        }
+        plan
     }
 }
 

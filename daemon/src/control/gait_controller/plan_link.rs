@@ -106,6 +106,17 @@ impl PlanShuttle {
                 Err(_) => exec.plan_unavailable(req.goal),
             }
         }
+        // A request being planned for a goal that was canceled or preempted
+        // meanwhile stops (the newest request for the goal the executor
+        // waits for is the one wanted).
+        let wanted = exec.planning_for().and_then(|goal| {
+            self.requests
+                .iter()
+                .filter(|&&(seq, g)| g == goal && seq != 0)
+                .map(|&(seq, _)| seq)
+                .max()
+        });
+        self.link.want(wanted);
         if self.deterministic && !at_tick_start {
             return;
         }

@@ -5,7 +5,7 @@
 //! finished; while the goal runs its lines go to a hidden
 //! `.<name>.part`.
 
-use super::TraceSettings;
+use super::{PlanNote, TraceSettings};
 use gait::executor::GoalTarget;
 use shm_schema::{GoalState, ReasonCode};
 use std::fmt::Write as _;
@@ -34,8 +34,10 @@ pub fn is_trace_name(name: &str) -> bool {
 }
 
 /// What the trace is of and how it ended.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct HeaderFacts {
+    /// The planner's note on the goal's (last) plan, if any.
+    pub plan: Option<PlanNote>,
     /// Sending client.
     pub client_id: u64,
     /// The client's goal id.
@@ -83,5 +85,36 @@ pub fn header_extra(instance: u64, h: &HeaderFacts) -> String {
         h.dropped,
         h.dropped > 0 || h.outcome.is_none()
     );
+    if let Some(p) = &h.plan {
+        let e = &p.effort;
+        let _ = write!(
+            x,
+            ",\"plan_route\":\"{}\",\"plan_effort\":{{\"expansions\":{},\"generated\":{},\"evaluated\":{},\"built\":{},\"refused\":{},\"passes\":{}}},\"planning_ms\":{}",
+            json_escape(&p.route),
+            e.expansions,
+            e.generated,
+            e.evaluated,
+            e.built,
+            e.refused,
+            e.passes,
+            p.planning_ms
+        );
+    }
     x
+}
+
+/// `s` as the inside of a JSON string.
+fn json_escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 => {
+                let _ = write!(out, "\\u{:04x}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out
 }

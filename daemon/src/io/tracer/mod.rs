@@ -31,6 +31,7 @@
 //! `trace_keep` traces).
 
 mod format;
+pub mod plan_notes;
 mod recorder;
 mod retention;
 mod writer;
@@ -42,6 +43,7 @@ pub use writer::TraceSink;
 use crate::control::handoff;
 use gait::HandConfig;
 use gait::executor::GoalTarget;
+pub use plan_notes::{PlanNote, PlanNotes};
 use shm_schema::{GoalState, ReasonCode};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -57,6 +59,8 @@ pub const DEFAULT_CAPACITY: usize = 4096;
 pub enum TraceMsg {
     /// A goal started executing.
     Begin {
+        /// The executor's goal id (the planner's notes are by it).
+        exec_goal: u64,
         /// Sending client.
         client_id: u64,
         /// The client's goal id.
@@ -118,6 +122,8 @@ pub struct TraceSettings {
     /// Most finished traces kept in `dir` (0: all): after each trace is
     /// written the oldest `gaitd-*.jsonl` beyond this many are removed.
     pub keep: usize,
+    /// The planner's notes on its plans (route, effort), if it keeps them.
+    pub plan_notes: Option<Arc<PlanNotes>>,
 }
 
 /// Handle of the trace thread: `join` (or drop) writes everything still
@@ -160,6 +166,7 @@ mod tests {
             hand: HandConfig::default(),
             dt: 1e-3,
             cpus: Vec::new(),
+            plan_notes: None,
             keep: 0,
         }
     }
@@ -265,6 +272,7 @@ mod tests {
         std::fs::write(dir.join("gaitd-other.json"), "mine").unwrap();
         let (counters, mut rec, mut rx, mut sink) = rig(
             TraceSettings {
+                plan_notes: None,
                 keep: 3,
                 ..settings(&dir)
             },

@@ -61,6 +61,7 @@ impl TraceRecorder {
             return;
         }
         let m = TraceMsg::Begin {
+            exec_goal,
             client_id,
             goal_id,
             target,

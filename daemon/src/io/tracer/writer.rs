@@ -43,6 +43,7 @@ pub(super) fn run(
 
 /// The trace being written.
 struct Open {
+    exec_goal: u64,
     client_id: u64,
     goal_id: u64,
     target: Option<GoalTarget>,
@@ -108,16 +109,17 @@ impl TraceSink {
     pub fn handle(&mut self, m: TraceMsg) {
         match m {
             TraceMsg::Begin {
+                exec_goal,
                 client_id,
                 goal_id,
                 target,
-            } => self.begin(client_id, goal_id, target),
+            } => self.begin(exec_goal, client_id, goal_id, target),
             TraceMsg::Tick { k, sample } => self.tick(k, &sample),
             TraceMsg::End { outcome, dropped } => self.finish(outcome, dropped),
         }
     }
 
-    fn begin(&mut self, client_id: u64, goal_id: u64, target: Option<GoalTarget>) {
+    fn begin(&mut self, exec_goal: u64, client_id: u64, goal_id: u64, target: Option<GoalTarget>) {
         if self.open.is_some() {
             self.finish(None, 0);
         }
@@ -130,6 +132,7 @@ impl TraceSink {
             }
         };
         self.open = Some(Open {
+            exec_goal,
             client_id,
             goal_id,
             target,
@@ -174,7 +177,13 @@ impl TraceSink {
         let dropped = dropped.max(o.gaps);
         let Some(out) = o.out.take() else { return };
         let path = self.path_for(o.client_id, o.goal_id);
+        let plan = self
+            .settings
+            .plan_notes
+            .as_ref()
+            .and_then(|n| n.take(o.exec_goal));
         let facts = HeaderFacts {
+            plan,
             client_id: o.client_id,
             goal_id: o.goal_id,
             target: o.target,

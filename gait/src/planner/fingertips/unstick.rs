@@ -1,28 +1,23 @@
-//! Ways out of two-finger states from which no gait helps (SPEC §4.3).
+//! Ways out of two-finger grasps from which no gait helps (SPEC §4.3),
+//! on the still object: the regrasps the fingertips offer when the search
+//! finds no other child (its turns about other axes come first).
 //!
-//! About 5 % of valid two-finger states fail the paper's Theory 1: no
-//! placement of the free finger is force-closure with either grasping finger,
-//! so no gait exists. The plan must first change the pair's contacts (in the
-//! hand frame) without gaits:
-//! - rotate the object about some other axis (the pair carried along) until
-//!   a placement opens up ([`rotation_escapes`]);
-//! - or roll one grasping finger on the still object to a better contact,
-//!   keeping the pair force-closure at every instant ([`roll_escapes`]);
-//! - or, when both contacts sit at their roll limits, place the free finger
-//!   so that the three contacts are force-closure, spin the two fingertips
-//!   back to roll zero (spin is allowed in a three-finger hard-contact grasp,
-//!   SPEC §1.2, §2.4) and lift the free finger again ([`unwind`]); under
-//!   load one finger at a time, the spinner pushing along its normal only
-//!   while the other two carry the rest ([`unwind_loaded`]).
+//! - Roll one grasping finger on the still object to a better contact,
+//!   keeping the pair force-closure at every instant ([`roll_escapes`]).
+//! - When both contacts sit at their roll limits, place the free finger so
+//!   that the three contacts are force-closure, spin the two fingertips
+//!   back to roll zero (spin is allowed in a three-finger hard-contact
+//!   grasp, SPEC §1.2, §2.4) and lift the free finger again ([`unwind`]);
+//!   under load one finger at a time, the spinner pushing along its
+//!   normal only while the other two carry the rest ([`unwind_loaded`]).
 
 use nalgebra::Vector3;
 
-use super::candidates::Candidates;
-use super::geometry::{BOUNDARY_EPS, Geometry, cone_exit, roll_exit};
-use super::load::PairLoad;
-use super::search::{lift_finger, place_finger};
-use super::search::{rotate_hand, split};
-use super::start::PrefixAction;
+use super::super::candidates::Candidates;
+use super::super::geometry::{BOUNDARY_EPS, Geometry};
+use super::super::load::PairLoad;
+use super::super::search::split;
+use super::{StillAction, lift_finger, place_finger};
 use crate::HandConfig;
 use crate::contact::{ContactGeometry, ContactState};
 use crate::executor::grip::{CARRY_BITS, GripModel, spin_bit};
@@ -51,59 +46,6 @@ pub fn theory1(
             && ((g.is_good_pair(c, ca) && load.holds(c, ca, axis))
                 || (g.is_good_pair(c, cb) && load.holds(c, cb, axis)))
     })
-}
-
-/// Rotations (axis, angle) after which a gait is possible, smallest first:
-/// for each of `axes`, the least rotation within the pair's range (5°
-/// steps, at most 90°) after which Theory 1 holds. At most `keep` are
-/// returned.
-pub fn rotation_escapes(
-    g: &Geometry,
-    cand: &Candidates,
-    load: &PairLoad,
-    hand: &HandState,
-    axes: &[Vector3<f64>],
-    keep: usize,
-) -> Vec<(Vector3<f64>, f64)> {
-    let Some((pair, free)) = split(hand) else {
-        return Vec::new();
-    };
-    let step = 5f64.to_radians();
-    let mut found = Vec::new();
-    for e in axes {
-        let mut range = f64::INFINITY;
-        for &k in &pair {
-            let f = &hand.fingers[k];
-            range = range
-                .min(cone_exit(g, k, e, &f.contact_normal()))
-                .min(roll_exit(g, e, &f.pole_axis(), f.roll));
-        }
-        let range = (range - BOUNDARY_EPS).min(std::f64::consts::FRAC_PI_2);
-        let (ca0, cb0) = (
-            hand.fingers[pair[0]].contact_normal(),
-            hand.fingers[pair[1]].contact_normal(),
-        );
-        let range = load.exit(&ca0, &cb0, e, range);
-        let mut t = step;
-        while t <= range {
-            let mut h = *hand;
-            rotate_hand(&mut h, e, t);
-            let (ca, cb) = (
-                h.fingers[pair[0]].contact_normal(),
-                h.fingers[pair[1]].contact_normal(),
-            );
-            // (The free finger parks over its cone centre if it is in the
-            // way: the plan builder does that.)
-            if theory1(g, cand, load, None, free, &ca, &cb) {
-                found.push((*e, t));
-                break;
-            }
-            t += step;
-        }
-    }
-    found.sort_by(|a, b| a.1.total_cmp(&b.1));
-    found.truncate(keep);
-    found
 }
 
 /// Samples per rolling-path segment at which the pair and clearance are
@@ -193,7 +135,7 @@ fn path_ok(
 #[derive(Debug, Clone)]
 pub struct Unwound {
     /// Place the free finger, spin, spin, lift it.
-    pub actions: Vec<PrefixAction>,
+    pub actions: Vec<StillAction>,
     /// The two-finger state afterwards (same contacts, rolls near zero).
     pub hand: HandState,
 }
@@ -238,7 +180,7 @@ pub fn unwind(
         .max_by(|a, b| a.dot(&from).total_cmp(&b.dot(&from)))?;
     let mut h = *hand;
     place_finger(g, &mut h, free, contact, 0.0);
-    let mut actions = vec![PrefixAction::Place {
+    let mut actions = vec![StillAction::Place {
         finger: free,
         contact: *contact,
         roll: 0.0,
@@ -254,10 +196,10 @@ pub fn unwind(
         }
         let end = path.eval(path.length());
         h.fingers[k] = end.finger_state(&h.object, &cg);
-        actions.push(PrefixAction::Path(k, Box::new(path)));
+        actions.push(StillAction::Path(k, Box::new(path)));
     }
     lift_finger(g, &mut h, free);
-    actions.push(PrefixAction::Lift(free));
+    actions.push(StillAction::Lift(free));
     Some(Unwound { actions, hand: h })
 }
 
@@ -334,16 +276,16 @@ pub fn unwind_loaded(
         }
     }
     let (_, mask, _, _, contact, mut h) = best?;
-    let mut actions = vec![PrefixAction::Place {
+    let mut actions = vec![StillAction::Place {
         finger: free,
         contact,
         roll: 0.0,
     }];
     for (k, path) in spins.into_iter().filter(|(k, _)| mask & (1 << k) != 0) {
         h.fingers[k] = path.eval(path.length()).finger_state(&h.object, &cg);
-        actions.push(PrefixAction::Spin(k, Box::new(path)));
+        actions.push(StillAction::Spin(k, Box::new(path)));
     }
     lift_finger(g, &mut h, free);
-    actions.push(PrefixAction::Lift(free));
+    actions.push(StillAction::Lift(free));
     Some(Unwound { actions, hand: h })
 }

@@ -1,4 +1,4 @@
-//! From search segments to executable steps (SPEC §4.2 primitives).
+//! From the search's actions to executable steps (SPEC §4.2 primitives).
 //!
 //! Each gait becomes concrete motions: a Place is an optional arc on the
 //! transfer shell (routed via the cone centre when the direct arc would pass
@@ -10,10 +10,10 @@
 
 use nalgebra::Vector3;
 
-use super::collision::{other_centers, path_clear, sweep_clear};
-use super::geometry::{Geometry, angle_between};
-use super::plan::{FreeMove, FreePath, Handover, Motion, Reorientation, Step, StepKind};
-use super::start::PrefixAction;
+use super::super::collision::{other_centers, path_clear, sweep_clear};
+use super::super::geometry::{Geometry, angle_between};
+use super::super::plan::{FreeMove, FreePath, Handover, Motion, Reorientation, Step, StepKind};
+use super::StillAction;
 use crate::state::{FingerMode, HandState};
 
 /// Why segments could not be turned into collision-free motions.
@@ -126,10 +126,10 @@ impl<'a> Builder<'a> {
         }))
     }
 
-    /// A prefix action of the start.
-    pub fn prefix(&mut self, a: &PrefixAction) -> Result<(), Blocked> {
+    /// A motion on the still object.
+    pub fn still(&mut self, a: &StillAction) -> Result<(), Blocked> {
         match a {
-            PrefixAction::Roll(rolls) => {
+            StillAction::Roll(rolls) => {
                 let ratio = self.g.contact_radius / self.g.fingertip_radius;
                 self.push(
                     StepKind::Roll,
@@ -140,20 +140,20 @@ impl<'a> Builder<'a> {
                 );
                 Ok(())
             }
-            PrefixAction::Lift(f) => {
+            StillAction::Lift(f) => {
                 self.lift(*f);
                 Ok(())
             }
-            PrefixAction::Place {
+            StillAction::Place {
                 finger,
                 contact,
                 roll,
             } => self.place(*finger, contact, *roll),
-            PrefixAction::Path(finger, path) => {
+            StillAction::Path(finger, path) => {
                 self.roll_path(*finger, path);
                 Ok(())
             }
-            PrefixAction::Spin(finger, path) => {
+            StillAction::Spin(finger, path) => {
                 self.mark_spin(Some(*finger));
                 self.roll_path(*finger, path);
                 self.mark_spin(None);

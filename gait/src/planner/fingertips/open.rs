@@ -1,25 +1,25 @@
-//! Getting from the start state to a two-finger grasp (SPEC §4.3, paper §3.2
-//! and Fig. 4 frames 1–2).
+//! Rolling a pair of the three grasping fingertips apart (SPEC §4.3,
+//! paper §3.2 and Fig. 4 frames 1–2): the regrasp offered when three
+//! fingers grasp and no pair of them is force-closure (the paper's start:
+//! three fingers 120° apart on the equator) or holds the load.
 //!
-//! Two fingers grasping: nothing to do. Three fingers grasping: lift one whose
-//! removal leaves a force-closure pair. If no pair is force-closure (the
-//! paper's start: three fingers 120° apart on the equator), first roll two
-//! contacts apart along their great circle, each by half the missing angle
+//! The two fingers other than the one that will lift roll their contacts
+//! apart along their common great circle, each by half the missing angle
 //! (paper §3.1, Fig. 1), a little past the force-closure margin, while the
-//! third finger holds; then lift the third. Under load (SPEC §1.3 I1') the
-//! pair must open until it holds the weight — at the paper start beyond
-//! one great-circle roll's reach, so each finger rolls there in three legs
-//! ([`super::zigzag`]); the rest-holding opening is offered beside the one
-//! that also holds rotating about the goal's axis.
+//! third holds. Under load (SPEC §1.3 I1') the pair must open until it
+//! holds the weight — at the paper start beyond one great-circle roll's
+//! reach, so each finger rolls there in up to three legs
+//! ([`super::super::zigzag`]); the opening that holds at rest is offered
+//! beside the one that also holds turning about the next rotation's axis.
 
 use nalgebra::Vector3;
 
-use super::geometry::{Geometry, angle_between, rotation};
-use super::load::PairLoad;
-use super::plan::{GreatCircleRoll, Motion, Step, StepKind};
-use super::search::lift_finger;
-use super::timing::DurationModel;
-use super::zigzag::ZigzagCache;
+use super::super::geometry::{Geometry, angle_between, rotation};
+use super::super::load::PairLoad;
+use super::super::plan::{GreatCircleRoll, Motion, Step, StepKind};
+use super::super::timing::DurationModel;
+use super::super::zigzag::ZigzagCache;
+use super::{StillAction, lift_finger};
 use crate::HandConfig;
 use crate::contact::{ContactGeometry, ContactState};
 use crate::executor::grip::GripModel;
@@ -27,112 +27,66 @@ use crate::grasp::hold::Accel;
 use crate::rolling::{RollGoal, RollLimits, SegmentKind, plan_roll};
 use crate::state::{FingerMode, HandState};
 
-/// Something done before the search's first segment.
-#[derive(Debug, Clone, PartialEq)]
-pub enum PrefixAction {
-    /// Fingers roll on the still object (time-synchronised).
-    Roll([Option<GreatCircleRoll>; 3]),
-    /// A finger leaves the object.
-    Lift(usize),
-    /// A free finger touches down at a contact with a roll preset.
-    Place {
-        /// Finger.
-        finger: usize,
-        /// Unit contact normal.
-        contact: Vector3<f64>,
-        /// Roll τ at touchdown.
-        roll: f64,
-    },
-    /// A finger follows a rolling path (rolls and spins) on the still object.
-    Path(usize, Box<crate::rolling::RollingPath>),
-    /// A finger spins (a rolling path) on the still object of a
-    /// three-finger grasp under load, pushing along its normal only while
-    /// the other two carry the rest (SPEC §1.3 I1'); the grip passes to
-    /// that set before and back after.
-    Spin(usize, Box<crate::rolling::RollingPath>),
-}
-
-/// A way to reach a two-finger grasp from the start state.
+/// A pair rolled apart: the three-finger state after it, the rolls, their
+/// time, and whether they needed several legs.
 #[derive(Debug, Clone)]
-pub struct Start {
-    /// State after the prefix.
+pub struct Opened {
+    /// State after the rolls (three fingers still grasp).
     pub hand: HandState,
-    /// The prefix, in order.
-    pub actions: Vec<PrefixAction>,
-    /// Its execution time \[s\].
+    /// The rolls, in order.
+    pub actions: Vec<StillAction>,
+    /// Their execution time \[s\].
     pub cost: f64,
+    /// Whether a finger rolled in several legs (beyond one great circle).
+    pub legs: bool,
 }
 
 /// Number of samples along a roll at which its invariants are checked (on
 /// top of the exact end-point checks).
 const ROLL_SAMPLES: usize = 64;
 
-/// The ways to reach a two-finger grasp (empty if none was found). Under
-/// load (SPEC §1.3 I1') the pair must hold it: a lift only leaves a pair
-/// that does, and the roll apart goes on until the pair does (holding it
-/// while rotating about `axis` next, when the cones allow); beyond one
-/// great-circle roll's reach only with `zigzags`.
+/// The ways to roll the two fingers other than `lose` apart so that `lose`
+/// can lift (empty if none was found). Under load (SPEC §1.3 I1') the pair
+/// left must hold it: the roll goes on until it does (turning about `axis`
+/// next when the cones allow, else at rest); beyond one great-circle
+/// roll's reach in several legs. `extra`: the opening beyond the
+/// force-closure margin aimed for at least.
 #[allow(clippy::too_many_arguments)]
-pub fn starts(
+pub fn open(
     g: &Geometry,
     timing: &DurationModel,
     load: &PairLoad,
     grip: &GripModel,
     config: &HandConfig,
-    zigzags: Option<&ZigzagCache>,
+    zigzags: &ZigzagCache,
     hand: &HandState,
+    lose: usize,
     axis: &Vector3<f64>,
     extra: f64,
-) -> Vec<Start> {
-    match hand.grasping().1 {
-        2 => vec![Start {
-            hand: *hand,
-            actions: Vec::new(),
-            cost: 0.0,
-        }],
-        3 => {
-            let mut out = Vec::new();
-            for lose in 0..3 {
-                let (i, j) = others(lose);
-                let ci = hand.fingers[i].contact_normal();
-                let cj = hand.fingers[j].contact_normal();
-                if g.is_fc_pair(&ci, &cj) {
-                    let mut h = *hand;
-                    lift_finger(g, &mut h, lose);
-                    if load.active() && !grip.carried_with(&h, Accel::None, 0b111).feasible {
-                        continue;
-                    }
-                    out.push(Start {
-                        hand: h,
-                        actions: vec![PrefixAction::Lift(lose)],
-                        cost: timing.vertical + timing.handover,
-                    });
-                }
-            }
-            if out.is_empty() {
-                for lose in 0..3 {
-                    for want in holding_extras(g, load, grip, hand, lose, axis, extra) {
-                        match roll_apart(g, timing, hand, lose, want) {
-                            Some(s) if pair_holds(load, grip, &s.hand, axis) => out.push(s),
-                            // Beyond a great-circle roll's reach (the fingertip
-                            // hemisphere): rolling paths of several legs.
-                            _ => {
-                                let Some(zigzags) = zigzags else { continue };
-                                out.extend(
-                                    roll_paths_apart(
-                                        g, timing, grip, config, zigzags, hand, lose, want,
-                                    )
-                                    .filter(|s| pair_holds(load, grip, &s.hand, axis)),
-                                );
-                            }
-                        }
-                    }
-                }
-            }
-            out
+) -> Vec<Opened> {
+    let mut out = Vec::new();
+    for want in holding_extras(g, load, grip, hand, lose, axis, extra) {
+        match roll_apart(g, timing, hand, lose, want) {
+            Some(s) if pair_holds(g, load, grip, &s.hand, lose, axis) => out.push(s),
+            // Beyond a great-circle roll's reach (the fingertip
+            // hemisphere): rolling paths of several legs.
+            _ => out.extend(
+                roll_paths_apart(g, timing, grip, config, zigzags, hand, lose, want)
+                    .filter(|s| pair_holds(g, load, grip, &s.hand, lose, axis)),
+            ),
         }
-        _ => Vec::new(),
     }
+    out
+}
+
+/// A lower bound of the time of any opening for `lose` to lift: the
+/// great-circle roll to the force-closure margin \[s\].
+pub fn bound(g: &Geometry, timing: &DurationModel, hand: &HandState, lose: usize) -> f64 {
+    let (i, j) = others(lose);
+    let ci = hand.fingers[i].contact_normal();
+    let cj = hand.fingers[j].contact_normal();
+    let half = 0.5 * (g.fc_min_angle - angle_between(&ci, &cj)).max(0.0);
+    timing.roll(half * g.contact_radius / g.fingertip_radius)
 }
 
 /// The least extra separations (≥ `extra`, 1° steps) after which the pair
@@ -198,21 +152,30 @@ fn holding_extras(
     rotating.map_or_else(|| vec![extra], |x| vec![x])
 }
 
-/// Whether the two grasping fingers of `hand` hold the load, rotating
-/// about `axis` (the search's test) or at least at rest (exact).
-fn pair_holds(load: &PairLoad, grip: &GripModel, hand: &HandState, axis: &Vector3<f64>) -> bool {
+/// Whether the pair left when `lose` lifts from `hand` holds the load,
+/// turning about `axis` (the search's test) or at least at rest (exact).
+fn pair_holds(
+    g: &Geometry,
+    load: &PairLoad,
+    grip: &GripModel,
+    hand: &HandState,
+    lose: usize,
+    axis: &Vector3<f64>,
+) -> bool {
     if !load.active() {
         return true;
     }
-    let (idx, n) = hand.grasping();
-    if n != 2 {
-        return false;
-    }
+    let (i, j) = others(lose);
     let (a, b) = (
-        hand.fingers[idx[0]].contact_normal(),
-        hand.fingers[idx[1]].contact_normal(),
+        hand.fingers[i].contact_normal(),
+        hand.fingers[j].contact_normal(),
     );
-    load.holds(&a, &b, Some(axis)) || grip.carried_with(hand, Accel::None, 0b111).feasible
+    if load.holds(&a, &b, Some(axis)) {
+        return true;
+    }
+    let mut h = *hand;
+    lift_finger(g, &mut h, lose);
+    grip.carried_with(&h, Accel::None, 0b111).feasible
 }
 
 /// Samples per rolling path at which [`roll_paths_apart`] checks the three
@@ -222,10 +185,9 @@ const PATH_SAMPLES: usize = 6;
 /// Like [`roll_apart`], beyond a great-circle roll's reach (the fingertip
 /// hemisphere, SPEC §2.4): each of the two fingers rolls in great-circle
 /// legs to half the separation wanted while the other fingers hold — the
-/// quickest three legs found ([`super::zigzag`]), else the rolling
+/// quickest three legs found ([`super::super::zigzag`]), else the rolling
 /// planner's Fig. 2 paths (paper Fig. 3) — the two fingers in the
-/// quickest order of their legs ([`pair_legs`]). Then `lose` lifts. Every
-/// sample keeps the three in their cones, clear of each other,
+/// quickest order of their legs ([`pair_legs`]). Every sample keeps the three in their cones, clear of each other,
 /// force-closure (Fact 4 or a force-closure pair) and holding the load as
 /// hard contacts.
 #[allow(clippy::too_many_arguments)]
@@ -238,23 +200,21 @@ fn roll_paths_apart(
     hand: &HandState,
     lose: usize,
     extra: f64,
-) -> Option<Start> {
+) -> Option<Opened> {
     let (i, j, w, half) = opening(g, hand, lose, extra)?;
     let targets = [
         rotation(&w, -half) * hand.fingers[i].contact_normal(),
         rotation(&w, half) * hand.fingers[j].contact_normal(),
     ];
     // The quickest legs found (zigzag), else the rolling planner's Fig. 2
-    // paths; each must pass the three-finger checks. (Offering both as
-    // roots to the search made 1000 plans from the paper start 1 % quicker
-    // on average but 4 % slower at the median, gait/LOAD-FIGURES.md §12.)
+    // paths; each must pass the three-finger checks.
     if let Some(z) = zigzag_legs(g, timing, zigzags, hand, [i, j], &targets)
-        && let Some(s) = roll_legs_apart(g, grip, timing, hand, lose, [i, j], &z)
+        && let Some(s) = roll_legs_apart(g, grip, timing, hand, [i, j], &z)
     {
         return Some(s);
     }
     let legs = fig2_legs(g, config, hand, [i, j], &targets)?;
-    roll_legs_apart(g, grip, timing, hand, lose, [i, j], &legs)
+    roll_legs_apart(g, grip, timing, hand, [i, j], &legs)
 }
 
 /// Each rolling finger's legs to its target by [`zigzag`].
@@ -328,22 +288,21 @@ fn fig2_legs(
 
 /// The two fingers' legs, rolled in the quickest order of [`pair_legs`]
 /// (else the i-th legs together), every sample checked (docs of
-/// [`roll_paths_apart`]); then `lose` lifts.
+/// [`roll_paths_apart`]).
 fn roll_legs_apart(
     g: &Geometry,
     grip: &GripModel,
     timing: &DurationModel,
     hand: &HandState,
-    lose: usize,
     [i, j]: [usize; 2],
     legs: &[Vec<GreatCircleRoll>; 2],
-) -> Option<Start> {
+) -> Option<Opened> {
     let ratio = g.contact_radius / g.fingertip_radius;
     let tip_angles = legs
         .each_ref()
         .map(|l| l.iter().map(|r| r.angle.abs() * ratio).collect());
     let paired = pair_legs(&tip_angles, |x| timing.roll(x));
-    roll_paired(g, grip, timing, hand, lose, [i, j], legs, &paired).or_else(|| {
+    roll_paired(g, grip, timing, hand, [i, j], legs, &paired).or_else(|| {
         // A sample of the quickest order fails its check: the legs side by
         // side, as found.
         let side_by_side: Vec<_> = (0..legs[0].len().max(legs[1].len()))
@@ -355,7 +314,7 @@ fn roll_legs_apart(
             })
             .collect();
         (side_by_side != paired)
-            .then(|| roll_paired(g, grip, timing, hand, lose, [i, j], legs, &side_by_side))
+            .then(|| roll_paired(g, grip, timing, hand, [i, j], legs, &side_by_side))
             .flatten()
     })
 }
@@ -365,9 +324,8 @@ fn roll_legs_apart(
 /// as the longer one), every leg once and in order. Of those orders, the
 /// quickest, when a step takes `time` of its longer fingertip rotation
 /// (rest to rest): an alignment of the two sequences, found by dynamic
-/// programming over where each finger has got to. Rolling the i-th legs
-/// together instead cost 0.7 s when one finger's zigzag has a short first
-/// leg and the other's does not (gait/LOAD-FIGURES.md §17).
+/// programming over where each finger has got to (rolling the i-th legs
+/// together makes a short leg wait for the other finger's long one).
 fn pair_legs(tips: &[Vec<f64>; 2], time: impl Fn(f64) -> f64) -> Vec<[Option<usize>; 2]> {
     let (na, nb) = (tips[0].len(), tips[1].len());
     // best[x][y]: quickest time having rolled x legs of the first finger
@@ -417,11 +375,10 @@ fn roll_paired(
     grip: &GripModel,
     timing: &DurationModel,
     hand: &HandState,
-    lose: usize,
     [i, j]: [usize; 2],
     legs: &[Vec<GreatCircleRoll>; 2],
     paired: &[[Option<usize>; 2]],
-) -> Option<Start> {
+) -> Option<Opened> {
     let ratio = g.contact_radius / g.fingertip_radius;
     let hold = grip.hold();
     let loads = hold.loads(Accel::None);
@@ -465,7 +422,7 @@ fn roll_paired(
         }
         cost += timing.roll(dofs.length[0].max(dofs.length[1]));
         h = step.eval(&dofs.length, &[0.0; 3]).state;
-        actions.push(PrefixAction::Roll(rolls));
+        actions.push(StillAction::Roll(rolls));
     }
     if !g.is_fc_pair(
         &h.fingers[i].contact_normal(),
@@ -474,12 +431,11 @@ fn roll_paired(
     {
         return None;
     }
-    lift_finger(g, &mut h, lose);
-    actions.push(PrefixAction::Lift(lose));
-    Some(Start {
+    Some(Opened {
         hand: h,
+        legs: actions.len() > 1,
         actions,
-        cost: cost + timing.vertical + timing.handover,
+        cost,
     })
 }
 
@@ -513,14 +469,14 @@ fn opening(
 }
 
 /// Rolls the two fingers other than `lose` apart to a force-closure angle
-/// (plus `extra`), then lifts `lose`. `None` if an invariant would break.
+/// (plus `extra`). `None` if an invariant would break.
 fn roll_apart(
     g: &Geometry,
     timing: &DurationModel,
     hand: &HandState,
     lose: usize,
     extra: f64,
-) -> Option<Start> {
+) -> Option<Opened> {
     let (i, j, w, half) = opening(g, hand, lose, extra)?;
     // c_j = Rot(w, α) c_i: turning c_i by −δ and c_j by +δ opens the angle.
     let rolls = {
@@ -554,19 +510,18 @@ fn roll_apart(
             return None;
         }
     }
-    let mut after = step.eval(&dofs.length, &[0.0; 3]).state;
+    let after = step.eval(&dofs.length, &[0.0; 3]).state;
     if !g.is_fc_pair(
         &after.fingers[i].contact_normal(),
         &after.fingers[j].contact_normal(),
     ) {
         return None;
     }
-    let roll_time = timing.roll(dofs.length[0].max(dofs.length[1]));
-    lift_finger(g, &mut after, lose);
-    Some(Start {
+    Some(Opened {
         hand: after,
-        actions: vec![PrefixAction::Roll(rolls), PrefixAction::Lift(lose)],
-        cost: roll_time + timing.vertical + timing.handover,
+        actions: vec![StillAction::Roll(rolls)],
+        cost: timing.roll(dofs.length[0].max(dofs.length[1])),
+        legs: false,
     })
 }
 

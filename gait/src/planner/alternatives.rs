@@ -1,0 +1,181 @@
+//! What the planner tries, and in which order — the whole list, as data.
+//!
+//! Planning is one A* search ([`super::search`]) run as the [`PASSES`] of
+//! a small portfolio under one budget: a pass that finds a plan; only when
+//! it finds none, for a turn goal, one that lets the turn's first move be
+//! about another axis; then one that also lets contacts spin under load.
+//! (An
+//! improving pass — a less greedy search pruned by the plan in hand and
+//! capped at a multiple of the effort so far — is a [`Role`] the list may
+//! hold.) A budget spent ends planning wherever it is, with the best plan
+//! found so far.
+//!
+//! In a pass, a node's children are generated in the order of
+//! [`PAIR_ACTIONS`] (two fingers grasp, the third is free) or
+//! [`TRIPLE_ACTIONS`] (three grasp); the search expands them cheapest
+//! first (execution time so far plus a weighted estimate of the rest),
+//! ties in that order. The fractions below are the turn lengths offered.
+
+use super::hand_model::Turn;
+
+/// When a pass runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Role {
+    /// While no plan is in hand.
+    Find,
+    /// When a plan is in hand: only quicker ones count, and the pass stops
+    /// after `effort` times the expansions spent before it.
+    Improve {
+        /// Its cap, in multiples of the effort so far.
+        effort: u32,
+    },
+}
+
+/// One pass of the portfolio.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pass {
+    /// When it runs.
+    pub role: Role,
+    /// Weight of the time-to-go estimate (1: A*; more: greedier). 1.5
+    /// plans as quickly as a greedier search for the same execution time.
+    pub weight: f64,
+    /// Whether contacts may spin on the object under load (a spinning
+    /// contact has no torsion to spare; the last resort).
+    pub spins: bool,
+    /// Whether a turn goal may first turn about another axis (a detour
+    /// from the root; an orientation goal always may). A turn keeps its
+    /// size and sense through it, but no longer turns only about its axis.
+    pub turn_detours: bool,
+}
+
+/// The passes, in order. (A pass that would search as one before it did
+/// — turn detours for an orientation goal, spins without a load — is
+/// skipped.)
+pub const PASSES: [Pass; 3] = [
+    Pass {
+        role: Role::Find,
+        weight: 1.5,
+        spins: false,
+        turn_detours: false,
+    },
+    Pass {
+        role: Role::Find,
+        weight: 1.5,
+        spins: false,
+        turn_detours: true,
+    },
+    Pass {
+        role: Role::Find,
+        weight: 1.5,
+        spins: true,
+        turn_detours: true,
+    },
+];
+
+/// A turn longer than this is planned as equal consecutive turns no
+/// longer than it, each from where the last ends \[rad\] (120°): the
+/// search for one long turn is deep (its time to go is hard to estimate),
+/// its pieces are not; where two pieces meet with the same pair turning
+/// on, the two turns are one.
+pub const TURN_PIECE: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
+
+/// The kinds of children a node gets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ActionKind {
+    /// The grasping fingers turn the object about the axis of the rotation
+    /// still to do, by each of the fractions offered (a pair:
+    /// [`PAIR_TURN_FRACTIONS`] of its range, shortened until a gait can
+    /// follow; three fingers: [`TRIPLE_TURN_FRACTIONS`]), or to the goal.
+    Toward,
+    /// Substitution (paper §2.1): the free finger is placed force-closure
+    /// with one grasping finger, the other lifts. The best
+    /// `planner.branching` placements per side by the rotation they allow
+    /// and the travel to them, plus the quickest to reach.
+    Substitute,
+    /// The free finger is placed and three fingers grasp (the three hold
+    /// the load where no pair would): the best `planner.branching` by how
+    /// far the three could turn towards the goal and the travel.
+    Place,
+    /// A grasping finger lifts, the other two holding (three grasp; not
+    /// the finger just placed).
+    Lift,
+    /// Three fingers tilt the object about the chord of a pair, both ways,
+    /// by [`TILT_FRACTIONS`] of how far they can (only under a weight,
+    /// only before a first lift).
+    Tilt,
+    /// Under a weight, while at most half a turn is left, a turn about the
+    /// weight's direction by the rotation left's twist about it
+    /// (swing–twist decomposition), or as far as the pair can: a turn
+    /// about the weight leaves every grasp's load as it is.
+    Twist,
+    /// A turn about another axis: from the root (of a turn goal only in a
+    /// pass that allows it), `planner.detour_axes` directions by their
+    /// range and half of it; from a node where no gait
+    /// can follow (paper Theory 1), the least turn about each of
+    /// `planner.escape_axes` directions after which one can.
+    Detour,
+    /// A hand-specific motion on the still object: with three fingers
+    /// (at a root, or after a turn) a pair rolled apart so that the third
+    /// can lift where it cannot yet; with two fingers, at a root or where
+    /// no other child is, whatever unsticks the grasp.
+    Regrasp,
+}
+
+/// The children of a two-finger node, in order.
+pub const PAIR_ACTIONS: [ActionKind; 6] = [
+    ActionKind::Toward,
+    ActionKind::Twist,
+    ActionKind::Substitute,
+    ActionKind::Place,
+    ActionKind::Detour,
+    ActionKind::Regrasp,
+];
+
+/// The children of a three-finger node, in order.
+pub const TRIPLE_ACTIONS: [ActionKind; 4] = [
+    ActionKind::Lift,
+    ActionKind::Toward,
+    ActionKind::Tilt,
+    ActionKind::Regrasp,
+];
+
+/// A pair's turn towards the goal: as far as it can, and half as far
+/// (stopping early can keep a better gait possible).
+pub const PAIR_TURN_FRACTIONS: [f64; 2] = [1.0, 0.5];
+
+/// Three fingers' turn towards the goal, in fractions of how far all
+/// three can carry the object (no pair has to hold the load meanwhile).
+pub const TRIPLE_TURN_FRACTIONS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
+
+/// A tilt about a pair's chord, in fractions of how far the three can
+/// (at most [`MAX_TILT`]).
+pub const TILT_FRACTIONS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
+
+/// Longest tilt \[rad\] (90°): beyond it the pair's plane tilts past the
+/// vertical again.
+pub const MAX_TILT: f64 = std::f64::consts::FRAC_PI_2;
+
+/// Turns shorter than this are not worth a step \[rad\] (2°); a pair's
+/// turn is never shorter than [`MIN_PAIR_TURN`].
+pub const MIN_TURN: f64 = 2.0 * std::f64::consts::PI / 180.0;
+
+/// A pair's shortest turn worth a segment \[rad\].
+pub const MIN_PAIR_TURN: f64 = 1e-3;
+
+/// A detour's shortest turn \[rad\] (~10°).
+pub const MIN_DETOUR: f64 = 0.17;
+
+/// Longest escape turn \[rad\] (90°), and its step (5°).
+pub const MAX_ESCAPE: f64 = std::f64::consts::FRAC_PI_2;
+/// Step of the escape turn's scan \[rad\].
+pub const ESCAPE_STEP: f64 = 5.0 * std::f64::consts::PI / 180.0;
+
+/// Why a turn is offered, for each kind that turns.
+pub fn turn_of(kind: ActionKind) -> Option<Turn> {
+    match kind {
+        ActionKind::Toward => Some(Turn::Toward),
+        ActionKind::Tilt => Some(Turn::Tilt),
+        ActionKind::Detour => Some(Turn::Detour),
+        _ => None,
+    }
+}
