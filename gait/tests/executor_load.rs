@@ -161,7 +161,7 @@ fn a_fingertip_spinning_under_load_pushes_along_its_normal_only() {
     while scripted.len() < 2 {
         let start = planning::random_two_finger_state(&mut rng, &cfg);
         let mut never = Unbounded;
-        let offers = hand.regrasps(&start, RegraspFor::Unstick, &Vector3::z(), &mut never);
+        let offers = hand.regrasps(&start, RegraspFor::Unstick, &mut never);
         let Some(o) = offers.into_iter().find(|o| {
             o.regrasp
                 .actions

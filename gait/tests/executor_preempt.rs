@@ -22,7 +22,17 @@ fn interruptions_keep_the_stream_continuous_and_valid() {
     let mut interrupted: BTreeMap<&'static str, u32> = BTreeMap::new();
     let mut id = 0u64;
     let mut last_goal = None;
-    for round in 0..60 {
+    // Rounds until gaits, turns and transfers have each been interrupted
+    // (a transfer is mostly made during a turn, so it comes up least).
+    let kinds = ["gait", "rotate", "transfer"];
+    for round in 0..300 {
+        if round >= 60
+            && kinds
+                .iter()
+                .all(|k| interrupted.get(k).copied().unwrap_or(0) > 0)
+        {
+            break;
+        }
         // Let something run for a random while, then interrupt it.
         let wait = rng.random_range(50..2500);
         for _ in 0..wait {
@@ -93,7 +103,7 @@ fn interruptions_keep_the_stream_continuous_and_valid() {
     assert!(s.unmoved_steps.is_empty(), "{:?}", s.unmoved_steps);
     assert!(err < 1e-6, "last goal error {err}");
     assert_eq!(s.goals.last(), Some(&(last_id, GoalStage::Succeeded)));
-    for kind in ["gait", "rotate", "transfer"] {
+    for kind in kinds {
         assert!(
             interrupted.get(kind).copied().unwrap_or(0) > 0,
             "never interrupted a {kind}"

@@ -109,6 +109,30 @@ fn a_canceled_request_stops_at_the_next_poll() {
 }
 
 #[test]
+fn every_expansion_and_evaluation_takes_from_the_budget() {
+    // What the search does between two polls is one expansion or one
+    // deferred evaluation: each takes one unit (so a cancel is seen before
+    // the next one starts).
+    let cfg = HandConfig::default();
+    let planner = Planner::new(&cfg).unwrap();
+    let start = HandState::paper_start(&cfg);
+    for (i, t) in goals_needing(&planner, &start, 50).iter().enumerate() {
+        let mut polls = StopAfter {
+            after: u32::MAX - 1,
+            polls: 0,
+            why: Halt::Canceled,
+        };
+        let mut b = Budget::new(u32::MAX, &mut polls);
+        let p = planner.plan_within(&start, t, &mut b).expect("planned");
+        let e = p.summary.effort;
+        let used = b.used();
+        assert!(e.evaluated > 0, "goal {i}: nothing deferred");
+        assert_eq!(used, e.expansions + e.evaluated, "goal {i}");
+        assert_eq!(polls.polls, used, "goal {i}");
+    }
+}
+
+#[test]
 fn the_expansion_budget_alone_plans_bit_for_bit_the_same() {
     let cfg = HandConfig::default();
     let planner = Planner::new(&cfg).unwrap();

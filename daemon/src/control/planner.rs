@@ -341,3 +341,59 @@ mod tests {
         thread.join();
     }
 }
+
+#[cfg(test)]
+mod wanted_tests {
+    use super::*;
+
+    /// Plans "forever" — until the loop no longer wants the request — and
+    /// answers how often it looked.
+    struct UntilUnwanted;
+
+    impl BackgroundPlanner for UntilUnwanted {
+        type Request = ();
+        type Plan = u64;
+        type Error = u64;
+        fn plan(&mut self, _: &(), wanted: &Wanted) -> Result<u64, u64> {
+            let mut polls = 0;
+            while wanted.still() {
+                polls += 1;
+                std::thread::yield_now();
+            }
+            Err(polls)
+        }
+    }
+
+    fn reply<P: Send, E: Send>(link: &mut PlannerLink<(), P, E>) -> Reply<P, E> {
+        loop {
+            if let Some(r) = link.poll() {
+                return r;
+            }
+            std::thread::yield_now();
+        }
+    }
+
+    #[test]
+    fn a_request_no_longer_wanted_stops_its_planning() {
+        let (mut link, thread) = spawn(UntilUnwanted, 4, || {}).unwrap();
+        // A newer request supersedes the one being planned.
+        let first = link.submit(()).unwrap();
+        let second = link.submit(()).unwrap();
+        let r = reply(&mut link);
+        assert_eq!(r.seq, first);
+        assert!(r.result.is_err(), "stopped by the newer request");
+        // The newer one runs until the loop wants none (a cancel).
+        link.want(None);
+        let r = reply(&mut link);
+        assert_eq!(r.seq, second);
+        // Wanted again while it is queued: it runs until unwanted.
+        let third = link.submit(()).unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        link.want(Some(third));
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        assert!(!link.reply_ready(), "still planned while wanted");
+        link.want(None);
+        assert_eq!(reply(&mut link).seq, third);
+        thread.join();
+    }
+}

@@ -368,6 +368,42 @@ impl HoldModel {
         (g1, g2, tau)
     }
 
+    /// Whether two soft contacts at unit normals `n` hold `loads` (the
+    /// verdict of [`HoldModel::pair`]'s `feasible`, without the forces): it
+    /// stops at the first scenario that makes the peak exceed
+    /// `load.max_grip` (the peak only grows with more scenarios).
+    pub fn pair_holds(&self, n: &[Vector3<f64>; 2], loads: &Loads) -> bool {
+        let (n1, n2) = (&n[0], &n[1]);
+        let d = n2 - n1;
+        if d.norm_squared() < 1e-18 {
+            return false;
+        }
+        let u = d.normalize();
+        let a_sq = u.dot(&-n1);
+        let mut squeeze: f64 = 0.0;
+        let mut b_max = f64::NEG_INFINITY;
+        for s in 0..loads.count() {
+            let (e, t) = loads.scenario(s);
+            let (g1, g2, tau) = self.pair_parts(n1, n2, &e, &t);
+            for (dir, g, nn) in [(u, g1, n1), (-u, g2, n2)] {
+                let a = dir.dot(&-nn);
+                let b = g.dot(&-nn);
+                b_max = b_max.max(b);
+                let aa = dir + nn * a;
+                let bb = g + nn * b;
+                match self.least(a, b, &aa, &bb, tau * self.torsion_scale, self.min_grip) {
+                    Some(f) => squeeze = squeeze.max(f),
+                    None => return false,
+                }
+            }
+            let peak = a_sq * squeeze + b_max;
+            if peak > self.max_grip || peak.is_nan() {
+                return false;
+            }
+        }
+        true
+    }
+
     /// Two soft contacts at unit normals `n` holding `loads`.
     pub fn pair(&self, n: &[Vector3<f64>; 2], loads: &Loads) -> Hold {
         let (n1, n2) = (&n[0], &n[1]);
@@ -621,5 +657,44 @@ mod tests {
         let want = 0.1 * 9.81 / (2.0 * c.mu());
         assert!((h.max_peak - want).abs() < 1e-9, "{} vs {want}", h.max_peak);
         assert!(h.feasible);
+    }
+
+    #[test]
+    fn the_early_verdict_is_the_full_one() {
+        // pair_holds stops early; it must say what pair(..).feasible says,
+        // for pairs on both sides of the limit, at rest and turning.
+        let c = HandConfig::default();
+        let m = HoldModel::new(&c);
+        let (mut held, mut dropped) = (0, 0);
+        for i in 0..4000 {
+            let a = i as f64 * 0.731;
+            let n1 = Vector3::new(
+                a.cos() * (0.37 * a).sin(),
+                a.sin() * (0.37 * a).sin(),
+                (0.37 * a).cos(),
+            )
+            .normalize();
+            let w = n1
+                .cross(&Vector3::new((1.3 * a).sin(), (1.7 * a).cos(), 0.4))
+                .normalize();
+            let theta = 2.4 + 0.74 * ((0.113 * i as f64).sin() * 0.5 + 0.5);
+            let n2 =
+                nalgebra::UnitQuaternion::from_axis_angle(&nalgebra::Unit::new_normalize(w), theta)
+                    * n1;
+            let accel = if i % 2 == 0 {
+                Accel::None
+            } else {
+                Accel::About { axis: w, max: 4.0 }
+            };
+            let loads = m.loads(accel);
+            let full = m.pair(&[n1, n2], &loads).feasible;
+            assert_eq!(m.pair_holds(&[n1, n2], &loads), full, "pair {i}");
+            if full {
+                held += 1;
+            } else {
+                dropped += 1;
+            }
+        }
+        assert!(held > 400 && dropped > 400, "{held} held, {dropped} not");
     }
 }

@@ -72,6 +72,13 @@ pub const PASSES: [Pass; 3] = [
     },
 ];
 
+/// A pass's search turns greedier as it runs long: after this many
+/// expansions (and deferred evaluations) of the pass, the estimate's
+/// weight becomes this (never lower than the pass's own). A plan found
+/// early is found as the pass's weight would find it; a hard request
+/// still ends in a plan rather than a timeout.
+pub const GREEDIER: [(u32, f64); 2] = [(4000, 3.0), (12_000, 6.0)];
+
 /// A turn longer than this is planned as equal consecutive turns no
 /// longer than it, each from where the last ends \[rad\] (120°): the
 /// search for one long turn is deep (its time to go is hard to estimate),
@@ -108,16 +115,17 @@ pub enum ActionKind {
     /// (swing–twist decomposition), or as far as the pair can: a turn
     /// about the weight leaves every grasp's load as it is.
     Twist,
-    /// A turn about another axis: from the root (of a turn goal only in a
-    /// pass that allows it), `planner.detour_axes` directions by their
-    /// range and half of it; from a node where no gait
+    /// A turn about another axis: before the object has turned at all (for
+    /// a turn goal only in a pass that allows it), `planner.detour_axes`
+    /// directions by their range and half of it; from a node where no gait
     /// can follow (paper Theory 1), the least turn about each of
     /// `planner.escape_axes` directions after which one can.
     Detour,
-    /// A hand-specific motion on the still object: with three fingers
-    /// (at a root, or after a turn) a pair rolled apart so that the third
-    /// can lift where it cannot yet; with two fingers, at a root or where
-    /// no other child is, whatever unsticks the grasp.
+    /// A hand-specific motion on the still object: with three fingers (at
+    /// a root, after a tilt or a placement) a pair rolled apart so that the
+    /// third can lift where it cannot yet, and at a root whatever unsticks
+    /// the grasp; with two fingers, at a root or where no other child is,
+    /// whatever unsticks the grasp.
     Regrasp,
 }
 

@@ -143,8 +143,9 @@ pub enum RegraspFor {
         /// The finger that will lift.
         lift: usize,
     },
-    /// Two fingers grasp and no gait can follow (paper Theory 1 fails, or
-    /// the pair is at its limits): change the grasp without gaits.
+    /// A grasp no gait may leave (two fingers: paper Theory 1 fails, or
+    /// the pair is at its limits; three: their rolls are): change it on
+    /// the still object.
     Unstick,
 }
 
@@ -230,13 +231,12 @@ pub trait HandModel {
     fn holds_along(&self, hand: &HandState, axis: &Vector3<f64>, angle: f64) -> bool;
 
     /// The regrasps the hand offers from `hand` (deferred by the search:
-    /// may cost; `stop` is polled inside long computations). `axis`: the
-    /// rotation that comes next.
+    /// may cost; `stop` is polled inside long computations). They do not
+    /// depend on the goal, so a hand may keep what it found.
     fn regrasps(
         &self,
         hand: &HandState,
         why: RegraspFor,
-        axis: &Vector3<f64>,
         stop: &mut dyn Stop,
     ) -> Vec<Offer<Self::Regrasp>>;
     /// A short name of a regrasp (e.g. "open in legs"), for the route.

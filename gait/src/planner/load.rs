@@ -140,8 +140,7 @@ impl PairLoad {
                 axis: *k,
                 max: self.max_accel,
             });
-            m.pair(&[*n1, *n2], &m.loads_with_weight(*w, accel))
-                .feasible
+            m.pair_holds(&[*n1, *n2], &m.loads_with_weight(*w, accel))
         })
     }
 
@@ -334,6 +333,23 @@ impl PairLoad {
                 true,
             ) >= 0.0
         }) || self.exact_holds(n1, n2, w, axis)
+    }
+
+    /// Whether the pair holds the load turning about *any* axis at up to
+    /// the acceleration limit: the sufficient test with the acceleration
+    /// torque among the unknown disturbances (a ball of radius I α_max);
+    /// no exact fallback. Independent of the axis, so its verdicts can be
+    /// kept across goals.
+    pub fn holds_turning(&self, n1: &Vector3<f64>, n2: &Vector3<f64>) -> bool {
+        if !self.active {
+            return true;
+        }
+        let any = Self {
+            torque: self.torque + self.inertia_torque,
+            exact: None,
+            ..*self
+        };
+        any.holds(n1, n2, None)
     }
 
     /// How far (rad, at most `limit`) the pair can rotate about the unit

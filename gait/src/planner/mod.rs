@@ -318,7 +318,6 @@ impl Planner {
             route.extend(r);
             pass = pass.max(p);
         }
-        effort.expansions = budget.used();
         Ok(self.finish(
             start,
             goal,

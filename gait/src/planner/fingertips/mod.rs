@@ -336,7 +336,6 @@ impl HandModel for Fingertips {
         &self,
         hand: &HandState,
         why: RegraspFor,
-        axis: &Vector3<f64>,
         _stop: &mut dyn Stop,
     ) -> Vec<Offer<Regrasp>> {
         match why {
@@ -349,7 +348,6 @@ impl HandModel for Fingertips {
                 &self.zigzags,
                 hand,
                 lift,
-                axis,
                 self.config.planner.pair_margin_deg.to_radians() + 1e-7,
             )
             .into_iter()
@@ -428,10 +426,31 @@ impl HandModel for Fingertips {
 }
 
 impl Fingertips {
-    /// The regrasps for a two-finger grasp no gait can leave: a grasping
-    /// finger rolled elsewhere, or the rolls spun back ([`unstick`]).
+    /// The regrasps for a grasp no gait can leave: with two fingers, a
+    /// grasping finger rolled elsewhere, or the rolls spun back with the
+    /// free finger's help; with three, the rolls spun back ([`unstick`]).
     fn unstick(&self, hand: &HandState) -> Vec<Offer<Regrasp>> {
         let mut out = Vec::new();
+        if hand.grasping().1 == 3 {
+            // Under load a spin uses its contact's whole cone: only in the
+            // pass that allows spins.
+            let loaded = self.load.active();
+            if (!loaded || self.spins)
+                && let Some(u) =
+                    unstick::unwind_triple(&self.geom, &self.grip, &self.config, hand, loaded)
+                && let Some(cost) = self.time_of(hand, &u.actions)
+            {
+                out.push(Offer {
+                    regrasp: Regrasp {
+                        kind: RegraspKind::Unwind,
+                        actions: u.actions,
+                    },
+                    end: u.hand,
+                    cost,
+                });
+            }
+            return out;
+        }
         let mut offer = |kind, actions: Vec<StillAction>, end: HandState| {
             if let Some(cost) = self.time_of(hand, &actions) {
                 out.push(Offer {

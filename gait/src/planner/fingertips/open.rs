@@ -47,10 +47,11 @@ const ROLL_SAMPLES: usize = 64;
 
 /// The ways to roll the two fingers other than `lose` apart so that `lose`
 /// can lift (empty if none was found). Under load (SPEC §1.3 I1') the pair
-/// left must hold it: the roll goes on until it does (turning about `axis`
-/// next when the cones allow, else at rest); beyond one great-circle
+/// left must hold it: the roll goes on until it does (turning about any
+/// axis when the cones allow, else at rest); beyond one great-circle
 /// roll's reach in several legs. `extra`: the opening beyond the
-/// force-closure margin aimed for at least.
+/// force-closure margin aimed for at least. Nothing here depends on the
+/// goal: what rolls from a state are searched once and kept.
 #[allow(clippy::too_many_arguments)]
 pub fn open(
     g: &Geometry,
@@ -61,18 +62,17 @@ pub fn open(
     zigzags: &ZigzagCache,
     hand: &HandState,
     lose: usize,
-    axis: &Vector3<f64>,
     extra: f64,
 ) -> Vec<Opened> {
     let mut out = Vec::new();
-    for want in holding_extras(g, load, grip, hand, lose, axis, extra) {
+    for want in holding_extras(g, load, grip, hand, lose, extra) {
         match roll_apart(g, timing, hand, lose, want) {
-            Some(s) if pair_holds(g, load, grip, &s.hand, lose, axis) => out.push(s),
+            Some(s) if pair_holds(g, load, grip, &s.hand, lose) => out.push(s),
             // Beyond a great-circle roll's reach (the fingertip
             // hemisphere): rolling paths of several legs.
             _ => out.extend(
                 roll_paths_apart(g, timing, grip, config, zigzags, hand, lose, want)
-                    .filter(|s| pair_holds(g, load, grip, &s.hand, lose, axis)),
+                    .filter(|s| pair_holds(g, load, grip, &s.hand, lose)),
             ),
         }
     }
@@ -90,7 +90,7 @@ pub fn bound(g: &Geometry, timing: &DurationModel, hand: &HandState, lose: usize
 }
 
 /// The least extra separations (≥ `extra`, 1° steps) after which the pair
-/// the roll apart leaves holds the load rotating about `axis`, and the
+/// the roll apart leaves holds the load turning about any axis, and the
 /// smaller one after which it holds the load at rest (the search then
 /// relocates the free finger before it rotates: a shorter roll may pay);
 /// just `extra` if nothing does.
@@ -100,7 +100,6 @@ fn holding_extras(
     grip: &GripModel,
     hand: &HandState,
     lose: usize,
-    axis: &Vector3<f64>,
     extra: f64,
 ) -> Vec<f64> {
     if !load.active() {
@@ -128,7 +127,7 @@ fn holding_extras(
         if !in_cones(&a, &b) {
             break;
         }
-        if load.holds(&a, &b, Some(axis)) {
+        if load.holds_turning(&a, &b) {
             rotating = Some(x);
             break;
         }
@@ -153,14 +152,13 @@ fn holding_extras(
 }
 
 /// Whether the pair left when `lose` lifts from `hand` holds the load,
-/// turning about `axis` (the search's test) or at least at rest (exact).
+/// turning about any axis or at least at rest (exact).
 fn pair_holds(
     g: &Geometry,
     load: &PairLoad,
     grip: &GripModel,
     hand: &HandState,
     lose: usize,
-    axis: &Vector3<f64>,
 ) -> bool {
     if !load.active() {
         return true;
@@ -170,7 +168,7 @@ fn pair_holds(
         hand.fingers[i].contact_normal(),
         hand.fingers[j].contact_normal(),
     );
-    if load.holds(&a, &b, Some(axis)) {
+    if load.holds_turning(&a, &b) {
         return true;
     }
     let mut h = *hand;

@@ -289,3 +289,53 @@ pub fn unwind_loaded(
     actions.push(StillAction::Lift(free));
     Some(Unwound { actions, hand: h })
 }
+
+/// Where three fingers already grasp: each finger whose roll is worth it
+/// spins back to roll zero on the still object while the other two carry
+/// — without a load freely (spin is allowed with three hard contacts,
+/// SPEC §1.2); under load (`loaded`) pushing along its normal only, the
+/// other two holding the rest, and only where that holds. `None` if no
+/// finger can.
+pub fn unwind_triple(
+    g: &Geometry,
+    grip: &GripModel,
+    config: &HandConfig,
+    hand: &HandState,
+    loaded: bool,
+) -> Option<Unwound> {
+    if hand.grasping().1 != 3 {
+        return None;
+    }
+    let cg = ContactGeometry::from_config(config);
+    let mut h = *hand;
+    let mut actions = Vec::new();
+    for k in 0..3 {
+        let f = h.fingers[k];
+        if f.roll.abs() < UNWIND_MIN_ROLL {
+            continue;
+        }
+        if loaded
+            && !grip
+                .carried_with(&h, Accel::None, CARRY_BITS | spin_bit(k))
+                .feasible
+        {
+            continue;
+        }
+        let Ok(state) = ContactState::from_finger(&f, h.object, &cg) else {
+            continue;
+        };
+        let mut path = RollingPath::new(cg, state.relative());
+        if path.push_spin_roll(-f.roll).is_err()
+            || path.margins().max_abs_roll > g.roll_limit + 1e-9
+        {
+            continue;
+        }
+        h.fingers[k] = path.eval(path.length()).finger_state(&h.object, &cg);
+        actions.push(if loaded {
+            StillAction::Spin(k, Box::new(path))
+        } else {
+            StillAction::Path(k, Box::new(path))
+        });
+    }
+    (!actions.is_empty()).then_some(Unwound { actions, hand: h })
+}

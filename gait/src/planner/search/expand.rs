@@ -125,7 +125,7 @@ impl<H: HandModel> Search<'_, '_, H> {
                 }
                 ActionKind::Detour => {
                     // (A turn goal turns about its own axis unless it must not.)
-                    if node.parent == NONE && (node.rem.turn.is_none() || self.mode.turn_detours) {
+                    if node.unturned && (node.rem.turn.is_none() || self.mode.turn_detours) {
                         self.detours(idx, node, pair, z);
                     }
                     if !goal && gaits == 0 {
@@ -174,6 +174,10 @@ impl<H: HandModel> Search<'_, '_, H> {
                         let bound = self.hand.regrasp_bound(&node.hand, why);
                         self.defer(idx, node, Deferred::Regrasp(why), bound);
                     }
+                    if node.parent == NONE {
+                        let unstick = Deferred::Regrasp(RegraspFor::Unstick);
+                        self.defer(idx, node, unstick, 0.0);
+                    }
                 }
                 _ => {}
             }
@@ -204,7 +208,8 @@ impl<H: HandModel> Search<'_, '_, H> {
             edge: Edge::Actions { first, second },
             last,
             range: 0.0,
-            early: from.early && matches!(last, Last::Turn(_)),
+            unturned: from.unturned && !matches!(last, Last::Turn(_)),
+            h: 0.0,
         });
     }
 
@@ -225,7 +230,8 @@ impl<H: HandModel> Search<'_, '_, H> {
             edge: Edge::Deferred(d),
             last,
             range: from.range,
-            early: from.early && !matches!(d, Deferred::Place { .. }),
+            unturned: from.unturned && !matches!(d, Deferred::Turn { .. }),
+            h: 0.0,
         });
     }
 

@@ -29,6 +29,7 @@ use std::hash::BuildHasherDefault;
 
 use nalgebra::Vector3;
 
+use super::alternatives::GREEDIER;
 use super::budget::{Budget, Effort, Halt};
 use super::goal::Remaining;
 use super::hand_model::{self, Action, HandModel};
@@ -49,6 +50,20 @@ pub struct Params {
     pub detour_axes: Vec<Vector3<f64>>,
     /// Axes a node where no gait can follow may turn about.
     pub escape_axes: Vec<Vector3<f64>>,
+}
+
+/// A pair that can turn this far about some probe axis is not cramped
+/// \[rad\] (30°).
+const ROOMY: f64 = std::f64::consts::PI / 6.0;
+
+/// What a cramped end costs the next plan: about a relocation of both
+/// grasping fingers \[s\].
+const CRAMPED_COST: f64 = 3.0;
+
+/// The axes a plan's end grasp is probed about: the 12 vertices of an
+/// icosahedron (both senses of 6 directions, 63° apart).
+fn probe_axes() -> [Vector3<f64>; 12] {
+    crate::grasp::hold::icosahedron().map(|v| v.normalize())
 }
 
 /// How one pass searches.
@@ -110,6 +125,7 @@ pub fn run<H: HandModel>(
     let mut s = Search {
         hand,
         params,
+        weight: mode.weight,
         mode,
         spent: 0,
         start: *start,
@@ -134,6 +150,8 @@ struct Search<'a, 'e, H: HandModel> {
     hand: &'a H,
     params: &'a Params,
     mode: Mode,
+    /// The estimate's weight now (it grows, [`GREEDIER`]).
+    weight: f64,
     /// Expansions of this pass.
     spent: u32,
     start: HandState,
@@ -166,7 +184,8 @@ impl<H: HandModel> Search<'_, '_, H> {
             edge: Edge::Root,
             last: Last::Root,
             range: 0.0,
-            early: true,
+            unturned: true,
+            h: 0.0,
         };
         self.push(node);
     }
@@ -212,7 +231,8 @@ impl<H: HandModel> Search<'_, '_, H> {
         if node.g + h >= self.mode.bound {
             return;
         }
-        let f = node.g + self.mode.weight * h;
+        node.h = h;
+        let f = node.g + self.weight * h;
         self.nodes.push(node);
         self.open.push(Open {
             f,
@@ -223,14 +243,36 @@ impl<H: HandModel> Search<'_, '_, H> {
         self.effort.generated += 1;
     }
 
-    /// One expansion from the budget and from this pass's cap.
+    /// One expansion from the budget and from this pass's cap; past each
+    /// step of [`GREEDIER`] the search turns greedier.
     fn take(&mut self, budget: &mut Budget<'_>) -> Result<(), NotFound> {
         if self.spent >= self.mode.cap {
             return Err(NotFound::Capped);
         }
         budget.take().map_err(NotFound::Halted)?;
         self.spent += 1;
+        if let Some(&(_, w)) = GREEDIER.iter().find(|(after, _)| *after == self.spent)
+            && w > self.weight
+        {
+            self.reweigh(w);
+        }
         Ok(())
+    }
+
+    /// The open list keyed again with the estimate's weight `w`.
+    fn reweigh(&mut self, w: f64) {
+        self.weight = w;
+        let open = std::mem::take(&mut self.open).into_vec();
+        self.open = open
+            .into_iter()
+            .map(|o| {
+                let n = &self.nodes[o.idx as usize];
+                Open {
+                    f: n.g + w * n.h,
+                    ..o
+                }
+            })
+            .collect();
     }
 
     /// Stores an action, returning its index.
@@ -253,7 +295,7 @@ impl<H: HandModel> Search<'_, '_, H> {
     fn heuristic(&self, node: &Node) -> f64 {
         let rem = node.rem.angle;
         if node.rem.reached() {
-            return 0.0;
+            return self.cramped(node);
         }
         let t = self.hand.timing();
         let mut h = t.rotate(rem);
@@ -281,6 +323,29 @@ impl<H: HandModel> Search<'_, '_, H> {
             h += segments * (2.0 * t.vertical + t.handover);
         }
         h
+    }
+
+    /// A goal node's cost to the goal after this one: the grasp a plan
+    /// leaves is where the next plan starts, and a pair pinned at its
+    /// limits (it can turn less than [`ROOMY`] about every axis of
+    /// [`probe_axes`]) may leave it no way on. Such an end counts as a
+    /// relocation more ([`CRAMPED_COST`]): a plan that ends roomier wins
+    /// unless it is longer by more than that.
+    fn cramped(&self, node: &Node) -> f64 {
+        let (idx, n) = node.hand.grasping();
+        if n != 2 {
+            return 0.0;
+        }
+        let pair = [idx[0], idx[1]];
+        let (a, b) = (
+            node.hand.fingers[pair[0]].contact_normal(),
+            node.hand.fingers[pair[1]].contact_normal(),
+        );
+        let roomy = probe_axes().iter().any(|e| {
+            let r = self.hand.carry_range(&node.hand, &pair, e).min(ROOMY);
+            r >= ROOMY && self.hand.pair_hold_range(&a, &b, e, r) >= ROOMY
+        });
+        if roomy { 0.0 } else { CRAMPED_COST }
     }
 
     /// Evaluates a deferred node: a checked turn becomes a node, a regrasp
@@ -333,9 +398,7 @@ impl<H: HandModel> Search<'_, '_, H> {
             }
             Deferred::Regrasp(why) => {
                 let parent = self.nodes[node.parent as usize];
-                let offers = self
-                    .hand
-                    .regrasps(&parent.hand, why, &parent.rem.axis, budget.stop);
+                let offers = self.hand.regrasps(&parent.hand, why, budget.stop);
                 for o in offers {
                     let first = self.act(Action::Regrasp {
                         regrasp: o.regrasp,
@@ -353,7 +416,8 @@ impl<H: HandModel> Search<'_, '_, H> {
                         },
                         last: Last::Regrasp,
                         range: 0.0,
-                        early: node.early,
+                        unturned: parent.unturned,
+                        h: 0.0,
                     });
                 }
             }

@@ -90,9 +90,11 @@ pub struct Node {
     /// How far the grasping fingers can turn about `rem.axis` (set when
     /// queued).
     pub range: f64,
-    /// Whether no gait has happened yet (three fingers still hold as at
-    /// the start): only then are pairs rolled apart.
-    pub early: bool,
+    /// Whether the object has not turned yet on the way here (only gaits
+    /// and regrasps): a first turn may still be a detour.
+    pub unturned: bool,
+    /// Its time-to-go estimate \[s\] (set when queued).
+    pub h: f64,
 }
 
 /// An entry of the open list: cheapest f first, then first queued.
