@@ -22,7 +22,10 @@ fn goal_with_a_rewind(start: &HandState) -> (UnitQuaternion<f64>, u32, u32) {
         let axis = Vector3::new((0.7 * t).sin(), (1.3 * t).cos(), (0.4 * t + 0.3).sin());
         let turn = UnitQuaternion::from_scaled_axis(axis.normalize() * (0.3 + (t * 0.61) % 2.8));
         let goal = turn * start.object;
-        let plan = planner.plan(start, &goal).unwrap();
+        // (A goal the planner refuses is not the one.)
+        let Ok(plan) = planner.plan(start, &goal) else {
+            continue;
+        };
         if plan.summary.rewinds > 0 {
             return (goal, plan.summary.substitutions, plan.summary.rewinds);
         }
