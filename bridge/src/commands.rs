@@ -2,10 +2,13 @@
 //! limit, and the policy for clients that vanish.
 //!
 //! Zenoh calls the queryable and the liveliness subscriber on its own
-//! threads; they only hand their work to this module's thread through a
-//! bounded channel (a full channel answers `DaemonBusy` at once). This
-//! thread owns its own `gaitd_client::Client` and handles one command at a
-//! time: check ([`crate::checks`]), rate-limit, forward, reply.
+//! threads. The queryable's callback applies the per-identity rate limit
+//! first (`RateLimited` at once: a burst beyond it never occupies the
+//! queue), then hands the query to this module's thread through a bounded
+//! channel (a full channel answers `DaemonBusy` at once: more commands
+//! within their identities' limits than the queue holds). This thread owns
+//! its own `gaitd_client::Client` and handles one command at a time: check
+//! ([`crate::checks`]), forward, reply.
 
 use crate::answered::Answered;
 use crate::checks::{self, Check};
@@ -16,7 +19,7 @@ use crate::rate::RateLimiter;
 use gaitd_client::remote::protocol::{self as proto, Refusal, RefusalCode};
 use gaitd_client::{Answer, Client, Error};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
+use std::sync::{Arc, Mutex, mpsc};
 use std::time::{Duration, Instant};
 use zenoh::Wait;
 use zenoh::bytes::Encoding;
@@ -64,7 +67,6 @@ pub struct Declared {
 pub struct Commands<'a> {
     cfg: &'a Config,
     daemon: Option<Client>,
-    limiter: RateLimiter,
     presence: Presence,
     answered: Answered,
     timeout: Duration,
@@ -78,7 +80,6 @@ impl<'a> Commands<'a> {
         Self {
             cfg,
             daemon: None,
-            limiter: RateLimiter::new(cfg.rate_limit.commands_per_second, cfg.rate_limit.burst),
             presence: Presence::default(),
             answered: Answered::default(),
             timeout: Duration::from_millis(cfg.bridge.command_timeout_ms),
@@ -93,17 +94,40 @@ impl<'a> Commands<'a> {
         let prefix = cfg.zenoh.key_prefix.clone();
         let (tx, rx) = mpsc::sync_channel::<Work>(QUEUE);
         let qtx = tx.clone();
+        let r = &cfg.rate_limit;
+        let limiter = Arc::new(Mutex::new(RateLimiter::new(r.commands_per_second, r.burst)));
+        let limit_text = format!(
+            "sends more than {} commands/s (burst {})",
+            r.commands_per_second, r.burst
+        );
+        let qprefix = prefix.clone();
         let queryable = session
             .declare_queryable(format!("{prefix}/cmd/*/*"))
             .callback(move |q| {
-                tracing::debug!(key = q.key_expr().as_str(), "command query");
+                let key = q.key_expr().as_str();
+                tracing::debug!(key, "command query");
+                // (Access control lets an operator query its own keys only:
+                // the key names the identity.)
+                let identity = proto::parse_command_key(&qprefix, key).map_or("", |(i, _)| i);
+                let allowed = limiter
+                    .lock()
+                    .map(|mut l| l.allow(identity, Instant::now()))
+                    .unwrap_or(true);
+                if !allowed {
+                    let why = format!("identity `{identity}` {limit_text}");
+                    refuse(&q, &Refusal::new(RefusalCode::RateLimited, why));
+                    return;
+                }
                 if let Err(mpsc::TrySendError::Full(Work::Query(q))) = qtx.try_send(Work::Query(q))
                 {
                     refuse(
                         &q,
                         &Refusal::new(
                             RefusalCode::DaemonBusy,
-                            "the bridge's command queue is full",
+                            format!(
+                                "the bridge's command queue is full ({QUEUE} commands waiting \
+                                 for the daemon, within their identities' rate limits)"
+                            ),
                         ),
                     );
                 }
@@ -214,20 +238,6 @@ impl<'a> Commands<'a> {
                 "request sent again: answered as before, not forwarded"
             );
             answer(q, &a);
-            return;
-        }
-        if !self.limiter.allow(&identity, Instant::now()) {
-            let r = &self.cfg.rate_limit;
-            refuse(
-                q,
-                &Refusal::new(
-                    RefusalCode::RateLimited,
-                    format!(
-                        "identity `{identity}` sends more than {} commands/s (burst {})",
-                        r.commands_per_second, r.burst
-                    ),
-                ),
-            );
             return;
         }
         let timeout = self.timeout;

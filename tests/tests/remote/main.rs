@@ -12,11 +12,14 @@
 //! - [`cut`]: a link dropped with a command in flight: sent again,
 //!   answered once;
 //! - [`lost`]: an operator killed while its goal runs, the bridge cancels it;
+//! - [`burst`]: a burst beyond an identity's rate limit is refused
+//!   `RateLimited`, never `DaemonBusy`;
 //! - [`cli`]: `gaitctl --remote watch` and `reset`, a monitor's reset
 //!   refused, the TLS flags' mistakes as one-line messages;
 //! - [`python`]: `gaitd.remote.RemoteClient` sends a goal and reads status;
 //!   its link dropped with a command in flight, the daemon gets it once.
 
+mod burst;
 mod cli;
 mod cut;
 mod goals;
