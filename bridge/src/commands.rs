@@ -29,7 +29,14 @@ use zenoh::sample::SampleKind;
 /// Work waiting for the command thread.
 enum Work {
     Query(Query),
-    Token { key: String, present: bool },
+    Token {
+        key: String,
+        present: bool,
+    },
+    /// A client's beat (a put on its own `P/clients/<identity>/<session>`).
+    Beat {
+        key: String,
+    },
 }
 
 /// Commands waiting at most (beyond, the bridge answers `DaemonBusy`).
@@ -60,6 +67,7 @@ fn answer(q: &Query, a: &Answer) {
 pub struct Declared {
     _queryable: zenoh::query::Queryable<()>,
     _clients: zenoh::pubsub::Subscriber<()>,
+    _beats: zenoh::pubsub::Subscriber<()>,
     rx: mpsc::Receiver<Work>,
 }
 
@@ -72,6 +80,8 @@ pub struct Commands<'a> {
     timeout: Duration,
     /// How long an operator may be gone before the policy applies.
     grace: Duration,
+    /// A session silent this long is gone.
+    beat_timeout: Duration,
 }
 
 impl<'a> Commands<'a> {
@@ -84,6 +94,7 @@ impl<'a> Commands<'a> {
             answered: Answered::default(),
             timeout: Duration::from_millis(cfg.bridge.command_timeout_ms),
             grace: Duration::from_millis(cfg.bridge.client_lost_grace_ms),
+            beat_timeout: Duration::from_millis(cfg.bridge.client_beat_timeout_ms),
         }
     }
 
@@ -139,6 +150,22 @@ impl<'a> Commands<'a> {
                     gaitd_client::remote::zenoh_text(e)
                 )
             })?;
+        let btx = tx.clone();
+        let beats = session
+            .declare_subscriber(proto::client_tokens(&prefix))
+            .callback(move |s| {
+                // (A full queue drops a beat: the next one comes soon.)
+                let _ = btx.try_send(Work::Beat {
+                    key: s.key_expr().as_str().to_owned(),
+                });
+            })
+            .wait()
+            .map_err(|e| {
+                anyhow::anyhow!(
+                    "declaring the client-beat subscriber: {}",
+                    gaitd_client::remote::zenoh_text(e)
+                )
+            })?;
         let clients = session
             .liveliness()
             .declare_subscriber(proto::client_tokens(&prefix))
@@ -162,22 +189,44 @@ impl<'a> Commands<'a> {
         Ok(Declared {
             _queryable: queryable,
             _clients: clients,
+            _beats: beats,
             rx,
         })
     }
 
     /// Handles the work of `declared` until `stop` is set.
     pub fn run(mut self, declared: Declared, stop: &AtomicBool) -> anyhow::Result<()> {
+        // Just (re)started: no session known yet. Every operator has the
+        // reconnect wait to come back; then one whose goal still runs (the
+        // daemon's status says whose) falls under the policy.
+        let back_by = Instant::now() + Duration::from_millis(self.cfg.bridge.reconnect_wait_ms);
+        for id in &self.cfg.identities {
+            if id.role == Role::Operator {
+                self.presence.expect(&id.name, back_by);
+            }
+        }
         while !stop.load(Ordering::Acquire) {
             match declared.rx.recv_timeout(self.idle()) {
                 Ok(Work::Query(q)) => self.handle(&q),
                 Ok(Work::Token { key, present }) => self.token(&key, present),
+                Ok(Work::Beat { key }) => self.beat(&key),
                 Err(mpsc::RecvTimeoutError::Timeout) => {}
                 Err(mpsc::RecvTimeoutError::Disconnected) => break,
             }
+            self.presence
+                .expire_silent(Instant::now(), self.beat_timeout);
             self.expire();
         }
         Ok(())
+    }
+
+    fn beat(&mut self, key: &str) {
+        if let Some((identity, session)) =
+            proto::parse_client_token(&self.cfg.zenoh.key_prefix, key)
+            && self.presence.beat(identity, session, Instant::now())
+        {
+            tracing::info!(identity, "remote client back within the grace period");
+        }
     }
 
     /// The connection to gaitd, opened on first use (and again after a loss).

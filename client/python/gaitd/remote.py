@@ -56,6 +56,8 @@ from .schema import (
 
 #: The eclipse-zenoh release matching the Rust crate of the bridge.
 ZENOH_VERSION = "1.10.2"
+#: How often a session beats on its own token key (the bridge's ``client_beat_timeout_ms`` is 1.5 s) [s].
+CLIENT_BEAT_S = 0.5
 #: Default key prefix.
 DEFAULT_KEY_PREFIX = "gaitd"
 #: Encoding of every payload: this prefix, ``;`` and the payload's type name.
@@ -330,7 +332,26 @@ class RemoteClient:
         )
         self._misses = events.sample_miss_listener(self._on_miss)
         self._subs.append(events)
-        self._token = self._session.liveliness().declare_token(f"{p}/clients/{self.identity}/{self._session.zid()}")
+        token_key = f"{p}/clients/{self.identity}/{self._session.zid()}"
+        self._token = self._session.liveliness().declare_token(token_key)
+        # Beats (PROTOCOL.md, "Lost clients"): the bridge counts a session silent for its
+        # client_beat_timeout_ms as gone, whatever the lease.
+        self._beat_stop = threading.Event()
+        session = self._session
+
+        def beat() -> None:
+            while not self._beat_stop.wait(CLIENT_BEAT_S):
+                try:
+                    session.put(token_key, b"")
+                except Exception:  # noqa: BLE001 - a closed session ends the beats
+                    return
+
+        try:
+            session.put(token_key, b"")
+        except Exception:  # noqa: BLE001
+            pass
+        self._beat_thread = threading.Thread(target=beat, name="gaitd-remote-beat", daemon=True)
+        self._beat_thread.start()
         self._wait_fresh_status(max(0.0, deadline - time.monotonic()))
 
     def close(self) -> None:
@@ -338,6 +359,10 @@ class RemoteClient:
         session = getattr(self, "_session", None)
         if session is None:
             return
+        stop = getattr(self, "_beat_stop", None)
+        if stop is not None:
+            stop.set()
+            self._beat_thread.join(timeout=1.0)
         for s in [
             *getattr(self, "_subs", []),
             getattr(self, "_misses", None),

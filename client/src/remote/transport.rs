@@ -233,6 +233,51 @@ pub(crate) struct RemoteConnection {
     _alive: zenoh::pubsub::Subscriber<()>,
     _transports: zenoh::session::TransportEventsListener<()>,
     _token: zenoh::liveliness::LivelinessToken,
+    _beat: Beat,
+}
+
+/// The thread that beats for this session (PROTOCOL.md, "Lost clients"):
+/// a put on the client's token key every [`proto::CLIENT_BEAT_MS`]; stopped
+/// and joined on drop.
+struct Beat {
+    stop: Arc<AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Beat {
+    fn start(session: zenoh::Session, key: String) -> Result<Self> {
+        let stop = Arc::new(AtomicBool::new(false));
+        let flag = stop.clone();
+        let thread = std::thread::Builder::new()
+            .name("gaitd-remote-beat".into())
+            .spawn(move || {
+                let period = Duration::from_millis(proto::CLIENT_BEAT_MS);
+                let mut next = Instant::now();
+                while !flag.load(Ordering::Acquire) {
+                    if Instant::now() >= next {
+                        let _ = session.put(&key, Vec::<u8>::new()).wait();
+                        next += period;
+                    }
+                    std::thread::sleep(Duration::from_millis(20).min(period));
+                }
+            })
+            .map_err(|e| {
+                Error::Remote(RemoteError::Zenoh(format!("starting the beat thread: {e}")))
+            })?;
+        Ok(Self {
+            stop,
+            thread: Some(thread),
+        })
+    }
+}
+
+impl Drop for Beat {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Release);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
 }
 
 impl std::fmt::Debug for RemoteConnection {
@@ -433,11 +478,13 @@ impl RemoteConnection {
             .wait()
             .map_err(zerr)?;
         let zid = session.zid().to_string();
+        let token_key = proto::client_token_key(prefix, &identity, &zid);
         let token = session
             .liveliness()
-            .declare_token(proto::client_token_key(prefix, &identity, &zid))
+            .declare_token(&token_key)
             .wait()
             .map_err(zerr)?;
+        let beat = Beat::start(session.clone(), token_key)?;
         Ok(Self {
             session,
             inbox,
@@ -452,6 +499,7 @@ impl RemoteConnection {
             _alive: alive,
             _transports: transports,
             _token: token,
+            _beat: beat,
         })
     }
 

@@ -12,6 +12,9 @@
 //! - [`cut`]: a link dropped with a command in flight: sent again,
 //!   answered once;
 //! - [`lost`]: an operator killed while its goal runs, the bridge cancels it;
+//! - [`operator_loss`]: the bridge restarted after its operator went, and
+//!   an operator with a 10 s lease killed: both goals canceled within the
+//!   bridge's own bounds;
 //! - [`burst`]: a burst beyond an identity's rate limit is refused
 //!   `RateLimited`, never `DaemonBusy`;
 //! - [`cli`]: `gaitctl --remote watch` and `reset`, a monitor's reset
@@ -24,6 +27,7 @@ mod cli;
 mod cut;
 mod goals;
 mod lost;
+mod operator_loss;
 mod python;
 mod reconnect;
 mod security;
