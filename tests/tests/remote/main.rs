@@ -11,6 +11,8 @@
 //! - [`reconnect`]: the bridge killed and restarted, the client resumes;
 //! - [`cut`]: a link dropped with a command in flight: sent again,
 //!   answered once;
+//! - [`event_gaps`]: events published while the bridge restarts all reach
+//!   a subscriber (its cache queried again), or are reported missing;
 //! - [`lost`]: an operator killed while its goal runs, the bridge cancels it;
 //! - [`operator_loss`]: the bridge restarted after its operator went, and
 //!   an operator with a 10 s lease killed: both goals canceled within the
@@ -25,6 +27,7 @@
 mod burst;
 mod cli;
 mod cut;
+mod event_gaps;
 mod goals;
 mod lost;
 mod operator_loss;
