@@ -2,10 +2,13 @@
 //! limit, and the policy for clients that vanish.
 //!
 //! Zenoh calls the queryable and the liveliness subscriber on its own
-//! threads; they only hand their work to this module's thread through a
-//! bounded channel (a full channel answers `DaemonBusy` at once). This
-//! thread owns its own `gaitd_client::Client` and handles one command at a
-//! time: check ([`crate::checks`]), rate-limit, forward, reply.
+//! threads. The queryable's callback applies the per-identity rate limit
+//! first (`RateLimited` at once: a burst beyond it never occupies the
+//! queue), then hands the query to this module's thread through a bounded
+//! channel (a full channel answers `DaemonBusy` at once: more commands
+//! within their identities' limits than the queue holds). This thread owns
+//! its own `gaitd_client::Client` and handles one command at a time: check
+//! ([`crate::checks`]), forward, reply.
 
 use crate::answered::Answered;
 use crate::checks::{self, Check};
@@ -16,7 +19,7 @@ use crate::rate::RateLimiter;
 use gaitd_client::remote::protocol::{self as proto, Refusal, RefusalCode};
 use gaitd_client::{Answer, Client, Error};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
+use std::sync::{Arc, Mutex, mpsc};
 use std::time::{Duration, Instant};
 use zenoh::Wait;
 use zenoh::bytes::Encoding;
@@ -26,7 +29,14 @@ use zenoh::sample::SampleKind;
 /// Work waiting for the command thread.
 enum Work {
     Query(Query),
-    Token { key: String, present: bool },
+    Token {
+        key: String,
+        present: bool,
+    },
+    /// A client's beat (a put on its own `P/clients/<identity>/<session>`).
+    Beat {
+        key: String,
+    },
 }
 
 /// Commands waiting at most (beyond, the bridge answers `DaemonBusy`).
@@ -57,6 +67,7 @@ fn answer(q: &Query, a: &Answer) {
 pub struct Declared {
     _queryable: zenoh::query::Queryable<()>,
     _clients: zenoh::pubsub::Subscriber<()>,
+    _beats: zenoh::pubsub::Subscriber<()>,
     rx: mpsc::Receiver<Work>,
 }
 
@@ -64,12 +75,13 @@ pub struct Declared {
 pub struct Commands<'a> {
     cfg: &'a Config,
     daemon: Option<Client>,
-    limiter: RateLimiter,
     presence: Presence,
     answered: Answered,
     timeout: Duration,
     /// How long an operator may be gone before the policy applies.
     grace: Duration,
+    /// A session silent this long is gone.
+    beat_timeout: Duration,
 }
 
 impl<'a> Commands<'a> {
@@ -78,11 +90,11 @@ impl<'a> Commands<'a> {
         Self {
             cfg,
             daemon: None,
-            limiter: RateLimiter::new(cfg.rate_limit.commands_per_second, cfg.rate_limit.burst),
             presence: Presence::default(),
             answered: Answered::default(),
             timeout: Duration::from_millis(cfg.bridge.command_timeout_ms),
             grace: Duration::from_millis(cfg.bridge.client_lost_grace_ms),
+            beat_timeout: Duration::from_millis(cfg.bridge.client_beat_timeout_ms),
         }
     }
 
@@ -93,17 +105,40 @@ impl<'a> Commands<'a> {
         let prefix = cfg.zenoh.key_prefix.clone();
         let (tx, rx) = mpsc::sync_channel::<Work>(QUEUE);
         let qtx = tx.clone();
+        let r = &cfg.rate_limit;
+        let limiter = Arc::new(Mutex::new(RateLimiter::new(r.commands_per_second, r.burst)));
+        let limit_text = format!(
+            "sends more than {} commands/s (burst {})",
+            r.commands_per_second, r.burst
+        );
+        let qprefix = prefix.clone();
         let queryable = session
             .declare_queryable(format!("{prefix}/cmd/*/*"))
             .callback(move |q| {
-                tracing::debug!(key = q.key_expr().as_str(), "command query");
+                let key = q.key_expr().as_str();
+                tracing::debug!(key, "command query");
+                // (Access control lets an operator query its own keys only:
+                // the key names the identity.)
+                let identity = proto::parse_command_key(&qprefix, key).map_or("", |(i, _)| i);
+                let allowed = limiter
+                    .lock()
+                    .map(|mut l| l.allow(identity, Instant::now()))
+                    .unwrap_or(true);
+                if !allowed {
+                    let why = format!("identity `{identity}` {limit_text}");
+                    refuse(&q, &Refusal::new(RefusalCode::RateLimited, why));
+                    return;
+                }
                 if let Err(mpsc::TrySendError::Full(Work::Query(q))) = qtx.try_send(Work::Query(q))
                 {
                     refuse(
                         &q,
                         &Refusal::new(
                             RefusalCode::DaemonBusy,
-                            "the bridge's command queue is full",
+                            format!(
+                                "the bridge's command queue is full ({QUEUE} commands waiting \
+                                 for the daemon, within their identities' rate limits)"
+                            ),
                         ),
                     );
                 }
@@ -112,6 +147,22 @@ impl<'a> Commands<'a> {
             .map_err(|e| {
                 anyhow::anyhow!(
                     "declaring the command queryable: {}",
+                    gaitd_client::remote::zenoh_text(e)
+                )
+            })?;
+        let btx = tx.clone();
+        let beats = session
+            .declare_subscriber(proto::client_tokens(&prefix))
+            .callback(move |s| {
+                // (A full queue drops a beat: the next one comes soon.)
+                let _ = btx.try_send(Work::Beat {
+                    key: s.key_expr().as_str().to_owned(),
+                });
+            })
+            .wait()
+            .map_err(|e| {
+                anyhow::anyhow!(
+                    "declaring the client-beat subscriber: {}",
                     gaitd_client::remote::zenoh_text(e)
                 )
             })?;
@@ -138,22 +189,44 @@ impl<'a> Commands<'a> {
         Ok(Declared {
             _queryable: queryable,
             _clients: clients,
+            _beats: beats,
             rx,
         })
     }
 
     /// Handles the work of `declared` until `stop` is set.
     pub fn run(mut self, declared: Declared, stop: &AtomicBool) -> anyhow::Result<()> {
+        // Just (re)started: no session known yet. Every operator has the
+        // reconnect wait to come back; then one whose goal still runs (the
+        // daemon's status says whose) falls under the policy.
+        let back_by = Instant::now() + Duration::from_millis(self.cfg.bridge.reconnect_wait_ms);
+        for id in &self.cfg.identities {
+            if id.role == Role::Operator {
+                self.presence.expect(&id.name, back_by);
+            }
+        }
         while !stop.load(Ordering::Acquire) {
             match declared.rx.recv_timeout(self.idle()) {
                 Ok(Work::Query(q)) => self.handle(&q),
                 Ok(Work::Token { key, present }) => self.token(&key, present),
+                Ok(Work::Beat { key }) => self.beat(&key),
                 Err(mpsc::RecvTimeoutError::Timeout) => {}
                 Err(mpsc::RecvTimeoutError::Disconnected) => break,
             }
+            self.presence
+                .expire_silent(Instant::now(), self.beat_timeout);
             self.expire();
         }
         Ok(())
+    }
+
+    fn beat(&mut self, key: &str) {
+        if let Some((identity, session)) =
+            proto::parse_client_token(&self.cfg.zenoh.key_prefix, key)
+            && self.presence.beat(identity, session, Instant::now())
+        {
+            tracing::info!(identity, "remote client back within the grace period");
+        }
     }
 
     /// The connection to gaitd, opened on first use (and again after a loss).
@@ -214,20 +287,6 @@ impl<'a> Commands<'a> {
                 "request sent again: answered as before, not forwarded"
             );
             answer(q, &a);
-            return;
-        }
-        if !self.limiter.allow(&identity, Instant::now()) {
-            let r = &self.cfg.rate_limit;
-            refuse(
-                q,
-                &Refusal::new(
-                    RefusalCode::RateLimited,
-                    format!(
-                        "identity `{identity}` sends more than {} commands/s (burst {})",
-                        r.commands_per_second, r.burst
-                    ),
-                ),
-            );
             return;
         }
         let timeout = self.timeout;

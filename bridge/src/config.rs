@@ -77,6 +77,9 @@ pub struct ZenohSection {
     pub cert: PathBuf,
     /// The bridge's private key.
     pub key: PathBuf,
+    /// The bridge's Zenoh lease: its clients notice a bridge that died
+    /// within it (they read it from the bridge at connection) \[ms\].
+    pub lease_ms: u64,
 }
 
 impl Default for ZenohSection {
@@ -87,6 +90,7 @@ impl Default for ZenohSection {
             ca: "/etc/gaitd/pki/ca.pem".into(),
             cert: "/etc/gaitd/pki/bridge.pem".into(),
             key: "/etc/gaitd/pki/bridge.key".into(),
+            lease_ms: 3000,
         }
     }
 }
@@ -123,6 +127,14 @@ pub struct BridgeSection {
     /// `on_client_lost` applies: a link that drops and reconnects within
     /// it (Zenoh does at once) does not stop the goal \[ms\].
     pub client_lost_grace_ms: u64,
+    /// A client session that sent no beat (a put on its own
+    /// `P/clients/<identity>/<session>`, PROTOCOL.md "Lost clients") for
+    /// this long is gone, whatever its Zenoh lease \[ms\].
+    pub client_beat_timeout_ms: u64,
+    /// After the bridge (re)starts, how long operators have to connect
+    /// again before one whose goal runs (the daemon's status says whose it
+    /// is) counts as gone, the grace period then following \[ms\].
+    pub reconnect_wait_ms: u64,
 }
 
 impl Default for BridgeSection {
@@ -134,6 +146,8 @@ impl Default for BridgeSection {
             command_timeout_ms: 1000,
             on_client_lost: ClientLostPolicy::Cancel,
             client_lost_grace_ms: 1000,
+            client_beat_timeout_ms: 1500,
+            reconnect_wait_ms: 2000,
         }
     }
 }
@@ -260,6 +274,18 @@ impl Config {
                 "must be in 0..=60000",
             ));
         }
+        if !(100..=600_000).contains(&b.client_beat_timeout_ms) {
+            return Err(invalid(
+                "bridge.client_beat_timeout_ms",
+                "must be in 100..=600000",
+            ));
+        }
+        if b.reconnect_wait_ms > 600_000 {
+            return Err(invalid("bridge.reconnect_wait_ms", "must be in 0..=600000"));
+        }
+        if !(500..=600_000).contains(&self.zenoh.lease_ms) {
+            return Err(invalid("zenoh.lease_ms", "must be in 500..=600000"));
+        }
         let r = &self.rate_limit;
         if !(r.commands_per_second > 0.0 && r.commands_per_second.is_finite()) {
             return Err(invalid("rate_limit.commands_per_second", "must be > 0"));
@@ -383,6 +409,15 @@ mod tests {
                 "[bridge]\nclient_lost_grace_ms = 60001",
                 "bridge.client_lost_grace_ms",
             ),
+            (
+                "[bridge]\nclient_beat_timeout_ms = 50",
+                "bridge.client_beat_timeout_ms",
+            ),
+            (
+                "[bridge]\nreconnect_wait_ms = 600001",
+                "bridge.reconnect_wait_ms",
+            ),
+            ("[zenoh]\nlease_ms = 100", "zenoh.lease_ms"),
             ("[rate_limit]\nburst = 0", "rate_limit.burst"),
             (
                 "[[identity]]\nname = \"a/b\"\nrole = \"operator\"",

@@ -1,24 +1,34 @@
 //! Which remote clients are there: their liveliness tokens
-//! (`P/clients/<identity>/<session>`), counted per identity, and what to do
-//! when an identity's last session has been gone for the grace period
-//! ([`ClientLostPolicy`]).
+//! (`P/clients/<identity>/<session>`) and their beats (puts on the same
+//! key), counted per identity, and what to do when an identity's last
+//! session has been gone for the grace period ([`ClientLostPolicy`]).
 //!
-//! The grace period is there because a token also vanishes when a link
-//! drops and Zenoh reconnects the same session at once (milliseconds later):
-//! such a blip must not stop the operator's goal. A client that is really
-//! gone is lost after its lease plus the grace.
+//! A session is there while its token is and it beats: one silent for
+//! `client_beat_timeout_ms` is gone whatever its Zenoh lease (a client's
+//! lease, 10 s by Zenoh's default, would otherwise decide how long a dead
+//! operator's goal runs on). The grace period is there because a token also
+//! vanishes when a link drops and Zenoh reconnects the same session at once
+//! (milliseconds later): such a blip must not stop the operator's goal. A
+//! client that is really gone is lost after the beat timeout (or its lease,
+//! if shorter) plus the grace.
+//!
+//! A bridge that (re)starts knows no session yet; it expects every operator
+//! ([`Presence::expect`]): one that does not connect within the reconnect
+//! wait counts as gone then, and the daemon's status says whether a goal of
+//! its runs (the goal's `client_id` is the identity's).
 
 use crate::config::ClientLostPolicy;
 use gaitd_client::remote::protocol as proto;
 use shm_schema::{Command, GoalState, Status};
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
 /// Sessions present, by identity, and identities whose last session
 /// vanished (since when).
 #[derive(Debug, Default)]
 pub struct Presence {
-    sessions: HashMap<String, HashSet<String>>,
+    /// Sessions by identity: when each last beat (or appeared).
+    sessions: HashMap<String, HashMap<String, Instant>>,
     vanished: HashMap<String, Instant>,
 }
 
@@ -32,17 +42,48 @@ impl Presence {
             self.sessions
                 .entry(identity.to_owned())
                 .or_default()
-                .insert(session.to_owned());
+                .insert(session.to_owned(), now);
             return self.vanished.remove(identity).is_some();
         }
         let Some(set) = self.sessions.get_mut(identity) else {
             return false;
         };
-        if set.remove(session) && set.is_empty() {
+        if set.remove(session).is_some() && set.is_empty() {
             self.sessions.remove(identity);
             self.vanished.insert(identity.to_owned(), now);
         }
         false
+    }
+
+    /// A beat of `identity`'s `session` at `now` (a session that beats is
+    /// there, token or not yet). Returns `true` as [`Presence::update`].
+    pub fn beat(&mut self, identity: &str, session: &str, now: Instant) -> bool {
+        self.update(identity, session, true, now)
+    }
+
+    /// Sessions silent for `timeout` at `now` are gone (as if their token
+    /// vanished then).
+    pub fn expire_silent(&mut self, now: Instant, timeout: Duration) {
+        let mut gone = Vec::new();
+        for (id, set) in &self.sessions {
+            for (s, last) in set {
+                if now.saturating_duration_since(*last) >= timeout {
+                    gone.push((id.clone(), s.clone()));
+                }
+            }
+        }
+        for (id, s) in gone {
+            self.update(&id, &s, false, now);
+        }
+    }
+
+    /// `identity` is expected (the bridge just started): unless one of its
+    /// sessions shows up, it counts as gone at `at` (in the future: the
+    /// time it has to reconnect).
+    pub fn expect(&mut self, identity: &str, at: Instant) {
+        if !self.sessions.contains_key(identity) {
+            self.vanished.insert(identity.to_owned(), at);
+        }
     }
 
     /// The identities gone for at least `grace` at `now` (each reported
@@ -68,7 +109,7 @@ impl Presence {
 
     /// Sessions of `identity` present now.
     pub fn sessions(&self, identity: &str) -> usize {
-        self.sessions.get(identity).map_or(0, HashSet::len)
+        self.sessions.get(identity).map_or(0, HashMap::len)
     }
 }
 
@@ -138,6 +179,36 @@ mod tests {
         // Gone for good this time.
         p.update("op", "s1", false, at(6000));
         assert_eq!(p.lost(at(7000), grace), vec!["op".to_owned()]);
+    }
+
+    #[test]
+    fn a_silent_session_is_gone_whatever_its_token() {
+        let t0 = Instant::now();
+        let at = |ms| t0 + Duration::from_millis(ms);
+        let (grace, beat) = (Duration::from_millis(1000), Duration::from_millis(1500));
+        let mut p = Presence::default();
+        p.update("op", "s1", true, at(0));
+        p.beat("op", "s1", at(1000));
+        p.expire_silent(at(2400), beat);
+        assert_eq!(p.sessions("op"), 1);
+        // Killed after its beat at 1 s: its token (a 10 s lease) stays.
+        p.expire_silent(at(2500), beat);
+        assert_eq!(p.sessions("op"), 0);
+        assert_eq!(p.lost(at(3499), grace), Vec::<String>::new());
+        assert_eq!(p.lost(at(3500), grace), vec!["op".to_owned()]);
+    }
+
+    #[test]
+    fn an_expected_operator_that_does_not_come_back_is_lost() {
+        let t0 = Instant::now();
+        let at = |ms| t0 + Duration::from_millis(ms);
+        let grace = Duration::from_millis(1000);
+        let mut p = Presence::default();
+        p.expect("op", at(2000));
+        p.expect("back", at(2000));
+        p.update("back", "s", true, at(500));
+        assert_eq!(p.lost(at(2999), grace), Vec::<String>::new());
+        assert_eq!(p.lost(at(3000), grace), vec!["op".to_owned()]);
     }
 
     #[test]

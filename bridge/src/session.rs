@@ -14,12 +14,13 @@
 //!   `P/events/@adv/**`: heartbeat, history queries, its liveliness token)
 //!   and receive their samples and replies;
 //! - watch the liveliness tokens `P/alive/*`;
-//! - declare its own liveliness token `P/clients/<its name>/*`;
+//! - declare its own liveliness token `P/clients/<its name>/*` and put its
+//!   beats there (PROTOCOL.md, "Lost clients");
 //!
 //! and an operator moreover may query `P/cmd/<its name>/*` and receive the
 //! replies. So the key of a command names an authenticated identity: the
-//! bridge takes the `client_id` from it. Nobody may publish, and no client
-//! sees another's token. Messages between the bridge's own API and its
+//! bridge takes the `client_id` from it. Nobody may publish but its beats
+//! on its own token key, and no client sees another's token or beats. Messages between the bridge's own API and its
 //! router are not filtered (not a transport).
 
 use crate::config::{Config, Role};
@@ -62,7 +63,7 @@ pub fn access_control(cfg: &Config) -> Value {
         let name = &id.name;
         let mut own: Vec<String> = common.iter().map(|r| (*r).to_owned()).collect();
         rules.push(
-            json!({"id": format!("token-{i}"), "messages": ["liveliness_token"],
+            json!({"id": format!("token-{i}"), "messages": ["liveliness_token", "put"],
             "flows": ["ingress"], "permission": "allow",
             "key_exprs": [format!("{p}/clients/{name}/*")]}),
         );
@@ -110,6 +111,8 @@ pub fn router_config(cfg: &Config) -> Value {
         "transport": {
             "link": {
                 "protocols": crate::config::link_protocols(&z.listen),
+                // Clients notice a dead bridge within its lease.
+                "tx": { "lease": z.lease_ms, "keep_alive": 4 },
                 "tls": {
                     "root_ca_certificate": path(&z.ca),
                     "listen_certificate": path(&z.cert),
@@ -176,10 +179,17 @@ mod tests {
         let text = acl.to_string();
         assert!(text.contains("lab/cmd/op/*"));
         assert!(!text.contains("lab/cmd/dash"));
-        // Nobody is allowed to publish.
+        // Nobody is allowed to publish, but its beats on its own token key.
         for r in acl["rules"].as_array().unwrap() {
-            if r["flows"][0] == "ingress" {
-                assert!(!r["messages"].as_array().unwrap().contains(&json!("put")));
+            if r["flows"][0] == "ingress"
+                && r["messages"].as_array().unwrap().contains(&json!("put"))
+            {
+                let keys = r["key_exprs"].as_array().unwrap();
+                assert!(
+                    keys.iter()
+                        .all(|k| k.as_str().unwrap().starts_with("lab/clients/")),
+                    "{r}"
+                );
             }
         }
     }

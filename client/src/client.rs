@@ -212,13 +212,26 @@ impl Client {
         !matches!(self.conn, Transport::Local(_))
     }
 
-    /// Remote: events the bridge published that never arrived here (Zenoh's
-    /// miss detection); always 0 for a local client.
+    /// Remote: events of the daemon's current sequence that never arrived
+    /// here — holes in (`instance`, `seq`) that no later event filled (a
+    /// restarted bridge's cache fills what it holds), or Zenoh's count of
+    /// missed samples if more; always 0 for a local client.
     pub fn missed_events(&self) -> u64 {
         match &self.conn {
             Transport::Local(_) => 0,
             #[cfg(feature = "remote")]
             Transport::Remote(r) => r.missed_events(),
+        }
+    }
+
+    /// Remote: the holes in the events received, oldest first: (daemon
+    /// instance, first seq, last seq) of events that never arrived; empty
+    /// for a local client (iceoryx2 delivers in order).
+    pub fn event_holes(&self) -> Vec<(u64, u64, u64)> {
+        match &self.conn {
+            Transport::Local(_) => Vec::new(),
+            #[cfg(feature = "remote")]
+            Transport::Remote(r) => r.event_holes(),
         }
     }
 

@@ -85,6 +85,30 @@ pub(crate) fn open_event(
     }
 }
 
+/// The schema the daemon speaks, from its `version` service's attributes
+/// (shm_schema `VERSION_ATTRIBUTE_SCHEMA`): `Done` when it is ours,
+/// `Missing` when there is no such service (no daemon yet, or one of
+/// schema v3 or older), the error naming both versions otherwise.
+pub(crate) fn check_version(node: &Node<Ipc>, name: &str) -> Result<Attempt<()>> {
+    use iceoryx2::service::attribute::AttributeKey;
+    let Attempt::Done(f) = open_event(node, name)? else {
+        return Ok(Attempt::Missing);
+    };
+    let value = |key: &str| {
+        let key = AttributeKey::new(key.as_bytes()).ok()?;
+        f.attributes().key_value(&key, 0).map(|v| v.to_string())
+    };
+    let schema = value(shm_schema::VERSION_ATTRIBUTE_SCHEMA);
+    if schema.as_deref().and_then(|s| s.parse::<u32>().ok()) == Some(SCHEMA_VERSION) {
+        return Ok(Attempt::Done(()));
+    }
+    let build = value(shm_schema::VERSION_ATTRIBUTE_BUILD).unwrap_or_else(|| "?".into());
+    Err(Error::SchemaVersion {
+        daemon: format!("v{} ({build})", schema.unwrap_or_else(|| "?".into())),
+        ours: SCHEMA_VERSION,
+    })
+}
+
 pub(crate) fn ipc_err(what: &'static str) -> impl Fn(&dyn std::fmt::Debug) -> Error {
     move |e| Error::Ipc {
         what,
@@ -151,8 +175,21 @@ impl Connection {
             Listener<Ipc>,
         )>,
     > {
-        let Attempt::Done(cmd) = open_pubsub::<Command>(node, &names.commands)? else {
-            return Ok(Attempt::Missing);
+        // Which schema first: the other services' type names would only
+        // say "incompatible".
+        let versioned = matches!(check_version(node, &names.version)?, Attempt::Done(()));
+        let cmd = match open_pubsub::<Command>(node, &names.commands) {
+            Ok(Attempt::Done(cmd)) => cmd,
+            Ok(Attempt::Missing) => return Ok(Attempt::Missing),
+            // Services of another layout and no `version` service: a
+            // daemon from before it existed.
+            Err(Error::SchemaMismatch { .. }) if !versioned => {
+                return Err(Error::SchemaVersion {
+                    daemon: "v3 or older (it has no version service)".into(),
+                    ours: SCHEMA_VERSION,
+                });
+            }
+            Err(e) => return Err(e),
         };
         let Attempt::Done(ans) = open_pubsub::<Answer>(node, &names.answers)? else {
             return Ok(Attempt::Missing);

@@ -33,6 +33,20 @@ pub enum Error {
         /// Our schema version.
         version: u32,
     },
+    /// The daemon speaks another schema version (its `version` service says
+    /// which, or it has none: v3 or older).
+    #[error(
+        "the daemon speaks schema {daemon}, this client v{ours}: use a client built for \
+         the daemon's schema (shm_schema/LAYOUT.md, \"Schema versions\", says what each \
+         version changed)"
+    )]
+    SchemaVersion {
+        /// The daemon's schema and build, e.g. `v5 (gaitd 0.2.0)`, or `v3 or
+        /// older` (no `version` service).
+        daemon: String,
+        /// Our schema version.
+        ours: u32,
+    },
     /// A service exists but refused us for another reason (limits, permissions).
     #[error("cannot open service `{service}`: {why}")]
     Open {

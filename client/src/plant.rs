@@ -174,6 +174,8 @@ impl PlantHost {
             Notifier<Ipc>,
         )>,
     > {
+        // Which schema the daemon speaks, before a type name says "incompatible".
+        crate::connection::check_version(node, &names.version)?;
         let Attempt::Done(c) = open_pubsub::<PlantCommand>(node, &names.plant_command)? else {
             return Ok(Attempt::Missing);
         };

@@ -70,7 +70,9 @@ pub const SCHEMA_CHANGES: &[(u32, &str)] = &[
          and `object_error`, `tip_error` compare the measurement with the setpoint it \
          answers (v3: with the setpoint of the tick that read it); \
          `Timing` gained the plant timing-contract counters (`plant_commands_late` … \
-         `plant_misses_in_row_max`): `Timing` is 248 bytes, `Status` 1208; in lockstep \
+         `plant_misses_in_row_max`): `Timing` is 248 bytes, `Status` 1208; the \
+         unversioned `version` service (attributes `gaitd.schema`, `gaitd.build`) says \
+         which schema a daemon speaks; in lockstep \
          `Status.time_ns` and `Event.time_ns` are the plant's time throughout (0 before \
          its first measurement; v3 mixed in the daemon's clock while waiting and at a \
          stop).",
@@ -107,6 +109,20 @@ pub const EVENT_ID_DAEMON_DEAD: usize = 4;
 /// Largest notification id.
 pub const EVENT_ID_MAX: usize = 7;
 
+/// Attribute of the `version` service: the daemon's [`SCHEMA_VERSION`], in
+/// decimal (e.g. `"4"`).
+///
+/// The `version` service is an iceoryx2 *event* service: it has no payload
+/// type, so a client of any schema version opens it and reads its
+/// attributes before it opens a service whose type names carry the version
+/// (which would only answer `IncompatibleTypes`). Its name and these
+/// attribute keys never change.
+pub const VERSION_ATTRIBUTE_SCHEMA: &str = "gaitd.schema";
+
+/// Attribute of the `version` service: the daemon's build, e.g.
+/// `"gaitd 0.1.0"`.
+pub const VERSION_ATTRIBUTE_BUILD: &str = "gaitd.build";
+
 /// The services of one daemon instance, all under one prefix.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ServiceNames {
@@ -128,6 +144,9 @@ pub struct ServiceNames {
     pub plant_commanded: String,
     /// plant → daemon wake-up: a measurement was published (event service).
     pub plant_measured: String,
+    /// The daemon's schema version and build, as attributes of an event
+    /// service any client opens ([`VERSION_ATTRIBUTE_SCHEMA`]).
+    pub version: String,
 }
 
 impl ServiceNames {
@@ -143,6 +162,7 @@ impl ServiceNames {
             plant_measurement: format!("{prefix}/plant/measurement"),
             plant_commanded: format!("{prefix}/plant/commanded"),
             plant_measured: format!("{prefix}/plant/measured"),
+            version: format!("{prefix}/version"),
         }
     }
 }
@@ -159,6 +179,7 @@ mod tests {
         assert_eq!(n.status, "test-1/status");
         assert_eq!(n.events, "test-1/events");
         assert_eq!(n.notify, "test-1/notify");
+        assert_eq!(n.version, "test-1/version");
     }
 
     #[test]

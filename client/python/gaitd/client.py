@@ -45,8 +45,11 @@ from .schema import (
     MeasuredMask,
     Phase,
     ReasonCode,
+    SCHEMA_VERSION,
     ServiceNames,
     Status,
+    VERSION_ATTRIBUTE_BUILD,
+    VERSION_ATTRIBUTE_SCHEMA,
     decode,
     limit_bit,
 )
@@ -74,6 +77,33 @@ class Timeout(ClientError):
 
 class SchemaMismatch(ClientError):
     """The daemon's services carry another schema version (type name, size or alignment)."""
+
+
+def daemon_schema(node: Any, names: ServiceNames) -> tuple[str, str] | None:
+    """The daemon's (schema, build) from its ``version`` service, None without one.
+
+    Raises :class:`SchemaMismatch` naming both versions when the schema is not this
+    package's (the services' type names would only say "incompatible").
+    """
+    iox2 = ipc.iceoryx2()
+    try:
+        factory = node.service_builder(ipc.service_name(names.version)).event().open()
+    except iox2.EventOpenError as e:
+        if "DoesNotExist" in repr(e):
+            return None
+        raise
+
+    def value(key: str) -> str:
+        found = factory.attributes.key_values(iox2.AttributeKey.new(key))
+        return found[0].to_string() if found else "?"
+
+    schema, build = value(VERSION_ATTRIBUTE_SCHEMA), value(VERSION_ATTRIBUTE_BUILD)
+    if schema != str(SCHEMA_VERSION):
+        raise SchemaMismatch(
+            f"the daemon speaks schema v{schema} ({build}), this client v{SCHEMA_VERSION}: "
+            f"use a client built for the daemon's schema (LAYOUT.md, Schema versions)"
+        )
+    return schema, build
 
 
 @dataclass(frozen=True)
@@ -209,7 +239,17 @@ class Client:
                 max(0.0, (deadline - ipc.monotonic_ns()) / 1e9),
             )
 
-        commands = open_pubsub(names.commands, Command)
+        # Which schema the daemon speaks, before a type name says "incompatible".
+        versioned = daemon_schema(self._node, names) is not None
+        try:
+            commands = open_pubsub(names.commands, Command)
+        except SchemaMismatch as e:
+            if versioned:
+                raise
+            raise SchemaMismatch(
+                f"the daemon speaks schema v3 or older (it has no version service), "
+                f"this client v{SCHEMA_VERSION}: use a client built for the daemon's schema"
+            ) from e
         answers = open_pubsub(names.answers, Answer)
         status = open_pubsub(names.status, Status)
         events = open_pubsub(names.events, Event)

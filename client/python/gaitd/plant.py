@@ -288,6 +288,10 @@ class Plant:
 
         self._log(f"plant: waiting for gaitd's plant services under {settings.service_prefix!r} ({settings.root_path})")
         hint = '(is gaitd running with [plant] kind = "shm" and this [ipc] namespace?)'
+        # A daemon of another schema says so (its services' types would only be "incompatible").
+        from .client import daemon_schema
+
+        daemon_schema(node, names)
         cmd = get(f"{names.plant_command} {hint}", lambda: pubsub(names.plant_command, PlantCommand))
         meas = get(names.plant_measurement, lambda: pubsub(names.plant_measurement, PlantMeasurement))
         commanded = get(names.plant_commanded, lambda: event(names.plant_commanded))

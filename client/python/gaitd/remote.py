@@ -56,6 +56,8 @@ from .schema import (
 
 #: The eclipse-zenoh release matching the Rust crate of the bridge.
 ZENOH_VERSION = "1.10.2"
+#: How often a session beats on its own token key (the bridge's ``client_beat_timeout_ms`` is 1.5 s) [s].
+CLIENT_BEAT_S = 0.5
 #: Default key prefix.
 DEFAULT_KEY_PREFIX = "gaitd"
 #: Encoding of every payload: this prefix, ``;`` and the payload's type name.
@@ -204,7 +206,7 @@ class RemoteClient:
         self.timeout = timeout
         self.max_status_age = max_status_age
         self.bad_samples = 0
-        self.missed_events = 0
+        self._zenoh_missed = 0
         self.reconnects = 0
         # Random too: the bridge recognises a request sent again by its id and bytes (PROTOCOL.md,
         # "Known issue"), so sessions of one identity must not reuse one another's ids.
@@ -216,7 +218,11 @@ class RemoteClient:
         self._status_at: float | None = None
         self._status_seq = 0
         self._events: collections.deque[Event] = collections.deque(maxlen=EVENT_BACKLOG)
-        self._last_event: tuple[int, int] | None = None
+        # Per-instance continuity (PROTOCOL.md, "Events"): each event once, holes remembered
+        # until filled, what is still missing counted.
+        self._instance = 0
+        self._high = 0
+        self._holes: dict[int, int] = {}
         self._bridge = False
         self._bridge_seen = False
         self._daemon = False
@@ -330,7 +336,26 @@ class RemoteClient:
         )
         self._misses = events.sample_miss_listener(self._on_miss)
         self._subs.append(events)
-        self._token = self._session.liveliness().declare_token(f"{p}/clients/{self.identity}/{self._session.zid()}")
+        token_key = f"{p}/clients/{self.identity}/{self._session.zid()}"
+        self._token = self._session.liveliness().declare_token(token_key)
+        # Beats (PROTOCOL.md, "Lost clients"): the bridge counts a session silent for its
+        # client_beat_timeout_ms as gone, whatever the lease.
+        self._beat_stop = threading.Event()
+        session = self._session
+
+        def beat() -> None:
+            while not self._beat_stop.wait(CLIENT_BEAT_S):
+                try:
+                    session.put(token_key, b"")
+                except Exception:  # noqa: BLE001 - a closed session ends the beats
+                    return
+
+        try:
+            session.put(token_key, b"")
+        except Exception:  # noqa: BLE001
+            pass
+        self._beat_thread = threading.Thread(target=beat, name="gaitd-remote-beat", daemon=True)
+        self._beat_thread.start()
         self._wait_fresh_status(max(0.0, deadline - time.monotonic()))
 
     def close(self) -> None:
@@ -338,6 +363,10 @@ class RemoteClient:
         session = getattr(self, "_session", None)
         if session is None:
             return
+        stop = getattr(self, "_beat_stop", None)
+        if stop is not None:
+            stop.set()
+            self._beat_thread.join(timeout=1.0)
         for s in [
             *getattr(self, "_subs", []),
             getattr(self, "_misses", None),
@@ -384,18 +413,46 @@ class RemoteClient:
             e = Event.from_buffer_copy(b) if b is not None else None
             if e is None or not _event_ok(e):
                 self.bad_samples += 1
-            else:
-                key = (e.instance, e.seq)
-                last = self._last_event
-                # The bridge's history repeats events after it restarts.
-                if last is None or last[0] != key[0] or key[1] > last[1]:
-                    self._last_event = key
-                    self._events.append(e)
+            elif self._accept(e.instance, e.seq):
+                self._events.append(e)
             self._cond.notify_all()
+
+    def _accept(self, instance: int, seq: int) -> bool:
+        """Whether event (instance, seq) is new or fills a hole (a bridge's history repeats events)."""
+        if instance != self._instance:
+            self._instance, self._high, self._holes = instance, seq, {}
+            return True
+        if seq > self._high:
+            if seq > self._high + 1:
+                self._holes[self._high + 1] = seq - 1
+            self._high = seq
+            return True
+        for first, last in list(self._holes.items()):
+            if first <= seq <= last:
+                del self._holes[first]
+                if first < seq:
+                    self._holes[first] = seq - 1
+                if seq < last:
+                    self._holes[seq + 1] = last
+                return True
+        return False
+
+    @property
+    def missed_events(self) -> int:
+        """Events of the daemon's current sequence never received (holes no later event filled),
+        or Zenoh's count of missed samples if more."""
+        with self._cond:
+            return max(sum(b - a + 1 for a, b in self._holes.items()), self._zenoh_missed)
+
+    @property
+    def event_holes(self) -> list[tuple[int, int, int]]:
+        """The holes in the events received, oldest first: (instance, first seq, last seq)."""
+        with self._cond:
+            return [(self._instance, a, b) for a, b in sorted(self._holes.items())]
 
     def _on_miss(self, miss: Any) -> None:
         with self._cond:
-            self.missed_events += int(miss.nb)
+            self._zenoh_missed += int(miss.nb)
 
     def _on_transport(self, event: Any) -> None:
         up = event.kind == zenoh().SampleKind.PUT

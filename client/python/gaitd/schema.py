@@ -691,6 +691,11 @@ class ServiceNames:
         """plant → daemon wake-up."""
         return f"{self.prefix}/plant/measured"
 
+    @property
+    def version(self) -> str:
+        """The daemon's schema version and build (event service attributes; any version opens it)."""
+        return f"{self.prefix}/version"
+
 
 # (service suffix, pattern, payload) as LAYOUT.md's service table lists them
 _SERVICES: tuple[tuple[str, str, str | None], ...] = (
@@ -703,7 +708,12 @@ _SERVICES: tuple[tuple[str, str, str | None], ...] = (
     ("plant/measurement", "publish-subscribe", "PlantMeasurement"),
     ("plant/commanded", "event", None),
     ("plant/measured", "event", None),
+    ("version", "event", None),
 )
+
+#: Attributes of the ``version`` service: the daemon's schema version (decimal) and build.
+VERSION_ATTRIBUTE_SCHEMA = "gaitd.schema"
+VERSION_ATTRIBUTE_BUILD = "gaitd.build"
 
 # --------------------------------------------------------------------------- helpers
 

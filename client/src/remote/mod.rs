@@ -23,6 +23,8 @@
 //! [`protocol`] is the wire contract (keys, encodings, refusals), compiled
 //! with or without the `remote` feature.
 
+#[cfg(feature = "remote")]
+pub mod continuity;
 mod error;
 pub(crate) mod inflight;
 pub mod protocol;

@@ -76,6 +76,12 @@ pub fn client_token_key(prefix: &str, identity: &str, session: &str) -> String {
     format!("{prefix}/clients/{identity}/{session}")
 }
 
+/// How often a client beats: a put on its own token's key
+/// ([`client_token_key`]); the bridge counts a session that has been silent
+/// for its `client_beat_timeout_ms` (1500 ms by default) as gone
+/// (PROTOCOL.md, "Lost clients") \[ms\].
+pub const CLIENT_BEAT_MS: u64 = 500;
+
 /// `P/clients/**`: every client token (the bridge watches these).
 pub fn client_tokens(prefix: &str) -> String {
     format!("{prefix}/clients/**")

@@ -53,9 +53,12 @@ struct InboxState {
     status_new: bool,
     status_at: Option<Instant>,
     events: VecDeque<Event>,
-    /// Newest (instance, seq) delivered: the bridge's history repeats
-    /// events after a restart.
-    last_event: Option<(u64, u64)>,
+    /// Which events of the daemon's sequence arrived: each is delivered
+    /// once (a bridge's history repeats events), holes are counted.
+    continuity: super::continuity::Continuity,
+    /// The bridge returned since the events were last subscribed: the
+    /// next drain subscribes again, which queries its cache.
+    resubscribe: bool,
     replies: VecDeque<(u64, ReplyOutcome)>,
     bad_samples: u64,
     missed_events: u64,
@@ -218,6 +221,56 @@ fn push_reply(s: &mut InboxState, id: u64, r: ReplyOutcome) {
     s.replies.push_back((id, r));
 }
 
+/// The advanced subscriber of `P/events` and its miss listener.
+struct EventSubscription {
+    _events: zenoh_ext::AdvancedSubscriber<()>,
+    _misses: zenoh_ext::SampleMissListener<()>,
+}
+
+impl EventSubscription {
+    /// Subscribes, with the bridge's history (PROTOCOL.md, "Events").
+    fn declare(session: &zenoh::Session, prefix: &str, inbox: &Arc<Inbox>) -> Result<Self> {
+        use zenoh_ext::{AdvancedSubscriberBuilderExt, HistoryConfig, RecoveryConfig};
+        let ib = inbox.clone();
+        // History without late-publisher detection: with it, zenoh-ext
+        // 1.10.2 queries the bridge's cache a second time and, should a
+        // live event come between the end of the first query and the first
+        // reply of the second, delivers that event first and drops the
+        // whole history as older. A restarted bridge is subscribed to again
+        // instead ([`RemoteConnection::drain`]), which queries its cache.
+        let events = session
+            .declare_subscriber(proto::events_key(prefix))
+            .history(HistoryConfig::default().max_samples(HISTORY))
+            .recovery(RecoveryConfig::default().heartbeat())
+            .callback(move |sample| {
+                let e = decode_event(&sample);
+                ib.update(|st| match e {
+                    Some(e) => {
+                        if st.continuity.accept(e.instance, e.seq) {
+                            if st.events.len() == EVENT_BACKLOG {
+                                st.events.pop_front();
+                            }
+                            st.events.push_back(e);
+                        }
+                    }
+                    None => st.bad_samples += 1,
+                });
+            })
+            .wait()
+            .map_err(zerr)?;
+        let ib = inbox.clone();
+        let misses = events
+            .sample_miss_listener()
+            .callback(move |m| ib.update(|st| st.missed_events += u64::from(m.nb())))
+            .wait()
+            .map_err(zerr)?;
+        Ok(Self {
+            _events: events,
+            _misses: misses,
+        })
+    }
+}
+
 /// One session to the bridge and its declarations.
 pub(crate) struct RemoteConnection {
     session: zenoh::Session,
@@ -228,11 +281,55 @@ pub(crate) struct RemoteConnection {
     query_timeout: Duration,
     seen_generation: u64,
     _status: zenoh::pubsub::Subscriber<()>,
-    _events: zenoh_ext::AdvancedSubscriber<()>,
-    _misses: zenoh_ext::SampleMissListener<()>,
+    events: EventSubscription,
     _alive: zenoh::pubsub::Subscriber<()>,
     _transports: zenoh::session::TransportEventsListener<()>,
     _token: zenoh::liveliness::LivelinessToken,
+    _beat: Beat,
+}
+
+/// The thread that beats for this session (PROTOCOL.md, "Lost clients"):
+/// a put on the client's token key every [`proto::CLIENT_BEAT_MS`]; stopped
+/// and joined on drop.
+struct Beat {
+    stop: Arc<AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Beat {
+    fn start(session: zenoh::Session, key: String) -> Result<Self> {
+        let stop = Arc::new(AtomicBool::new(false));
+        let flag = stop.clone();
+        let thread = std::thread::Builder::new()
+            .name("gaitd-remote-beat".into())
+            .spawn(move || {
+                let period = Duration::from_millis(proto::CLIENT_BEAT_MS);
+                let mut next = Instant::now();
+                while !flag.load(Ordering::Acquire) {
+                    if Instant::now() >= next {
+                        let _ = session.put(&key, Vec::<u8>::new()).wait();
+                        next += period;
+                    }
+                    std::thread::sleep(Duration::from_millis(20).min(period));
+                }
+            })
+            .map_err(|e| {
+                Error::Remote(RemoteError::Zenoh(format!("starting the beat thread: {e}")))
+            })?;
+        Ok(Self {
+            stop,
+            thread: Some(thread),
+        })
+    }
+}
+
+impl Drop for Beat {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Release);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
 }
 
 impl std::fmt::Debug for RemoteConnection {
@@ -350,43 +447,7 @@ impl RemoteConnection {
             .wait()
             .map_err(zerr)?;
 
-        use zenoh_ext::{AdvancedSubscriberBuilderExt, HistoryConfig, RecoveryConfig};
-        let ib = inbox.clone();
-        // History without late-publisher detection (PROTOCOL.md, "Events"):
-        // with it, zenoh-ext 1.10.2 queries the bridge's cache a second time
-        // and, should a live event come between the end of the first query
-        // and the first reply of the second, delivers that event first and
-        // drops the whole history as older. A restarted bridge is found by
-        // its heartbeat instead, and its cache is queried then.
-        let events = session
-            .declare_subscriber(proto::events_key(prefix))
-            .history(HistoryConfig::default().max_samples(HISTORY))
-            .recovery(RecoveryConfig::default().heartbeat())
-            .callback(move |sample| {
-                let e = decode_event(&sample);
-                ib.update(|st| match e {
-                    Some(e) => {
-                        let key = (e.instance, e.seq);
-                        let repeat = st.last_event.is_some_and(|(i, s)| i == key.0 && key.1 <= s);
-                        if !repeat {
-                            st.last_event = Some(key);
-                            if st.events.len() == EVENT_BACKLOG {
-                                st.events.pop_front();
-                            }
-                            st.events.push_back(e);
-                        }
-                    }
-                    None => st.bad_samples += 1,
-                });
-            })
-            .wait()
-            .map_err(zerr)?;
-        let ib = inbox.clone();
-        let misses = events
-            .sample_miss_listener()
-            .callback(move |m| ib.update(|st| st.missed_events += u64::from(m.nb())))
-            .wait()
-            .map_err(zerr)?;
+        let events = EventSubscription::declare(&session, prefix, &inbox)?;
 
         let ib = inbox.clone();
         let bridge_key = proto::bridge_token_key(prefix);
@@ -403,6 +464,7 @@ impl RemoteConnection {
                         if up && !st.bridge {
                             if st.bridge_seen {
                                 st.bridge_returns += 1;
+                                st.resubscribe = true;
                             }
                             st.bridge_seen = true;
                         }
@@ -433,11 +495,13 @@ impl RemoteConnection {
             .wait()
             .map_err(zerr)?;
         let zid = session.zid().to_string();
+        let token_key = proto::client_token_key(prefix, &identity, &zid);
         let token = session
             .liveliness()
-            .declare_token(proto::client_token_key(prefix, &identity, &zid))
+            .declare_token(&token_key)
             .wait()
             .map_err(zerr)?;
+        let beat = Beat::start(session.clone(), token_key)?;
         Ok(Self {
             session,
             inbox,
@@ -447,16 +511,26 @@ impl RemoteConnection {
             query_timeout: timeout.max(Duration::from_secs(1)),
             seen_generation: 0,
             _status: status,
-            _events: events,
-            _misses: misses,
+            events,
             _alive: alive,
             _transports: transports,
             _token: token,
+            _beat: beat,
         })
     }
 
-    /// Takes everything that arrived since the last call.
+    /// Takes everything that arrived since the last call. After the
+    /// bridge returned (a restart), subscribes to the events again first:
+    /// the new subscription queries the restarted bridge's cache, which
+    /// the old one would not (PROTOCOL.md, "Events").
     pub fn drain(&mut self) -> Drained {
+        if std::mem::take(&mut self.inbox.lock().resubscribe) {
+            match EventSubscription::declare(&self.session, &self.prefix, &self.inbox) {
+                Ok(e) => self.events = e,
+                // The old subscription goes on; the next return retries.
+                Err(_) => self.inbox.lock().resubscribe = false,
+            }
+        }
         let mut s = self.inbox.lock();
         self.seen_generation = s.generation;
         let status = if std::mem::take(&mut s.status_new) {
@@ -500,9 +574,17 @@ impl RemoteConnection {
         (s.bridge, s.daemon)
     }
 
-    /// Events the bridge published that this client never received.
+    /// Events of the daemon's current sequence this client never received
+    /// (holes no later event filled), or Zenoh's count of samples it
+    /// reported missed, whichever is more.
     pub fn missed_events(&self) -> u64 {
-        self.inbox.lock().missed_events
+        let s = self.inbox.lock();
+        s.continuity.missing().max(s.missed_events)
+    }
+
+    /// The holes in the events received: (instance, first seq, last seq).
+    pub fn event_holes(&self) -> Vec<(u64, u64, u64)> {
+        self.inbox.lock().continuity.holes()
     }
 
     /// How long a command query waits for its reply.

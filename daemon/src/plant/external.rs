@@ -138,6 +138,9 @@ impl ExternalPlant {
                 }
             }
         }
+        if sample.contract_broken && fault.is_none() {
+            fault = Some((FaultKind::PlantTiming, PlantFault::None));
+        }
         if fault.is_some() {
             self.faulted = true;
         }
@@ -266,7 +269,7 @@ mod tests {
             newest: Some(m),
             received: 1,
             received_at: at,
-            timed_out: false,
+            ..PlantSample::default()
         }
     }
 

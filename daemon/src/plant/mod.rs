@@ -6,10 +6,13 @@
 //!   measurement (session, sequence, age, codes, numbers), holds the last
 //!   one for a few ticks, detects a plant that is lost, lies or stalls, and
 //!   numbers the commands;
+//! - [`contract`]: the timing contract: commands and measurements late or
+//!   repeated, counted, and a run of misses faulted;
 //! - [`wire`]: measurements and commands ↔ the maths types;
 //! - [`ports`]: the loop thread's receiving end (iceoryx2 subscriber and
 //!   listener), which also paces the loop in lockstep.
 
+pub mod contract;
 pub mod external;
 pub mod ports;
 pub mod wire;
@@ -30,6 +33,9 @@ pub struct PlantSample {
     pub received_at: Nanos,
     /// Lockstep: no measurement came within `plant.lockstep_timeout_ms`.
     pub timed_out: bool,
+    /// The plant missed its timing contract `plant.max_misses_in_row`
+    /// ticks in a row ([`contract`]): a fault.
+    pub contract_broken: bool,
 }
 
 /// The hand behind the gait controller.

@@ -17,6 +17,7 @@ pub fn effective_config(
 ) -> Result<String, toml::ser::Error> {
     let mut shown = cfg.clone();
     shown.rt.writer_priority = Some(cfg.rt.writer_fifo_priority());
+    shown.plant.max_misses_in_row = Some(cfg.plant.misses_in_row_limit());
     let s = &ipc.settings;
     shown.ipc.service_prefix.clone_from(&s.service_prefix);
     shown.ipc.iceoryx2_config = ipc.iceoryx2_config.clone().unwrap_or_default();
@@ -56,6 +57,9 @@ fn note(section: &str, line: &str, cfg: &DaemonConfig, ipc: &ResolvedIpc) -> Opt
         ("ipc", "iceoryx2_config") => o.iceoryx2_config,
         ("rt", "writer_priority") if cfg.rt.writer_priority.is_none() => {
             return Some("unset: derived from fifo_priority".into());
+        }
+        ("plant", "max_misses_in_row") if cfg.plant.max_misses_in_row.is_none() => {
+            return Some("unset: the larger of 20 and 2 × max_missed".into());
         }
         _ => return None,
     };

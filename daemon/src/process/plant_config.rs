@@ -52,6 +52,13 @@ pub struct PlantSection {
     /// before the fault `PlantLost` (it then keeps waiting for the plant to
     /// come back, never hangs) \[ms\].
     pub lockstep_timeout_ms: u32,
+    /// Ticks in a row that each missed the timing contract before the
+    /// fault `PlantTiming`; 0: never. Unset: the larger of
+    /// [`DEFAULT_MAX_MISSES_IN_ROW`](crate::plant::contract::DEFAULT_MAX_MISSES_IN_ROW)
+    /// and twice `max_missed` (a tolerance raised for blind ticks is not
+    /// undercut by this one), see [`PlantSection::misses_in_row_limit`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_misses_in_row: Option<u32>,
 }
 
 /// Default of `plant.max_missed`: 10 ticks (10 ms at 1 kHz). libfranka
@@ -71,6 +78,7 @@ impl Default for PlantSection {
             max_missed: DEFAULT_MAX_MISSED,
             connect_timeout_ms: 5000,
             lockstep_timeout_ms: 1000,
+            max_misses_in_row: None,
         }
     }
 }
@@ -111,6 +119,22 @@ impl PlantSection {
             1,
             600_000,
             "in [1, 600000] ms",
+        )?;
+        range(
+            "plant.max_misses_in_row",
+            self.misses_in_row_limit(),
+            0,
+            100_000,
+            "in [0, 100000] ticks (0: never)",
+        )
+    }
+
+    /// The run of timing-contract misses that faults (`PlantTiming`): the
+    /// key, or the larger of 20 and twice `max_missed`.
+    pub fn misses_in_row_limit(&self) -> u32 {
+        self.max_misses_in_row.unwrap_or(
+            crate::plant::contract::DEFAULT_MAX_MISSES_IN_ROW
+                .max(self.max_missed.saturating_mul(2)),
         )
     }
 
@@ -163,6 +187,10 @@ mod tests {
                 "plant.lockstep_timeout_ms",
             ),
             ("[plant]\nrate = 3", "rate"),
+            (
+                "[plant]\nmax_misses_in_row = 100001",
+                "plant.max_misses_in_row",
+            ),
         ] {
             let e = load(text).unwrap_err();
             assert!(e.contains(key), "{text}: {e}");

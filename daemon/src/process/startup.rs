@@ -95,6 +95,8 @@ pub struct IpcUp {
     pub node: Node<ipc::Ipc>,
     /// The command service (dropped after the loop's subscriber).
     pub command_service: CommandService,
+    /// The `version` service (held while the daemon runs).
+    pub version_service: ipc::EventService,
     /// The service names.
     pub names: ServiceNames,
     /// The loop's command subscriber.
@@ -159,6 +161,7 @@ pub fn open_ipc(cfg: &DaemonConfig) -> Result<IpcUp, StartupError> {
         settings,
         node,
         command_service: services.commands,
+        version_service: services.version,
         names: services.names,
         commands,
         outbox,
@@ -393,6 +396,7 @@ pub struct Daemon {
     housekeeping: Housekeeping,
     planner: PlannerThread,
     command_service: CommandService,
+    version_service: ipc::EventService,
     node: Node<ipc::Ipc>,
 }
 
@@ -424,6 +428,7 @@ impl Daemon {
             housekeeping: bg.housekeeping,
             planner: bg.planner,
             command_service: ipc.command_service,
+            version_service: ipc.version_service,
             node: ipc.node,
         })
     }
@@ -458,6 +463,7 @@ impl Daemon {
         drop(self.runtime);
         self.planner.join();
         drop(self.command_service);
+        drop(self.version_service);
         drop(self.node);
     }
 }

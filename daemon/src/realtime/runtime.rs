@@ -31,6 +31,7 @@ use crate::control::convert::fill_status;
 use crate::io::ipc::Ipc;
 use crate::io::outbox::{Outbound, Outbox};
 use crate::plant::PlantSample;
+use crate::plant::contract::ContractWatch;
 use crate::plant::ports::PlantInput;
 use crate::process::config::DaemonConfig;
 use crate::process::sd_notify;
@@ -162,6 +163,9 @@ pub struct Runtime<C: Controller, K: Clock> {
     last_time: Nanos,
     /// Sequence number of the last plant measurement a tick ran on.
     plant_seq: u64,
+    /// The timing contract with an external plant (counted from its first
+    /// measurement).
+    contract: ContractWatch,
     /// Lockstep: when the plant last made progress, the next heartbeat,
     /// whether its timeout was reported.
     pace: LockstepPace,
@@ -257,6 +261,7 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             connect_timeout: u64::from(cfg.plant.connect_timeout_ms) * 1_000_000,
             last_time: 0,
             plant_seq: 0,
+            contract: ContractWatch::new(cfg.plant.misses_in_row_limit()),
             pace: LockstepPace::default(),
         }
     }
@@ -488,7 +493,10 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
 
     /// A lockstep tick at plant time `now` with `sample`.
     fn step_with(&mut self, now: Nanos, sample: &PlantSample) {
-        self.controller.feed_plant(sample, now);
+        let mut sample = *sample;
+        self.contract.measured(&sample);
+        sample.contract_broken = self.contract.take_broken();
+        self.controller.feed_plant(&sample, now);
         self.step(Wake {
             deadline: now,
             now,
@@ -524,7 +532,9 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             && let Some(p) = self.plant.as_mut()
         {
             let now = self.clock.now();
-            let sample = p.drain(now);
+            let mut sample = p.drain(now);
+            self.contract.measured(&sample);
+            sample.contract_broken = self.contract.take_broken();
             self.controller.feed_plant(&sample, now);
         }
         let wall_start = self.clock.now();
@@ -567,6 +577,17 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         self.shared.ticks.store(self.tick, Ordering::Relaxed);
         // 4. stats (wall clock: in lockstep `w.now` is the plant's time)
         let end = self.clock.now();
+        if self.plant.is_some() {
+            // In real time this tick's command is late if it went out after
+            // the next deadline, and every skipped period had none; in
+            // lockstep the plant waits for it.
+            let late = if self.lockstep.is_some() {
+                0
+            } else {
+                w.missed + u64::from(end > w.deadline + self.settings.period)
+            };
+            self.contract.ticked(late);
+        }
         // (Wall clock too: the watchdog's deadlines are, whatever the plant's time.)
         self.feed_watchdog(end);
         let start = if self.lockstep.is_some() {
@@ -624,6 +645,7 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         s.instance = self.settings.instance;
         s.daemon_state = state.code();
         s.timing = self.stats.timing();
+        self.contract.fill(&mut s.timing);
         s.commands = self.intake.received();
         s.rejected = self.intake.rejected();
         s.clients = self.shared.clients.load(Ordering::Relaxed);

@@ -203,6 +203,7 @@ pub fn daemon(ns: &Namespace) -> Daemon {
         out,
         plant_in,
         names,
+        ..
     } = services;
     let client = TestClient::open(&ice, &names);
     let shared = Arc::new(Shared::default());

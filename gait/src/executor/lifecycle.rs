@@ -126,6 +126,9 @@ pub enum FaultKind {
     PlantFault = 17,
     /// A grasping contact is measured as not touching.
     ContactLost = 18,
+    /// The plant exchange missed its timing contract too many ticks in a
+    /// row (commands or measurements late or repeated).
+    PlantTiming = 19,
 }
 
 /// What happened, for clients (SPEC §7.3 events).

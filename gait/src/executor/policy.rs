@@ -15,7 +15,7 @@
 //! | invariant near its limit (measured) | not moving | ignore (only a moving hand is guarded) |
 //! | any other measured fault (missing, non-finite, object or finger not following) | any but safe hold | safe hold |
 //! | commanded state breaks an invariant, trajectory refused, re-based state invalid | any but safe hold | safe hold |
-//! | the plant: lost, lying, out of sequence, its own fault, a contact lost | any but safe hold | safe hold |
+//! | the plant: lost, lying, out of sequence, its own fault, a contact lost, its timing contract missed | any but safe hold | safe hold |
 
 use super::Mode;
 use super::lifecycle::FaultKind;
@@ -149,6 +149,7 @@ mod tests {
             (K::PlantFault, S::Plant, P::Stopping, 0, false, SafeHold),
             (K::ContactLost, S::Measurement, P::Moving, 0, false, SafeHold),
             (K::PlantLost, S::Plant, P::SafeHold, 0, false, Ignore),
+            (K::PlantTiming, S::Plant, P::Moving, 0, false, SafeHold),
         ];
         for (kind, source, phase, replans, recovering, want) in table {
             let got = policy.decide(Cause::new(kind, source), phase, replans, recovering);

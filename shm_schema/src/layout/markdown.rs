@@ -35,7 +35,8 @@ pub fn layout_markdown() -> String {
          | `{}` | publish-subscribe | `PlantCommand` | daemon → plant, every tick |\n\
          | `{}` | publish-subscribe | `PlantMeasurement` | plant → daemon |\n\
          | `{}` | event | — | daemon → plant: a command was published (id 1) |\n\
-         | `{}` | event | — | plant → daemon: a measurement was published (id 1) |\n",
+         | `{}` | event | — | plant → daemon: a measurement was published (id 1) |\n\
+         | `{}` | event | — | attributes `{VERSION_ATTRIBUTE_SCHEMA}`, `{VERSION_ATTRIBUTE_BUILD}`: the daemon's schema and build; never changes |\n",
         names.commands,
         names.answers,
         names.status,
@@ -44,7 +45,8 @@ pub fn layout_markdown() -> String {
         names.plant_command,
         names.plant_measurement,
         names.plant_commanded,
-        names.plant_measured
+        names.plant_measured,
+        names.version
     );
     let _ = writeln!(
         s,
@@ -56,7 +58,10 @@ pub fn layout_markdown() -> String {
         "## Schema versions\n\n\
          Every payload's type name carries the version (`gaitd::Status.v4`): a client of\n\
          another version cannot open the services (iceoryx2 answers `IncompatibleTypes`).\n\
-         What each version changed, newest first:\n\n",
+         So a client first opens the event service `version` (no payload type: any\n\
+         version opens it) and reads its attributes: `gaitd.schema`, the daemon's\n\
+         schema version in decimal, and `gaitd.build` (e.g. `gaitd 0.1.0`). A daemon\n\
+         without that service speaks v3 or older. What each version changed, newest first:\n\n",
     );
     for (v, what) in SCHEMA_CHANGES {
         let _ = writeln!(s, "- **v{v}**: {what}");

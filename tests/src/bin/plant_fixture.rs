@@ -6,7 +6,8 @@
 //!
 //! `plant_fixture --prefix P --root R --file-prefix F --lie KIND [--after N]`
 //! KIND: none, nan, non-unit, backwards, session, contact, fault, stall,
-//! exit, start-invalid.
+//! exit, start-invalid, deaf (for 5 steps it steps on each answer without
+//! applying it: the plant repeats its last command).
 
 use gaitd_client::ConnectOptions;
 use gaitd_client::plant::PlantHost;
@@ -133,11 +134,14 @@ fn main() {
         if c.answers != seq {
             continue;
         }
-        if c.flags & gaitd_client::shm_schema::command_flags::ENABLE != 0 {
-            follow(&mut m, &c);
+        let deaf = lie == "deaf" && (after..after + 5).contains(&step);
+        if !deaf {
+            if c.flags & gaitd_client::shm_schema::command_flags::ENABLE != 0 {
+                follow(&mut m, &c);
+            }
+            m.session = c.session;
+            m.applied = c.seq;
         }
-        m.session = c.session;
-        m.applied = c.seq;
         step += 1;
         seq += 1;
         m.seq = seq;

@@ -48,9 +48,20 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         let end = a
             .duration
             .map(|d| Instant::now() + Duration::from_secs_f64(d));
+        let mut holes = Vec::new();
         loop {
             if end.is_some_and(|t| Instant::now() >= t) {
                 break;
+            }
+            // Remote: events that never arrived (a bridge restart), said.
+            let now = c.event_holes();
+            if now != holes {
+                for (instance, first, last) in now.iter().filter(|h| !holes.contains(h)) {
+                    eprintln!(
+                        "(missed events {first}..={last} of daemon instance {instance:016x})"
+                    );
+                }
+                holes = now;
             }
             if let Some(e) = c.next_event(Duration::from_millis(200))? {
                 print(&e, a.json);

@@ -154,8 +154,34 @@ pub fn render(s: &Status, progress: Option<f64>, rate: Option<f64>) -> String {
         us(t.jitter_max_ns),
         t.overruns
     );
+    if let Some(line) = plant_timing_line(t) {
+        let _ = writeln!(o, "{line}");
+    }
     let _ = writeln!(o, "commands {}  rejected {}", s.commands, s.rejected);
     o
+}
+
+/// The timing contract with an external plant (PLANT-GUIDE.md), once it
+/// was missed at all.
+pub fn plant_timing_line(t: &shm_schema::Timing) -> Option<String> {
+    let counts = [
+        t.plant_commands_late,
+        t.plant_commands_repeated,
+        t.plant_measurements_late,
+        t.plant_measurements_repeated,
+    ];
+    counts.iter().any(|n| *n > 0).then(|| {
+        format!(
+            "plant timing: commands late {} repeated {} | measurements late {} repeated {} | \
+             misses in a row {} (max {})",
+            t.plant_commands_late,
+            t.plant_commands_repeated,
+            t.plant_measurements_late,
+            t.plant_measurements_repeated,
+            t.plant_misses_in_row,
+            t.plant_misses_in_row_max
+        )
+    })
 }
 
 /// Runs the subcommand.
@@ -177,6 +203,7 @@ fn period(a: &Args) -> Duration {
 /// periods are not listed: they count in the status).
 fn lines(c: &mut Client, conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let (mut changes, mut instance, mut frames) = (Changes::default(), 0, 0u64);
+    let mut worst_run = 0;
     loop {
         let start = Instant::now();
         let s = match c.wait_status(conn.timeout()) {
@@ -197,6 +224,13 @@ fn lines(c: &mut Client, conn: &ConnArgs, a: &Args) -> gaitd_client::Result<Exit
         }
         if changes.changed(&s) {
             println!("{}", change_line(&s));
+        }
+        // The plant's timing, when its longest run of misses grows.
+        if s.timing.plant_misses_in_row_max > worst_run {
+            worst_run = s.timing.plant_misses_in_row_max;
+            if let Some(line) = plant_timing_line(&s.timing) {
+                println!("{line}");
+            }
         }
         for e in c.events()? {
             if a.events > 0 && e.kind() != Ok(EventKind::Overrun) {

@@ -94,6 +94,7 @@ pub fn fault_code(k: FaultKind) -> FaultCode {
         FaultKind::PlantSequence => FaultCode::PlantSequence,
         FaultKind::PlantFault => FaultCode::PlantFault,
         FaultKind::ContactLost => FaultCode::ContactLost,
+        FaultKind::PlantTiming => FaultCode::PlantTiming,
     }
 }
 

@@ -180,10 +180,16 @@ where
 type PubSub<T> = iceoryx2::service::port_factory::publish_subscribe::PortFactory<Ipc, T, ()>;
 type EventSvc = iceoryx2::service::port_factory::event::PortFactory<Ipc>;
 
+/// An event service of the daemon's.
+pub type EventService = EventSvc;
+
 /// The daemon's services. iceoryx2 ports cannot move between threads but
 /// services can: each thread builds its own ports from these.
 #[derive(Debug)]
 pub struct DaemonServices {
+    /// The schema version and build, as attributes (held open while the
+    /// daemon runs).
+    pub version: EventSvc,
     /// client → daemon commands.
     pub commands: PubSub<Command>,
     /// Services the writer thread publishes on.
@@ -366,6 +372,8 @@ pub fn create_services(
     // Clients, the daemon, its housekeeping node, and room for one
     // reconnecting client whose dead node is not yet cleaned up.
     let nodes = clients + 3;
+    // First: a client that finds the other services finds this one too.
+    let version = version_service(node, &names.version, nodes)?;
 
     let n = &names.commands;
     let sn = service_name(n)?;
@@ -435,6 +443,7 @@ pub fn create_services(
         (None, None)
     };
     Ok(DaemonServices {
+        version,
         commands,
         out: OutServices {
             answers,
@@ -446,6 +455,52 @@ pub fn create_services(
         plant_in,
         names,
     })
+}
+
+/// The daemon's build, as the `version` service states it.
+pub const BUILD: &str = concat!("gaitd ", env!("CARGO_PKG_VERSION"));
+
+/// The `version` event service (shm_schema `VERSION_ATTRIBUTE_SCHEMA`): no
+/// payload, no ports; its attributes say which schema this daemon speaks.
+/// One left by a daemon of another build is replaced.
+fn version_service(node: &Node<Ipc>, name: &str, nodes: usize) -> Result<EventSvc, IpcError> {
+    use iceoryx2::service::attribute::{AttributeKey, AttributeValue};
+    let attr = |k: &str, v: &str| -> Result<(AttributeKey, AttributeValue), IpcError> {
+        let bad = |e| err(name, "attribute", e);
+        Ok((
+            AttributeKey::new(k.as_bytes()).map_err(bad)?,
+            AttributeValue::new(v.as_bytes()).map_err(bad)?,
+        ))
+    };
+    let schema = attr(
+        shm_schema::VERSION_ATTRIBUTE_SCHEMA,
+        &shm_schema::SCHEMA_VERSION.to_string(),
+    )?;
+    let build = attr(shm_schema::VERSION_ATTRIBUTE_BUILD, BUILD)?;
+    let spec = AttributeSpecifier::new()
+        .define(&schema.0, &schema.1)
+        .and_then(|s| s.define(&build.0, &build.1))
+        .map_err(|e| err(name, "attributes", e))?;
+    let verify = AttributeVerifier::new()
+        .require(&schema.0, &schema.1)
+        .and_then(|v| v.require(&build.0, &build.1))
+        .map_err(|e| err(name, "attributes", e))?;
+    let sn = service_name(name)?;
+    let build = || {
+        node.service_builder(&sn)
+            .event()
+            .max_notifiers(1)
+            .max_listeners(1)
+            .max_nodes(nodes)
+    };
+    create_or_adopt(
+        node,
+        name,
+        MessagingPattern::Event,
+        || build().create_with_attributes(&spec),
+        || build().open_with_attributes(&verify),
+        |e| matches!(e, EventCreateError::AlreadyExists),
+    )
 }
 
 /// The four plant services (shm_schema `PLANT-GUIDE.md`): one plant, plus
@@ -599,7 +654,16 @@ mod tests {
             )
         };
         let n = s.out.notify.static_config();
+        let v = s.version.static_config();
         let mut want = vec![
+            format!(
+                "| `<prefix>/version` | event | {} | {} | {} | {} | {} |",
+                v.max_notifiers(),
+                v.max_listeners(),
+                v.max_nodes(),
+                v.event_id_max_value(),
+                v.notifier_dead_event().map_or(0, |e| e.as_value())
+            ),
             row("commands", "Command", s.commands.static_config()),
             row("answers", "Answer", s.out.answers.static_config()),
             row("status", "Status", s.out.status.static_config()),

@@ -90,9 +90,10 @@ pub struct Args {
     #[arg(long, default_value_t = 1)]
     moving_turns: usize,
     /// Periods of the fixed-work reference loop beside the tick compute
-    /// time (0: skip; see `noise`).
-    #[arg(long, default_value_t = 5000)]
-    noise_periods: usize,
+    /// time (0: skip; see `noise`). Default: as many as moving ticks were
+    /// read (at least 5000), so that both maxima come from as many samples.
+    #[arg(long)]
+    noise_periods: Option<usize>,
     /// CPU of the reference loop (put it where the daemon's loop runs).
     #[arg(long, value_name = "CPU")]
     noise_cpu: Option<u32>,
@@ -134,6 +135,24 @@ pub fn pin(cpu: Option<u32>) -> gaitd_client::Result<()> {
         )));
     }
     Ok(())
+}
+
+/// The reference loop beside the tick compute time: the platform's own
+/// tail at the same rate, doing the median work of the ticks it is
+/// compared with (the moving ones, else the status window's), over as many
+/// periods as there are moving ticks (at least 5000) unless `periods` is
+/// given — a maximum of 5000 samples is no yardstick for one of 75 000.
+/// Returns (periods, work \[µs\]).
+fn reference_like(
+    moving_us: &[f64],
+    window: &serde_json::Value,
+    periods: Option<usize>,
+) -> (usize, Option<f64>) {
+    let mut sorted = moving_us.to_vec();
+    let work = summary(&mut sorted)["p50"]
+        .as_f64()
+        .or_else(|| window["p50"].as_f64());
+    (periods.unwrap_or(moving_us.len().max(5000)), work)
 }
 
 /// n, p50, p99, max, mean of a sample.
@@ -218,14 +237,14 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let namespace = (settings.root_path.as_str(), settings.file_prefix.as_str());
     let period_us = (window.end.timing.period_ns / 1000).max(1);
     let bare = reference::measure(a.pings, a.statuses, period_us, namespace, a.peer_cpu)?;
-    // The platform's own tail at the same rate and median work.
     let window_compute = summary(&mut window.compute_us);
+    let (periods, work_us) = reference_like(&moving_us, &window_compute, a.noise_periods);
     let reference = tick::Reference {
-        periods: a.noise_periods,
+        periods,
         cpu: a.noise_cpu,
         priority: a.noise_priority,
     };
-    let reference_loop = tick::reference_loop(reference, period_us, window_compute["p50"].as_f64());
+    let reference_loop = tick::reference_loop(reference, period_us, work_us);
     let pid = c.daemon_pid();
     let mut measured = report::Measured {
         machine: json!({
@@ -251,4 +270,20 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     }
     println!("{report}");
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The reference does what the moving ticks do, as often.
+    #[test]
+    fn the_reference_loop_is_like_for_like_with_the_moving_ticks() {
+        let moving: Vec<f64> = (0..20_000).map(|i| 3.0 + f64::from(i % 3)).collect();
+        let window = json!({"p50": 1.5});
+        assert_eq!(reference_like(&moving, &window, None), (20_000, Some(4.0)));
+        assert_eq!(reference_like(&moving, &window, Some(7)), (7, Some(4.0)));
+        // No moving ticks: the window's median, the least periods.
+        assert_eq!(reference_like(&[], &window, None), (5000, Some(1.5)));
+    }
 }

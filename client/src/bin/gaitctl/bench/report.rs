@@ -175,6 +175,22 @@ fn print_tick(r: &Value) {
         "fixed-work reference loop [us]",
         &r["reference_loop"]["compute_us"],
     );
+    let (m, f) = (
+        &r["tick_compute_us_moving"],
+        &r["reference_loop"]["compute_us"],
+    );
+    if let (Some(mp), Some(fp), Some(mm), Some(fm)) = (
+        m["p99"].as_f64(),
+        f["p99"].as_f64(),
+        m["max"].as_f64(),
+        f["max"].as_f64(),
+    ) {
+        println!(
+            "moving / reference: p99 {:.2}x (target <= 2x), max {:.2}x (target <= 1x)",
+            mp / fp.max(1e-9),
+            mm / fm.max(1e-9)
+        );
+    }
     println!(
         "missed periods in the bench window: {}",
         r["missed_periods_in_window"]

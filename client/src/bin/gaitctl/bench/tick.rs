@@ -28,11 +28,11 @@ pub fn compute_while_moving(
         let (mut last_tick, mut started) = (0, false);
         let deadline = Instant::now() + Duration::from_secs(60);
         while Instant::now() < deadline {
-            let Some(s) = c.latest_status()? else {
-                continue;
-            };
+            // Blocking on the daemon's wake-up, not spinning: a reader
+            // spinning beside the loop (2 CPUs) slows the very ticks it
+            // measures.
+            let s = c.wait_status(timeout)?;
             if s.tick == last_tick || s.goal.goal_id != t.goal_id {
-                std::hint::spin_loop();
                 continue;
             }
             last_tick = s.tick;
