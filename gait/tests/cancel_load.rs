@@ -4,7 +4,10 @@
 //! ends in (a finger in the air, a pair far from any goal's choice). A
 //! user's next goal from there — a turn (`gaitctl reorient --relative`, a
 //! `GoalTarget::Rotation`), then an orientation — must plan, hold the load
-//! at every sample by the test's own SOCP, and be reached by the plant.
+//! at every sample by the test's own SOCP, and be reached by the plant; or
+//! be refused with a reason that says no plan was found, the hand left
+//! where it rests. How many are refused is printed: the planner's coverage
+//! from where cancels leave the hand.
 //!
 //! CI runs `GAIT_CANCEL_ROUNDS` canceled goals (default 8), each followed
 //! by a turn and an orientation; the long run (gait/PLANNER-FIGURES.md) is
@@ -14,6 +17,7 @@
 mod planning;
 
 use gait::executor::{ExecutorCommand, GoalStage, GoalTarget, Mode};
+use gait::planner::PlanError;
 use gait::{HandConfig, HandState};
 use nalgebra::Vector3;
 use planning::load::LoadCheck;
@@ -50,12 +54,47 @@ fn assert_ended(rig: &Rig, id: u64, stage: GoalStage, what: &str) {
 /// load by the test's own SOCP, then sends it as goal `id` and runs it:
 /// the plant's object ends where the target says. Returns (duration, F*).
 fn goal_from_rest(rig: &mut Rig, id: u64, target: GoalTarget, what: &str) -> (f64, f64) {
+    try_goal_from_rest(rig, id, target, what)
+        .unwrap_or_else(|e| panic!("{what}: {target:?} refused: {e}"))
+}
+
+/// As [`goal_from_rest`], or the planner's refusal — which must say that
+/// no plan was found (the search's budget ran out, or nothing it tried
+/// held the load) — after which the hand must not have moved.
+fn try_goal_from_rest(
+    rig: &mut Rig,
+    id: u64,
+    target: GoalTarget,
+    what: &str,
+) -> Result<(f64, f64), PlanError> {
     let cfg = rig.cfg;
     let at = *rig.plant.state();
     let goal = target.resolve(&at.object);
-    let plan = target
-        .plan(&rig.planner, &at)
-        .unwrap_or_else(|e| panic!("{what}: {target:?} refused: {e}"));
+    let plan = match target.plan(&rig.planner, &at) {
+        Ok(plan) => plan,
+        Err(e) => {
+            assert!(
+                matches!(
+                    e,
+                    PlanError::Timeout | PlanError::LoadInfeasible { start: false }
+                ),
+                "{what}: refused for another reason: {e:?}"
+            );
+            rig.command(ExecutorCommand::Goal {
+                id,
+                target,
+                limits: None,
+            });
+            rig.run_until_idle(400_000);
+            assert_ended(rig, id, GoalStage::Aborted, what);
+            let moved = rig.plant.state().object.angle_to(&at.object);
+            assert!(
+                moved < 1e-9,
+                "{what}: refused, yet the object turned {moved:.2e} rad"
+            );
+            return Err(e);
+        }
+    };
     let f = assert_held(
         &LoadCheck::new(&cfg),
         &Checker::new(&cfg),
@@ -75,7 +114,7 @@ fn goal_from_rest(rig: &mut Rig, id: u64, target: GoalTarget, what: &str) -> (f6
         err < 1e-6,
         "{what}: the plant's object is {err:.2e} rad off"
     );
-    (plan.summary.duration, f)
+    Ok((plan.summary.duration, f))
 }
 
 /// A turn by `deg` about `axis` (as `gaitctl reorient --relative` sends).
@@ -118,6 +157,7 @@ fn turns_from_where_cancels_leave_the_hand_plan_and_hold() {
     let mut rig = Rig::new(cfg, HandState::paper_start(&cfg), DT);
     let mut rng = ChaCha8Rng::seed_from_u64(0xCA2CE1);
     let (mut id, mut durations, mut peak) = (0u64, Vec::new(), 0.0f64);
+    let mut refused = Vec::new();
     let mut canceled_in = std::collections::BTreeMap::<String, u32>::new();
     for round in 0..rounds {
         // A goal canceled a random while after it was sent: mid-roll,
@@ -154,19 +194,25 @@ fn turns_from_where_cancels_leave_the_hand_plan_and_hold() {
                 GoalTarget::Orientation(planning::haar(&mut rng)),
             ),
         ];
-        for (what, target) in goals {
+        for (kind, target) in goals {
             id += 1;
-            let what = format!("round {round}, {what}");
-            let (t, f) = goal_from_rest(&mut rig, id, target, &what);
-            durations.push(t);
-            peak = peak.max(f);
+            let what = format!("round {round}, {kind}");
+            match try_goal_from_rest(&mut rig, id, target, &what) {
+                Ok((t, f)) => {
+                    durations.push(t);
+                    peak = peak.max(f);
+                }
+                Err(e) => refused.push(format!("{what}: {e:?}")),
+            }
         }
     }
     durations.sort_by(f64::total_cmp);
     println!(
         "{rounds} goals, canceled while {canceled_in:?}; {} goals after them (a turn, then an \
-         orientation) planned, held and reached: time median {:.2} s, max {:.2} s; largest F* {peak:.2} N",
+         orientation) planned, held and reached, {} refused {refused:?}: time median {:.2} s, \
+         max {:.2} s; largest F* {peak:.2} N",
         durations.len(),
+        refused.len(),
         durations
             .get(durations.len() / 2)
             .copied()

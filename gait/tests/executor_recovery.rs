@@ -136,8 +136,11 @@ fn a_turn_goal_keeps_its_full_turns_and_direction_after_a_slip() {
         assert_clean(&rig, "turn");
         let err = rig.plant.state().object.angle_to(&start.object);
         assert!(err <= 1e-6, "back at the start orientation: {err:e} rad");
+        // The plan may turn about other axes on the way (detours), which
+        // add their own share to ∫ω·z; a full turn lost or added would be
+        // 2π off, the other way round 4π.
         assert!(
-            (turned - want).abs() < 0.05,
+            (turned - want).abs() < std::f64::consts::FRAC_PI_2,
             "turned {turned} rad about z, asked {want}"
         );
     }

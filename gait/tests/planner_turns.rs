@@ -1,6 +1,6 @@
 //! Requested turns (`Planner::plan_rotation`, e.g. a full turn) turn the
 //! object that far about the axis, not merely to the orientation they end
-//! at: the quicker detours of orientation goals must not shortcut them.
+//! at: a detour must not shortcut them.
 
 mod planning;
 
@@ -27,7 +27,7 @@ fn requested_turns_turn_that_far() {
     let planner = Planner::new(&cfg).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let tau = std::f64::consts::TAU;
-    let (mut checked, mut escaped) = (0, 0);
+    let (mut detoured, mut worst) = (0, 0.0f64);
     for i in 0..200 {
         let start = if i % 2 == 0 {
             HandState::paper_start(&cfg)
@@ -47,34 +47,59 @@ fn requested_turns_turn_that_far() {
         let want = gait::planner::relative_goal(&start.object, &axis, angle);
         let err = plan.end_state().object.angle_to(&want);
         assert!(err < 1e-9, "turn {i}: final error {err}");
-        // An escape (rare, from random states) turns about another axis
-        // first; then the end orientation and the full turns are promised.
-        if plan.summary.escaped {
-            let spun: f64 = plan
-                .steps
-                .iter()
-                .map(|s| match s.motion {
-                    Motion::Rotate { angle, .. } => angle.abs(),
-                    _ => 0.0,
-                })
-                .sum();
-            let turns = (angle / tau + 1e-9).floor();
-            assert!(
-                turns < 1.0 || spun >= tau * turns - std::f64::consts::PI,
-                "turn {i}: {turns} full turns asked, the escaped plan rotates {spun:.3} rad"
-            );
-            escaped += 1;
-            continue;
-        }
+        // Turned that far, that way: the plan's turns projected on the axis
+        // add up to the angle asked. A plan may first turn about another
+        // axis (a detour, or an escape where no gait can follow), which
+        // adds its own share; a full turn lost or gained would be 2π off.
         let turned = turned_about(&plan, &axis);
         assert!(
-            (turned - angle).abs() < 1e-9,
-            "turn {i}: asked {angle:.3} rad about the axis, plan turns {turned:.3}"
+            (turned - angle).abs() < std::f64::consts::FRAC_PI_2,
+            "turn {i}: asked {angle:.3} rad about the axis, the plan turns {turned:.3}"
         );
-        checked += 1;
+        if plan.summary.escaped {
+            detoured += 1;
+        } else {
+            // Without a detour, exactly about the axis.
+            assert!(
+                (turned - angle).abs() < 1e-9,
+                "turn {i}: asked {angle:.3} rad about the axis, plan turns {turned:.3}"
+            );
+        }
+        worst = worst.max((turned - angle).abs());
     }
-    // Not vacuous: most turns need no escape (each piece of a long turn
-    // escapes only from a grasp no gait can leave).
-    assert!(checked >= 100, "only {checked} turns without an escape");
-    println!("{checked} turns checked about their axis, {escaped} after an escape");
+    println!(
+        "200 turns checked about their axis, {detoured} with a detour first; largest difference {worst:.3} rad"
+    );
+}
+
+#[test]
+fn a_turn_about_x_after_a_goal_is_a_short_plan() {
+    // A user's sequence under the default load: `gaitctl plan --axis
+    // 1,-1,2 --angle 100`, then from where it ends `--axis 1,0,0 --angle
+    // 90 --relative`. Each must plan within the default budget (an
+    // expansion count here) in at most 10 gaits and at most twice a
+    // typical plan's time (time to goal median ~8 s from these starts:
+    // 16 s).
+    let cfg = gait::HandConfig::default();
+    let planner = Planner::new(&cfg).unwrap();
+    let start = HandState::paper_start(&cfg);
+    let first = nalgebra::UnitQuaternion::from_scaled_axis(
+        Vector3::new(1.0, -1.0, 2.0).normalize() * 100f64.to_radians(),
+    );
+    let a = planner.plan(&start, &first).expect("100° about (1,-1,2)");
+    let b = planner
+        .plan_rotation(&a.end_state(), &Vector3::x(), 90f64.to_radians())
+        .expect("then 90° about x");
+    for (what, p) in [("100° about (1,-1,2)", &a), ("then 90° about x", &b)] {
+        println!(
+            "{what}: {} gaits, {:.2} s; {}",
+            p.summary.gaits, p.summary.duration, p.route
+        );
+        assert!(p.summary.gaits <= 10, "{what}: {} gaits", p.summary.gaits);
+        assert!(
+            p.summary.duration <= 16.0,
+            "{what}: {:.2} s",
+            p.summary.duration
+        );
+    }
 }

@@ -218,7 +218,7 @@ code_enum! {
         NoActiveGoal = 17,
         /// The daemon is shutting down.
         ShuttingDown = 18,
-        /// The planner's search found no plan within its budget (SPEC §4.1).
+        /// The planner's search ran out of nodes: no plan at its resolution (SPEC §4.1).
         NoPlan = 19,
         /// Reset while there is no fault.
         NotFaulted = 20,
@@ -250,7 +250,7 @@ code_enum! {
         MeasuredStateInvalid = 33,
         /// No plan keeps the load feasible (SPEC §1.3 I1'): no sequence of grasps found holds the weight, the acceleration torque and the configured disturbance with every normal force within `load.max_grip` (also when the start grasp itself cannot).
         LoadInfeasible = 34,
-        /// Planning ran out of its time budget (`[planner] budget_ms`) before it found a plan.
+        /// Planning ran out of its budget (`[planner] budget_ms` of wall clock, or `max_expansions`) before it found a plan.
         PlanTimeout = 35,
         /// Reset refused: no fresh valid measurement from the plant (it is lost, stalled or not started); start the plant, then reset.
         NoFreshMeasurement = 36,

@@ -122,6 +122,7 @@ impl TestDaemon {
             dir,
             extra_env: Vec::new(),
         };
+        let extra_config = with_test_budget(extra_config);
         let cfg = format!(
             "[ipc]\nservice_prefix = \"{}\"\nroot_path = \"{}/\"\nfile_prefix = \"{}\"\n\
              [rt]\n{rt}\n{extra_config}\n",
@@ -390,6 +391,25 @@ impl Drop for TestDaemon {
         }
         remove_shm(&self.file_prefix);
         let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
+/// The planner's wall-clock budget of a test daemon, unless its config
+/// sets one: the tests run a debug build, which plans an order of
+/// magnitude slower than the release build the default `budget_ms` is
+/// meant for, and a test is graded on what the plan does, not on how fast
+/// this machine found it.
+const TEST_BUDGET_MS: &str = "budget_ms = 60000.0\n";
+
+/// `extra_config` with [`TEST_BUDGET_MS`] in its `[planner]` section
+/// (one is added when it has none).
+fn with_test_budget(extra_config: &str) -> String {
+    if extra_config.contains("budget_ms") {
+        extra_config.to_owned()
+    } else if extra_config.contains("[planner]\n") {
+        extra_config.replacen("[planner]\n", &format!("[planner]\n{TEST_BUDGET_MS}"), 1)
+    } else {
+        format!("{extra_config}\n[planner]\n{TEST_BUDGET_MS}")
     }
 }
 

@@ -160,9 +160,9 @@ fn a_goal_under_an_override_ends_when_its_eta_said() {
     assert!(off.abs() <= 5.0, "ended {off} ticks off its ETA");
 }
 
-/// A planner that runs out of its search budget: the goal is aborted with
-/// the planner's own reason, seen the same in the outcome, the status and
-/// the event.
+/// A planner that runs out of its search budget (one expansion): the goal
+/// is aborted with the planner's own reason, `PlanTimeout`, seen the same
+/// in the outcome, the status and the event.
 #[test]
 fn a_goal_without_a_plan_carries_the_planners_reason() {
     // Weightless, no disturbance: the search budget, not the load, ends it
@@ -181,12 +181,12 @@ fn a_goal_without_a_plan_carries_the_planners_reason() {
     let o = c.wait_outcome(1, LONG).unwrap();
     assert_eq!(
         (o.state, o.reason),
-        (GoalState::Aborted, ReasonCode::NoPlan)
+        (GoalState::Aborted, ReasonCode::PlanTimeout)
     );
     let s = c.wait_status(T).unwrap();
     assert_eq!(
         (s.goal_state(), s.goal_reason()),
-        (Ok(GoalState::Aborted), Ok(ReasonCode::NoPlan))
+        (Ok(GoalState::Aborted), Ok(ReasonCode::PlanTimeout))
     );
     let e = c
         .events()
@@ -196,6 +196,6 @@ fn a_goal_without_a_plan_carries_the_planners_reason() {
         .expect("a transition");
     assert_eq!(
         (e.state, e.reason),
-        (GoalState::Aborted.code(), ReasonCode::NoPlan.code())
+        (GoalState::Aborted.code(), ReasonCode::PlanTimeout.code())
     );
 }

@@ -2,9 +2,9 @@
 //!
 //! Planning is one A* search ([`super::search`]) run as the [`PASSES`] of
 //! a small portfolio under one budget: a pass that finds a plan; only when
-//! it finds none, for a turn goal, one that lets the turn's first move be
-//! about another axis; then one that also lets contacts spin under load.
-//! (An
+//! it proves that it finds none, for a later piece of a long turn, one
+//! that lets that piece first turn about another axis; then one that also
+//! lets contacts spin under load. (An
 //! improving pass — a less greedy search pruned by the plan in hand and
 //! capped at a multiple of the effort so far — is a [`Role`] the list may
 //! hold.) A budget spent ends planning wherever it is, with the best plan
@@ -42,33 +42,34 @@ pub struct Pass {
     /// Whether contacts may spin on the object under load (a spinning
     /// contact has no torsion to spare; the last resort).
     pub spins: bool,
-    /// Whether a turn goal may first turn about another axis (a detour
-    /// from the root; an orientation goal always may). A turn keeps its
-    /// size and sense through it, but no longer turns only about its axis.
-    pub turn_detours: bool,
+    /// Whether a later piece of a long turn ([`TURN_PIECE`]) may first
+    /// turn about another axis. The first piece, and an orientation goal,
+    /// always may; a later one goes on about the turn's axis unless that
+    /// finds nothing.
+    pub later_detours: bool,
 }
 
 /// The passes, in order. (A pass that would search as one before it did
-/// — turn detours for an orientation goal, spins without a load — is
-/// skipped.)
+/// — detours where every piece may detour anyway, spins without a load —
+/// is skipped.)
 pub const PASSES: [Pass; 3] = [
     Pass {
         role: Role::Find,
         weight: 1.5,
         spins: false,
-        turn_detours: false,
+        later_detours: false,
     },
     Pass {
         role: Role::Find,
         weight: 1.5,
         spins: false,
-        turn_detours: true,
+        later_detours: true,
     },
     Pass {
         role: Role::Find,
         weight: 1.5,
         spins: true,
-        turn_detours: true,
+        later_detours: true,
     },
 ];
 
@@ -79,12 +80,12 @@ pub const PASSES: [Pass; 3] = [
 /// still ends in a plan rather than a timeout.
 pub const GREEDIER: [(u32, f64); 2] = [(4000, 3.0), (12_000, 6.0)];
 
-/// A turn longer than this is planned as equal consecutive turns no
-/// longer than it, each from where the last ends \[rad\] (120°): the
-/// search for one long turn is deep (its time to go is hard to estimate),
-/// its pieces are not; where two pieces meet with the same pair turning
-/// on, the two turns are one.
-pub const TURN_PIECE: f64 = 2.0 * std::f64::consts::FRAC_PI_3;
+/// A turn goal is planned as equal consecutive pieces no longer than this,
+/// each as the orientation it must reach, from where the last ends
+/// \[rad\] (90°): shorter than half a turn, a piece's shortest rotation is
+/// the turn's own, so the object turns that far, that way; where two
+/// pieces meet with the same pair turning on, the two turns are one.
+pub const TURN_PIECE: f64 = std::f64::consts::FRAC_PI_2;
 
 /// The kinds of children a node gets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -110,14 +111,14 @@ pub enum ActionKind {
     /// by [`TILT_FRACTIONS`] of how far they can (only under a weight,
     /// only before a first lift).
     Tilt,
-    /// Under a weight, while at most half a turn is left, a turn about the
-    /// weight's direction by the rotation left's twist about it
-    /// (swing–twist decomposition), or as far as the pair can: a turn
-    /// about the weight leaves every grasp's load as it is.
+    /// Under a weight, a turn about the weight's direction by the rotation
+    /// left's twist about it (swing–twist decomposition), or as far as the
+    /// pair can: a turn about the weight leaves every grasp's load as it
+    /// is.
     Twist,
-    /// A turn about another axis: before the object has turned at all (for
-    /// a turn goal only in a pass that allows it), `planner.detour_axes`
-    /// directions by their range and half of it; from a node where no gait
+    /// A turn about another axis: before the object has turned at all (in a
+    /// turn goal's first piece only), `planner.detour_axes` directions by
+    /// their range and half of it; from a node where no gait
     /// can follow (paper Theory 1), the least turn about each of
     /// `planner.escape_axes` directions after which one can.
     Detour,

@@ -84,8 +84,9 @@ pub enum PlanError {
     /// The search proved that no plan exists at its resolution.
     #[error("no plan reaches the goal")]
     SearchExhausted,
-    /// The planning budget ran out before a plan was found.
-    #[error("planning ran out of its time budget before it found a plan")]
+    /// The planning budget (time or expansions) ran out before a plan was
+    /// found.
+    #[error("planning ran out of its budget (time or expansions) before it found a plan")]
     Timeout,
     /// The caller canceled the request while it was being planned.
     #[error("planning was canceled")]
@@ -267,14 +268,15 @@ impl Planner {
         if !state_finite(start) {
             return Err(PlanError::NonFiniteState);
         }
-        let (goal, rem) = match *target {
+        // The orientations to reach in turn: the goal, or a turn's pieces.
+        let (goal, angle, turn) = match *target {
             Target::Orientation(q) => {
                 let gq = q.quaternion();
                 if !gq.coords.iter().all(|x| x.is_finite()) || gq.norm() < 1e-9 {
                     return Err(PlanError::InvalidGoal);
                 }
                 let goal = UnitQuaternion::new_normalize(*gq);
-                (goal, Remaining::orientation(&start.object, &goal))
+                (goal, start.object.angle_to(&goal), None)
             }
             Target::Turn { axis, angle } => {
                 let n = axis.norm();
@@ -286,31 +288,32 @@ impl Planner {
                 } else {
                     (axis / n, angle)
                 };
-                (
-                    rotation(&axis, angle) * start.object,
-                    Remaining::turn(axis, angle),
-                )
+                (rotation(&axis, angle) * start.object, angle, Some(axis))
             }
         };
         self.check_start(start)?;
         let mut effort = Effort::default();
-        // A long turn in pieces, each from where the last ended.
-        let pieces = match rem.turn {
-            Some(_) => (rem.angle / TURN_PIECE).ceil().max(1.0),
-            None => 1.0,
+        let pieces = match turn {
+            Some(_) => (angle / TURN_PIECE).ceil().max(1.0) as usize,
+            None => 1,
         };
         let mut at = *start;
         let (mut steps, mut route, mut pass) = (Vec::new(), Vec::new(), 0);
-        for _ in 0..pieces as usize {
-            let piece = if pieces > 1.0 {
-                Remaining::turn(rem.axis, rem.angle / pieces)
-            } else {
-                rem
+        for k in 1..=pieces {
+            let to = match turn {
+                Some(axis) => rotation(&axis, angle * k as f64 / pieces as f64) * start.object,
+                None => goal,
             };
-            if piece.reached() {
-                break;
+            let rem = Remaining::orientation(&at.object, &to);
+            if rem.reached() {
+                continue;
             }
-            let (s, r, p) = self.search(&at, piece, budget, &mut effort)?;
+            let piece = Piece {
+                first: k == 1,
+                sense: turn,
+                goes_on: k < pieces,
+            };
+            let (s, r, p) = self.search(&at, rem, piece, budget, &mut effort)?;
             at = s
                 .last()
                 .map_or(at, |st| st.eval(&st.dofs().length, &[0.0; 3]).state);
@@ -321,7 +324,7 @@ impl Planner {
         Ok(self.finish(
             start,
             goal,
-            rem.angle,
+            angle,
             join_turns(steps, &self.config.limits),
             route,
             pass,
@@ -335,6 +338,7 @@ impl Planner {
         &self,
         start: &HandState,
         rem: Remaining,
+        piece: Piece,
         budget: &mut Budget<'_>,
         effort: &mut Effort,
     ) -> Result<(Vec<Step>, Vec<route::RouteStep>, usize), PlanError> {
@@ -344,31 +348,41 @@ impl Planner {
             refused: false,
             pairs: false,
         };
+        // What a pass searches with: its role, detours, spins.
+        let searches_as = |p: &alternatives::Pass| {
+            (
+                p.role,
+                piece.first || p.later_detours,
+                p.spins && self.hand.load_active(),
+            )
+        };
         for (i, pass) in PASSES.iter().enumerate() {
+            if PASSES[..i]
+                .iter()
+                .any(|p| searches_as(p) == searches_as(pass))
+            {
+                continue;
+            }
+            let detours = piece.first || pass.later_detours;
             let mode = match (pass.role, &best) {
                 (Role::Find, None) => search::Mode {
                     weight: pass.weight,
                     bound: f64::INFINITY,
                     cap: u32::MAX,
-                    turn_detours: pass.turn_detours,
+                    detours,
+                    sense: piece.sense,
+                    ends_in_pair: piece.goes_on,
                 },
                 (Role::Improve { effort: e }, Some((found, _, _))) => search::Mode {
                     weight: pass.weight,
                     bound: found.duration,
                     cap: e * budget.used().max(1),
-                    turn_detours: pass.turn_detours,
+                    detours,
+                    sense: piece.sense,
+                    ends_in_pair: piece.goes_on,
                 },
                 _ => continue,
             };
-            // A pass that would search as one before it did is skipped.
-            let same_as_before = PASSES[..i].iter().any(|p| {
-                p.role == pass.role
-                    && (p.spins == pass.spins || !self.hand.load_active())
-                    && (p.turn_detours == pass.turn_detours || rem.turn.is_none())
-            });
-            if same_as_before {
-                continue;
-            }
             effort.passes += 1;
             let hand = self.hand.for_pass(true, pass.spins);
             match search::run(&hand, &self.params, mode, start, rem, budget, effort) {
@@ -462,6 +476,17 @@ impl Planner {
             route,
         }
     }
+}
+
+/// Where one search sits in a goal: the whole goal, or a piece of a turn.
+#[derive(Debug, Clone, Copy)]
+struct Piece {
+    /// The first (or only) piece: it may first turn about another axis.
+    first: bool,
+    /// A turn's axis, whose sense the piece keeps.
+    sense: Option<Vector3<f64>>,
+    /// More pieces follow: it must end with a pair grasping.
+    goes_on: bool,
 }
 
 /// `steps` with each turn that continues the one before it (same axis, the

@@ -122,11 +122,10 @@ impl Route {
 impl fmt::Display for Route {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let pass = PASSES.get(self.pass);
-        let what = match pass.map(|p| (p.role, p.spins, p.turn_detours)) {
-            Some((Role::Improve { .. }, _, _)) => "improved",
-            Some((Role::Find, true, _)) => "spinning contacts",
-            Some((Role::Find, false, true)) if self.pass > 0 => "turn with a detour",
-            Some((Role::Find, false, _)) => "first found",
+        let what = match pass.map(|p| (p.role, p.spins)) {
+            Some((Role::Improve { .. }, _)) => "improved",
+            Some((Role::Find, true)) => "spinning contacts",
+            Some((Role::Find, false)) => "first found",
             None => "?",
         };
         write!(f, "pass {} ({what}):", self.pass + 1)?;

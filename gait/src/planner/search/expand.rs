@@ -109,9 +109,7 @@ impl<H: HandModel> Search<'_, '_, H> {
                     goal = self.pair_turns(idx, node, pair, z);
                 }
                 ActionKind::Twist
-                    if self.hand.load_active()
-                        && node.rem.angle <= std::f64::consts::PI
-                        && !matches!(node.last, Last::Turn(_)) =>
+                    if self.hand.load_active() && !matches!(node.last, Last::Turn(_)) =>
                 {
                     self.twist(idx, node, pair);
                 }
@@ -124,8 +122,7 @@ impl<H: HandModel> Search<'_, '_, H> {
                     self.places(idx, node, pair, z);
                 }
                 ActionKind::Detour => {
-                    // (A turn goal turns about its own axis unless it must not.)
-                    if node.unturned && (node.rem.turn.is_none() || self.mode.turn_detours) {
+                    if node.unturned && self.mode.detours {
                         self.detours(idx, node, pair, z);
                     }
                     if !goal && gaits == 0 {
