@@ -70,7 +70,7 @@ fn probe_axes() -> [Vector3<f64>; 12] {
 /// back about the turn's axis \[rad\] (90°): an overshoot or a detour's
 /// return is short; more is the way round the other side, which would
 /// unwind the turn.
-const BACK_TURN: f64 = std::f64::consts::FRAC_PI_2;
+pub const BACK_TURN: f64 = std::f64::consts::FRAC_PI_2;
 
 /// How one pass searches.
 #[derive(Debug, Clone, Copy)]
