@@ -310,7 +310,6 @@ impl Planner {
             }
             let piece = Piece {
                 first: k == 1,
-                sense: turn,
                 goes_on: k < pieces,
             };
             let (s, r, p) = self.search(&at, rem, piece, budget, &mut effort)?;
@@ -370,7 +369,6 @@ impl Planner {
                     bound: f64::INFINITY,
                     cap: u32::MAX,
                     detours,
-                    sense: piece.sense,
                     ends_in_pair: piece.goes_on,
                 },
                 (Role::Improve { effort: e }, Some((found, _, _))) => search::Mode {
@@ -378,7 +376,6 @@ impl Planner {
                     bound: found.duration,
                     cap: e * budget.used().max(1),
                     detours,
-                    sense: piece.sense,
                     ends_in_pair: piece.goes_on,
                 },
                 _ => continue,
@@ -483,8 +480,6 @@ impl Planner {
 struct Piece {
     /// The first (or only) piece: it may first turn about another axis.
     first: bool,
-    /// A turn's axis, whose sense the piece keeps.
-    sense: Option<Vector3<f64>>,
     /// More pieces follow: it must end with a pair grasping.
     goes_on: bool,
 }

@@ -66,12 +66,6 @@ fn probe_axes() -> [Vector3<f64>; 12] {
     crate::grasp::hold::icosahedron().map(|v| v.normalize())
 }
 
-/// In a piece of a turn, the most a node's rotation still to do may turn
-/// back about the turn's axis \[rad\] (90°): an overshoot or a detour's
-/// return is short; more is the way round the other side, which would
-/// unwind the turn.
-pub const BACK_TURN: f64 = std::f64::consts::FRAC_PI_2;
-
 /// How one pass searches.
 #[derive(Debug, Clone, Copy)]
 pub struct Mode {
@@ -86,11 +80,6 @@ pub struct Mode {
     /// the later pieces of a long turn: they go on about its axis (and
     /// escape only where no gait can follow).
     pub detours: bool,
-    /// For a piece of a turn, the turn's axis: no node may leave a rotation
-    /// still to do that turns back about it by more than [`BACK_TURN`] (a
-    /// detour must not make the shortest way to the piece's end the way
-    /// back).
-    pub sense: Option<Vector3<f64>>,
     /// Whether the plan must end with two fingers grasping: for a piece of
     /// a turn that goes on after it. Three fingers turned as far as they
     /// can may leave no roll to a pair for the next piece.
@@ -246,11 +235,6 @@ impl<H: HandModel> Search<'_, '_, H> {
         if !matches!(node.edge, Edge::Deferred(_)) {
             node.range = self.range(&node.hand, &node.rem);
             self.pairs |= node.hand.grasping().1 == 2;
-        }
-        if let Some(k) = self.mode.sense
-            && node.rem.axis.dot(&k) * node.rem.angle < -BACK_TURN
-        {
-            return;
         }
         let h = self.heuristic(&node);
         if node.g + h >= self.mode.bound {
