@@ -95,7 +95,7 @@ fn planned_step_durations_match_execution() {
             .plan(&HandState::paper_start(&cfg), &planning::haar(&mut rng))
             .unwrap();
         for step in &plan.steps {
-            runner.start(step, &cfg.limits);
+            runner.start(step, &cfg.limits, None);
             let mut ticks = 0u32;
             while runner.advance().unwrap() != otg::Progress::Finished {
                 ticks += 1;
@@ -112,4 +112,69 @@ fn planned_step_durations_match_execution() {
         }
     }
     assert!(steps >= 100, "{steps} steps");
+}
+
+/// Each step's trajectory comes with its plan, calculated off the loop
+/// (`PlanRequest::plan`): the executor adopts it and calculates none on
+/// its own thread, and its setpoints are, tick for tick, those it produces
+/// when the plan brings none and it calculates each step at its start.
+#[test]
+fn step_trajectories_come_with_the_plan() {
+    use gait::executor::{Executor, Mode};
+    use gait::sim::{MeasuredFinger, Measurement};
+    let cfg = HandConfig::default();
+    let planner = gait::planner::Planner::new(&cfg).unwrap();
+    let start = HandState::paper_start(&cfg);
+    let run = |strip: bool| {
+        let mut exec = Executor::new(&cfg, 1e-3, start).unwrap();
+        exec.command(ExecutorCommand::Goal {
+            id: 1,
+            target: GoalTarget::Rotation {
+                axis: Vector3::new(1.0, -1.0, 2.0),
+                angle: 2.0,
+            },
+            limits: None,
+        });
+        let (mut setpoints, mut steps) = (Vec::new(), None);
+        // An exact plant: it measures the last setpoint.
+        let mut at = start;
+        for _ in 0..200_000 {
+            let m = Measurement {
+                object: at.object,
+                fingers: at.fingers.map(|f| MeasuredFinger {
+                    center: f.center,
+                    orientation: f.orientation,
+                    contact: f.mode == gait::FingerMode::Grasping,
+                    normal_force: None,
+                    roll: Some(f.roll),
+                }),
+                center: None,
+                age: 0,
+            };
+            let r = *exec.tick(Some(&m));
+            at = r.setpoint.state;
+            setpoints.push(r.setpoint.state);
+            if let Some(req) = exec.take_plan_request() {
+                let mut plan = req.plan(&planner).expect("planned");
+                assert_eq!(plan.profiles.len(), plan.steps.len());
+                assert!(plan.profiles.iter().all(Option::is_some));
+                steps = Some(plan.steps.len() as u64);
+                if strip {
+                    plan.profiles.clear();
+                }
+                drop(exec.deliver_plan(req.goal, Ok(Box::new(plan))));
+            } else if steps.is_some() && r.phase == Mode::Holding {
+                break;
+            }
+        }
+        let steps = steps.expect("a plan");
+        (setpoints, exec.trajectory_calculations(), steps)
+    };
+    let (adopted, on_loop, steps) = run(false);
+    let (calculated, on_loop_without, _) = run(true);
+    assert!(steps >= 5, "a plan with gaits: {steps} steps");
+    assert_eq!(on_loop, 0, "trajectories calculated on the loop");
+    assert_eq!(on_loop_without, steps, "without profiles, one per step");
+    assert_eq!(adopted.len(), calculated.len());
+    assert!(adopted == calculated, "the setpoints differ");
 }

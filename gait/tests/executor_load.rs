@@ -190,6 +190,7 @@ fn a_fingertip_spinning_under_load_pushes_along_its_normal_only() {
             },
             steps,
             route: Default::default(),
+            profiles: Vec::new(),
         };
         assert!(planning::spins_in_a_triple(&plan));
         scripted.push((start, plan));

@@ -104,6 +104,17 @@ impl<const N: usize> Otg<N> {
             .calculate(input, trajectory, self.delta_time)
     }
 
+    /// Takes `trajectory`, calculated for `input` by [`Otg::calculate`] on
+    /// a generator with this cycle, as the next [`Otg::update`] with
+    /// `input` would have calculated it: that update samples it without
+    /// recalculating (its `new_calculation` stays false). For a caller that
+    /// calculates off its real-time thread; the samples are the same.
+    pub fn adopt(&mut self, input: &Input<N>, trajectory: &Trajectory<N>, output: &mut Output<N>) {
+        self.current = Some(*input);
+        output.trajectory = *trajectory;
+        output.time = 0.0;
+    }
+
     /// One control cycle: recalculates if `input` differs from the last
     /// one, then samples the trajectory one cycle further. On an error the
     /// output is left unchanged (the caller keeps its last setpoint).

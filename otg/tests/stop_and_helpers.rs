@@ -131,3 +131,60 @@ fn min_duration_matches_independent_durations() {
         assert_eq!(t, traj.independent_min_durations[0]);
     }
 }
+
+/// A trajectory calculated elsewhere (another thread, another generator
+/// with the same cycle) and adopted is sampled as the generator would have
+/// sampled its own, cycle for cycle, and the first update does not
+/// recalculate.
+#[test]
+fn an_adopted_trajectory_is_sampled_as_a_calculated_one() {
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    for case in 0..200 {
+        let mut inp = Input::<3>::new([1.0; 3], [4.0; 3], [40.0; 3]);
+        for i in 0..3 {
+            inp.max_velocity[i] = rng.random_range(0.1..3.0);
+            inp.max_acceleration[i] = rng.random_range(1.0..30.0);
+            inp.max_jerk[i] = rng.random_range(10.0..600.0);
+            inp.target_position[i] = rng.random_range(0.0..2.0);
+        }
+        let mut elsewhere = Otg::<3>::new(0.001).unwrap();
+        let mut traj = Trajectory::<3>::default();
+        elsewhere.calculate(&inp, &mut traj).unwrap();
+
+        let (mut own, mut adopted) = (Otg::<3>::new(0.001).unwrap(), Otg::<3>::new(0.001).unwrap());
+        let (mut own_in, mut adopted_in) = (inp, inp);
+        let (mut own_out, mut adopted_out) = (Output::<3>::default(), Output::<3>::default());
+        adopted.adopt(&adopted_in, &traj, &mut adopted_out);
+        for cycle in 0..100_000 {
+            let a = own.update(&own_in, &mut own_out).unwrap();
+            let b = adopted.update(&adopted_in, &mut adopted_out).unwrap();
+            if cycle == 0 {
+                assert!(
+                    own_out.new_calculation,
+                    "case {case}: the own one calculates"
+                );
+                assert!(!adopted_out.new_calculation, "case {case}: recalculated");
+            }
+            assert_eq!(
+                (
+                    a,
+                    own_out.new_position,
+                    own_out.new_velocity,
+                    own_out.new_acceleration
+                ),
+                (
+                    b,
+                    adopted_out.new_position,
+                    adopted_out.new_velocity,
+                    adopted_out.new_acceleration
+                ),
+                "case {case} cycle {cycle}"
+            );
+            own_out.pass_to_input(&mut own_in);
+            adopted_out.pass_to_input(&mut adopted_in);
+            if a == Progress::Finished {
+                break;
+            }
+        }
+    }
+}

@@ -6,6 +6,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use super::Reason;
 use crate::config::LimitsConfig;
+use crate::planner::timing::step_profiles;
 use crate::planner::{Budget, Plan, PlanError, Target, Unbounded};
 use crate::state::HandState;
 
@@ -117,6 +118,9 @@ pub struct PlanRequest {
     /// The motion limits the plan will be executed with (the goal's
     /// overrides applied): it is timed and costed with them.
     pub limits: LimitsConfig,
+    /// The executor's control period \[s\]: the steps' trajectories are
+    /// calculated with the plan for it.
+    pub dt: f64,
 }
 
 impl PlanRequest {
@@ -136,12 +140,16 @@ impl PlanRequest {
         planner: &crate::planner::Planner,
         budget: &mut Budget<'_>,
     ) -> Result<Plan, PlanError> {
-        if self.limits == planner.config().limits {
-            return self.target.plan_within(planner, &self.start, budget);
-        }
-        let timed = planner
-            .with_limits(&self.limits)
-            .map_err(|_| PlanError::InvalidLimits)?;
-        self.target.plan_within(&timed, &self.start, budget)
+        let mut plan = if self.limits == planner.config().limits {
+            self.target.plan_within(planner, &self.start, budget)?
+        } else {
+            let timed = planner
+                .with_limits(&self.limits)
+                .map_err(|_| PlanError::InvalidLimits)?;
+            self.target.plan_within(&timed, &self.start, budget)?
+        };
+        // Off the loop: the executor adopts these at each step's start.
+        plan.profiles = step_profiles(&plan.steps, &self.limits, self.dt);
+        Ok(plan)
     }
 }

@@ -133,6 +133,7 @@ impl Executor {
                 start: self.setpoint.state,
                 target: g.target,
                 limits: g.limits,
+                dt: self.dt,
             });
         }
     }

@@ -406,6 +406,14 @@ impl Executor {
         })
     }
 
+    /// Step trajectories the trajectory generator calculated on this
+    /// thread (the loop's): steps whose plan brought no profile for them,
+    /// and stops. A plan from [`PlanRequest::plan_within`] brings every
+    /// step's.
+    pub fn trajectory_calculations(&self) -> u64 {
+        self.runner.calculations()
+    }
+
     fn current_step(&self) -> Option<&Step> {
         self.plan.as_deref().and_then(|p| p.steps.get(self.step))
     }
@@ -418,7 +426,8 @@ impl Executor {
         let Some(step) = plan.steps.get(self.step) else {
             return;
         };
-        self.runner.start(step, &limits);
+        let profile = plan.profiles.get(self.step).and_then(Option::as_ref);
+        self.runner.start(step, &limits, profile);
         self.time_after_step = (self.time_after_step - step_on_ticks(step, self.dt)).max(0.0);
         self.rotation_after_step = (self.rotation_after_step - step_rotation(step)).max(0.0);
         self.step_goal = self.goal.map_or(0, |g| g.id);

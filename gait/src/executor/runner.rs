@@ -8,8 +8,9 @@
 
 use otg::{ControlInterface, Input, Otg, OtgError, Output, Progress};
 
-use crate::config::{LimitsConfig, MotionLimit};
-use crate::planner::{MAX_DOFS, Step, StepLimit};
+use crate::config::LimitsConfig;
+use crate::planner::timing::{StepProfile, step_input};
+use crate::planner::{MAX_DOFS, Step};
 
 /// Path-parameter state of the running step.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -30,14 +31,7 @@ pub struct StepRunner {
     output: Output<MAX_DOFS>,
     lengths: [f64; MAX_DOFS],
     stopping: bool,
-}
-
-fn limit(limits: &LimitsConfig, kind: StepLimit) -> &MotionLimit {
-    match kind {
-        StepLimit::Object => &limits.object,
-        StepLimit::Fingertip => &limits.fingertip,
-        StepLimit::Rolling => &limits.rolling,
-    }
+    calculations: u64,
 }
 
 impl StepRunner {
@@ -49,32 +43,37 @@ impl StepRunner {
             output: Output::default(),
             lengths: [0.0; MAX_DOFS],
             stopping: false,
+            calculations: 0,
         })
     }
 
-    /// Prepares `step` from rest at parameter 0 under `limits`.
-    pub fn start(&mut self, step: &Step, limits: &LimitsConfig) {
-        let d = step.dofs();
-        let mut inp = Input::new([1.0; MAX_DOFS], [1.0; MAX_DOFS], [1.0; MAX_DOFS]);
-        for i in 0..MAX_DOFS {
-            let l = limit(limits, d.kind[i]);
-            inp.max_velocity[i] = l.velocity;
-            inp.max_acceleration[i] = l.acceleration;
-            inp.max_jerk[i] = l.jerk;
-            inp.target_position[i] = d.length[i];
-            inp.enabled[i] = i < d.count && d.length[i] > 0.0;
-        }
-        self.input = inp;
-        self.lengths = d.length;
+    /// Prepares `step` from rest at parameter 0 under `limits`, with its
+    /// trajectory from `profile` when that was calculated for the same
+    /// input (else the first [`StepRunner::advance`] calculates it).
+    pub fn start(&mut self, step: &Step, limits: &LimitsConfig, profile: Option<&StepProfile>) {
+        self.input = step_input(step, limits);
+        self.lengths = step.dofs().length;
         self.output = Output::default();
         self.stopping = false;
         self.otg.reset();
+        if let Some(p) = profile
+            && p.input == self.input
+        {
+            self.otg.adopt(&self.input, &p.trajectory, &mut self.output);
+        }
+    }
+
+    /// Trajectories calculated by [`StepRunner::advance`] so far: the
+    /// steps started without a matching profile, and the stops.
+    pub fn calculations(&self) -> u64 {
+        self.calculations
     }
 
     /// One control period; returns whether the motion has come to rest at
     /// its end (or at its stop).
     pub fn advance(&mut self) -> Result<Progress, OtgError> {
         let status = self.otg.update(&self.input, &mut self.output)?;
+        self.calculations += u64::from(self.output.new_calculation);
         self.output.pass_to_input(&mut self.input);
         Ok(status)
     }

@@ -147,6 +147,11 @@ pub struct Plan {
     pub summary: PlanSummary,
     /// The actions the search chose and the pass that found them.
     pub route: Route,
+    /// Each step's trajectory, calculated off the real-time thread for
+    /// the limits and control period it runs with
+    /// ([`timing::step_profiles`]; empty: the executor calculates each at
+    /// the step's start).
+    pub profiles: Vec<Option<timing::StepProfile>>,
 }
 
 impl Plan {
@@ -471,6 +476,7 @@ impl Planner {
             steps,
             summary: s,
             route,
+            profiles: Vec::new(),
         }
     }
 }

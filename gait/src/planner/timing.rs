@@ -5,7 +5,10 @@
 //! motion of one path parameter (SPEC §5), so its duration is the classic
 //! closed form for a symmetric third-order profile.
 
-use crate::config::{HandConfig, MotionLimit};
+use otg::{Input, Otg, Trajectory};
+
+use super::plan::{MAX_DOFS, Step, StepLimit};
+use crate::config::{HandConfig, LimitsConfig, MotionLimit};
 
 /// Duration of the time-optimal rest-to-rest motion over `distance` under
 /// one motion limit: the trajectory generator's closed form (SPEC §5), so
@@ -142,4 +145,60 @@ mod tests {
             prev = t;
         }
     }
+}
+
+/// A step's trajectory from rest, calculated with the plan off the
+/// real-time thread: the executor adopts it at the step's start instead of
+/// calculating it there, when its input is the one it would calculate
+/// from (SPEC §5, §6.1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepProfile {
+    /// The generator's input at the step's start.
+    pub input: Input<MAX_DOFS>,
+    /// The trajectory calculated for it.
+    pub trajectory: Trajectory<MAX_DOFS>,
+}
+
+/// The limit a step's path parameter runs under.
+pub fn step_limit(limits: &LimitsConfig, kind: StepLimit) -> &MotionLimit {
+    match kind {
+        StepLimit::Object => &limits.object,
+        StepLimit::Fingertip => &limits.fingertip,
+        StepLimit::Rolling => &limits.rolling,
+    }
+}
+
+/// The trajectory generator's input for `step` from rest at parameter 0
+/// under `limits`: its path parameters to their lengths, time
+/// synchronised.
+pub fn step_input(step: &Step, limits: &LimitsConfig) -> Input<MAX_DOFS> {
+    let d = step.dofs();
+    let mut inp = Input::new([1.0; MAX_DOFS], [1.0; MAX_DOFS], [1.0; MAX_DOFS]);
+    for i in 0..MAX_DOFS {
+        let l = step_limit(limits, d.kind[i]);
+        inp.max_velocity[i] = l.velocity;
+        inp.max_acceleration[i] = l.acceleration;
+        inp.max_jerk[i] = l.jerk;
+        inp.target_position[i] = d.length[i];
+        inp.enabled[i] = i < d.count && d.length[i] > 0.0;
+    }
+    inp
+}
+
+/// Each step's [`StepProfile`] under `limits` for control period `dt`
+/// (`None` where the generator refuses the step's input: the executor
+/// then calculates it itself, and meets the same refusal there).
+pub fn step_profiles(steps: &[Step], limits: &LimitsConfig, dt: f64) -> Vec<Option<StepProfile>> {
+    let Ok(mut otg) = Otg::<MAX_DOFS>::new(dt) else {
+        return Vec::new();
+    };
+    steps
+        .iter()
+        .map(|step| {
+            let input = step_input(step, limits);
+            let mut trajectory = Trajectory::default();
+            otg.calculate(&input, &mut trajectory).ok()?;
+            Some(StepProfile { input, trajectory })
+        })
+        .collect()
 }
