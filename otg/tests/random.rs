@@ -161,6 +161,18 @@ fn sweep(seed: u64, n: usize) {
         "random sweep seed {seed}: {n} cases, {ok} ok, {too_long} longer than the maximum duration"
     );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+    // A refusal as longer than `MAX_DURATION` is legitimate for the
+    // extreme draws (tiny limits, long distances) and rare: a generator
+    // that refused everything this way must not pass.
+    assert!(
+        too_long * 100 <= n,
+        "{too_long} of {n} cases refused as longer than the maximum duration"
+    );
+    assert_eq!(
+        ok + too_long,
+        n,
+        "every case calculated and checked, or refused as too long"
+    );
 }
 
 #[test]
