@@ -121,7 +121,7 @@ fn planned_step_durations_match_execution() {
 #[test]
 fn step_trajectories_come_with_the_plan() {
     use gait::executor::{Executor, Mode};
-    use gait::sim::{MeasuredFinger, Measurement};
+    use gait::sim::Measurement;
     let cfg = HandConfig::default();
     let planner = gait::planner::Planner::new(&cfg).unwrap();
     let start = HandState::paper_start(&cfg);
@@ -139,19 +139,7 @@ fn step_trajectories_come_with_the_plan() {
         // An exact plant: it measures the last setpoint.
         let mut at = start;
         for _ in 0..200_000 {
-            let m = Measurement {
-                object: at.object,
-                fingers: at.fingers.map(|f| MeasuredFinger {
-                    center: f.center,
-                    orientation: f.orientation,
-                    contact: f.mode == gait::FingerMode::Grasping,
-                    normal_force: None,
-                    roll: Some(f.roll),
-                }),
-                center: None,
-                age: 0,
-            };
-            let r = *exec.tick(Some(&m));
+            let r = *exec.tick(Some(&Measurement::of(&at)));
             at = r.setpoint.state;
             setpoints.push(r.setpoint.state);
             if let Some(req) = exec.take_plan_request() {

@@ -52,7 +52,7 @@ impl StepRunner {
     /// input (else the first [`StepRunner::advance`] calculates it).
     pub fn start(&mut self, step: &Step, limits: &LimitsConfig, profile: Option<&StepProfile>) {
         self.input = step_input(step, limits);
-        self.lengths = step.dofs().length;
+        self.lengths = self.input.target_position;
         self.output = Output::default();
         self.stopping = false;
         self.otg.reset();

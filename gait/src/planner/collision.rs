@@ -16,6 +16,11 @@ pub fn clear(g: &Geometry, p: &Vector3<f64>, q: &Vector3<f64>) -> bool {
     (p - q).norm() >= g.min_center_distance
 }
 
+/// Whether every two fingertip centres of `s` are far enough apart.
+pub fn centers_clear(g: &Geometry, s: &HandState) -> bool {
+    (0..3).all(|a| (a + 1..3).all(|b| clear(g, &s.fingers[a].center, &s.fingers[b].center)))
+}
+
 /// Smallest cosine of the angle between directions that keeps a fingertip at
 /// radius `rp` clear of one at radius `rq`.
 fn max_cos(g: &Geometry, rp: f64, rq: f64) -> f64 {

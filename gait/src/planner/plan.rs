@@ -338,11 +338,7 @@ impl Step {
         let d = self.dofs();
         (0..d.count)
             .map(|i| {
-                let lim = match d.kind[i] {
-                    StepLimit::Object => &limits.object,
-                    StepLimit::Fingertip => &limits.fingertip,
-                    StepLimit::Rolling => &limits.rolling,
-                };
+                let lim = super::timing::step_limit(limits, d.kind[i]);
                 super::timing::rest_to_rest(d.length[i], lim)
             })
             .fold(0.0, f64::max)

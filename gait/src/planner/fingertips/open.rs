@@ -14,6 +14,7 @@
 
 use nalgebra::Vector3;
 
+use super::super::collision;
 use super::super::geometry::{Geometry, angle_between, rotation};
 use super::super::load::PairLoad;
 use super::super::plan::{GreatCircleRoll, Motion, Step, StepKind};
@@ -404,12 +405,8 @@ fn roll_paired(
                     return None;
                 }
             }
-            for a in 0..3 {
-                for b in a + 1..3 {
-                    if (x.fingers[a].center - x.fingers[b].center).norm() < g.min_center_distance {
-                        return None;
-                    }
-                }
+            if !collision::centers_clear(g, &x) {
+                return None;
             }
             let nn = x.fingers.map(|f| f.contact_normal());
             let fc = fact4(g, &nn[0], &nn[1], &nn[2])
@@ -536,12 +533,8 @@ fn roll_state_ok(g: &Geometry, s: &HandState, rolling: [usize; 2]) -> bool {
             return false;
         }
     }
-    for a in 0..3 {
-        for b in a + 1..3 {
-            if (s.fingers[a].center - s.fingers[b].center).norm() < g.min_center_distance {
-                return false;
-            }
-        }
+    if !collision::centers_clear(g, s) {
+        return false;
     }
     let n = s.fingers.map(|f| f.contact_normal());
     fact4(g, &n[0], &n[1], &n[2])
