@@ -372,6 +372,13 @@ impl HoldModel {
     /// verdict of [`HoldModel::pair`]'s `feasible`, without the forces): it
     /// stops at the first scenario that makes the peak exceed
     /// `load.max_grip` (the peak only grows with more scenarios).
+    ///
+    /// The load part is linear in (E, T), and every scenario is the sum of
+    /// three terms — (m g, I α) for one acceleration end, a force vertex, a
+    /// torque vertex — so the parts of those 2 + 12 + 12 terms are computed
+    /// once, in each contact's own frame, and a scenario costs a sum and two
+    /// quadratic roots (the planner asks this for up to 289 scenarios per
+    /// pair, many times per plan).
     pub fn pair_holds(&self, n: &[Vector3<f64>; 2], loads: &Loads) -> bool {
         let (n1, n2) = (&n[0], &n[1]);
         let d = n2 - n1;
@@ -380,25 +387,61 @@ impl HoldModel {
         }
         let u = d.normalize();
         let a_sq = u.dot(&-n1);
+        let frames = [
+            PairContact::new(&u, n1, self.mu),
+            PairContact::new(&(-u), n2, self.mu),
+        ];
+        if frames.iter().any(|c| c.a <= 0.0 || c.qa >= 0.0) {
+            // The squeeze direction lies outside a cone: nothing holds.
+            return false;
+        }
+        let part = |e: &Vector3<f64>, t: &Vector3<f64>| {
+            let (g1, g2, tau) = self.pair_parts(n1, n2, e, t);
+            LoadPart::new(&frames, &[g1, g2], tau * self.torsion_scale)
+        };
+        let zero = Vector3::zeros();
         let mut squeeze: f64 = 0.0;
         let mut b_max = f64::NEG_INFINITY;
-        for s in 0..loads.count() {
-            let (e, t) = loads.scenario(s);
-            let (g1, g2, tau) = self.pair_parts(n1, n2, &e, &t);
-            for (dir, g, nn) in [(u, g1, n1), (-u, g2, n2)] {
-                let a = dir.dot(&-nn);
-                let b = g.dot(&-nn);
+        let mut held = |p: &LoadPart| {
+            for (c, frame) in frames.iter().enumerate() {
+                let [b, x, y] = p.contact[c];
                 b_max = b_max.max(b);
-                let aa = dir + nn * a;
-                let bb = g + nn * b;
-                match self.least(a, b, &aa, &bb, tau * self.torsion_scale, self.min_grip) {
+                match frame.least(self.mu, b, x, y, p.torsion, self.min_grip) {
                     Some(f) => squeeze = squeeze.max(f),
                     None => return false,
                 }
             }
             let peak = a_sq * squeeze + b_max;
-            if peak > self.max_grip || peak.is_nan() {
-                return false;
+            !(peak > self.max_grip || peak.is_nan())
+        };
+        // Scenario 0, then every combination (Loads::scenario's set); a
+        // term's part is computed when first needed, so an early refusal
+        // costs little.
+        let first = part(&loads.weight, &loads.accel[0]);
+        if !held(&first) {
+            return false;
+        }
+        let mut force = [LoadPart::ZERO; VERTICES];
+        let mut torque = [LoadPart::ZERO; VERTICES];
+        for a in 0..loads.n_accel {
+            let base = if a == 0 {
+                first
+            } else {
+                part(&loads.weight, &loads.accel[a])
+            };
+            for t in 0..loads.n_torque.max(1) {
+                if a == 0 && t < loads.n_torque {
+                    torque[t] = part(&zero, &-loads.torque[t]);
+                }
+                let with_torque = base.plus(&torque[t]);
+                for f in 0..loads.n_force.max(1) {
+                    if a == 0 && t == 0 && f < loads.n_force {
+                        force[f] = part(&loads.force[f], &zero);
+                    }
+                    if !held(&with_torque.plus(&force[f])) {
+                        return false;
+                    }
+                }
             }
         }
         true
@@ -611,6 +654,99 @@ impl HoldModel {
     }
 }
 
+/// One contact of a soft pair in its own frame (normal `nn`, tangents
+/// `t1`, `t2`), with the squeeze's share: direction `dir` along the chord,
+/// whose normal part is `a` and tangential part `aa` (see
+/// [`HoldModel::pair_holds`]).
+#[derive(Debug, Clone, Copy)]
+struct PairContact {
+    nn: Vector3<f64>,
+    t1: Vector3<f64>,
+    t2: Vector3<f64>,
+    a: f64,
+    /// The tangential part of the squeeze direction in (t1, t2).
+    aa: [f64; 2],
+    /// |aa|² − μ² a², the quadratic's leading coefficient.
+    qa: f64,
+}
+
+impl PairContact {
+    fn new(dir: &Vector3<f64>, nn: &Vector3<f64>, mu: f64) -> Self {
+        let helper = if nn.x.abs() < 0.9 {
+            Vector3::x()
+        } else {
+            Vector3::y()
+        };
+        let t1 = nn.cross(&helper).normalize();
+        let t2 = nn.cross(&t1);
+        let a = dir.dot(&-nn);
+        let aa = dir + nn * a;
+        let aa = [aa.dot(&t1), aa.dot(&t2)];
+        Self {
+            nn: *nn,
+            t1,
+            t2,
+            a,
+            aa,
+            qa: aa[0] * aa[0] + aa[1] * aa[1] - mu * mu * a * a,
+        }
+    }
+
+    /// [`HoldModel::least`] for this contact (friction `mu`, the one it
+    /// was made with) with the load part's normal `b`, tangential (x, y)
+    /// and torsion term `s`.
+    fn least(&self, mu: f64, b: f64, x: f64, y: f64, s: f64, floor: f64) -> Option<f64> {
+        let mu2 = mu * mu;
+        let qa = self.qa;
+        if self.a <= 0.0 || qa >= 0.0 {
+            return None;
+        }
+        let qb = 2.0 * (self.aa[0] * x + self.aa[1] * y - mu2 * self.a * b);
+        let qc = x * x + y * y + s * s - mu2 * b * b;
+        let mut f = ((floor - b) / self.a).max(0.0);
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc > 0.0 {
+            f = f.max((-qb - disc.sqrt()) / (2.0 * qa));
+        }
+        Some(f)
+    }
+}
+
+/// The load part of one load term at a soft pair: per contact its normal
+/// component b = g·(−n) and tangential components (x, y), and the scaled
+/// torsion. Linear in the load, so terms add.
+#[derive(Debug, Clone, Copy)]
+struct LoadPart {
+    contact: [[f64; 3]; 2],
+    torsion: f64,
+}
+
+impl LoadPart {
+    const ZERO: Self = Self {
+        contact: [[0.0; 3]; 2],
+        torsion: 0.0,
+    };
+
+    fn new(frames: &[PairContact; 2], g: &[Vector3<f64>; 2], torsion: f64) -> Self {
+        Self {
+            contact: core::array::from_fn(|c| {
+                let f = &frames[c];
+                [g[c].dot(&-f.nn), g[c].dot(&f.t1), g[c].dot(&f.t2)]
+            }),
+            torsion,
+        }
+    }
+
+    fn plus(&self, o: &Self) -> Self {
+        Self {
+            contact: core::array::from_fn(|c| {
+                core::array::from_fn(|k| self.contact[c][k] + o.contact[c][k])
+            }),
+            torsion: self.torsion + o.torsion,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -661,40 +797,45 @@ mod tests {
 
     #[test]
     fn the_early_verdict_is_the_full_one() {
-        // pair_holds stops early; it must say what pair(..).feasible says,
-        // for pairs on both sides of the limit, at rest and turning.
-        let c = HandConfig::default();
-        let m = HoldModel::new(&c);
-        let (mut held, mut dropped) = (0, 0);
-        for i in 0..4000 {
-            let a = i as f64 * 0.731;
-            let n1 = Vector3::new(
-                a.cos() * (0.37 * a).sin(),
-                a.sin() * (0.37 * a).sin(),
-                (0.37 * a).cos(),
-            )
-            .normalize();
-            let w = n1
-                .cross(&Vector3::new((1.3 * a).sin(), (1.7 * a).cos(), 0.4))
+        // pair_holds stops early and sums the scenarios' load parts; it
+        // must say what pair(..).feasible says, for pairs on both sides of
+        // the limit, at rest and turning, with and without torque vertices.
+        let mut with_torque = HandConfig::default();
+        with_torque.load.disturbance_torque = 0.004;
+        for c in [HandConfig::default(), with_torque] {
+            let m = HoldModel::new(&c);
+            let (mut held, mut dropped) = (0, 0);
+            for i in 0..4000 {
+                let a = i as f64 * 0.731;
+                let n1 = Vector3::new(
+                    a.cos() * (0.37 * a).sin(),
+                    a.sin() * (0.37 * a).sin(),
+                    (0.37 * a).cos(),
+                )
                 .normalize();
-            let theta = 2.4 + 0.74 * ((0.113 * i as f64).sin() * 0.5 + 0.5);
-            let n2 =
-                nalgebra::UnitQuaternion::from_axis_angle(&nalgebra::Unit::new_normalize(w), theta)
-                    * n1;
-            let accel = if i % 2 == 0 {
-                Accel::None
-            } else {
-                Accel::About { axis: w, max: 4.0 }
-            };
-            let loads = m.loads(accel);
-            let full = m.pair(&[n1, n2], &loads).feasible;
-            assert_eq!(m.pair_holds(&[n1, n2], &loads), full, "pair {i}");
-            if full {
-                held += 1;
-            } else {
-                dropped += 1;
+                let w = n1
+                    .cross(&Vector3::new((1.3 * a).sin(), (1.7 * a).cos(), 0.4))
+                    .normalize();
+                let theta = 2.4 + 0.74 * ((0.113 * i as f64).sin() * 0.5 + 0.5);
+                let n2 = nalgebra::UnitQuaternion::from_axis_angle(
+                    &nalgebra::Unit::new_normalize(w),
+                    theta,
+                ) * n1;
+                let accel = if i % 2 == 0 {
+                    Accel::None
+                } else {
+                    Accel::About { axis: w, max: 4.0 }
+                };
+                let loads = m.loads(accel);
+                let full = m.pair(&[n1, n2], &loads).feasible;
+                assert_eq!(m.pair_holds(&[n1, n2], &loads), full, "pair {i}");
+                if full {
+                    held += 1;
+                } else {
+                    dropped += 1;
+                }
             }
+            assert!(held > 400 && dropped > 400, "{held} held, {dropped} not");
         }
-        assert!(held > 400 && dropped > 400, "{held} held, {dropped} not");
     }
 }
