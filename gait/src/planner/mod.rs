@@ -215,7 +215,7 @@ impl Planner {
         config.validate()?;
         Ok(Self {
             config,
-            hand: self.hand.with_config(&config),
+            hand: self.hand.with_limits(limits),
             params: self.params.clone(),
         })
     }

@@ -185,39 +185,11 @@ impl HoldTable {
         cx: &Vector3<f64>,
         z: usize,
     ) -> Option<Holding<'_>> {
-        let chart = &self.charts[x];
-        let cell = chart.cell(cx)?;
-        // The two fingers other than x, in order: slot 0 and 1.
-        let first_other = usize::from(x == 0);
-        let slot = usize::from(z != first_other);
+        let cell = self.charts[x].cell(cx)?;
+        let block = self.block(x, z, cell);
         let w = self.words;
-        let stride = 2 * w + 1;
-        let at = self.base[x] + (slot * chart.cells + cell) * stride;
-        let block = &self.bits[at..at + stride];
         if block[2 * w].load(Ordering::Acquire) == 0 {
-            let (j, i) = chart.ring_of(cell);
-            let centre = chart.centre(j, i);
-            let radius = 0.75 * CELL_DEG.to_radians();
-            for (n, c) in cand.points[z].iter().enumerate() {
-                let angle = c.angle(&centre);
-                let margin = angle - g.cos_fc_plan.acos();
-                if margin < -radius {
-                    continue;
-                }
-                let slack = load.slack(&centre, c, None);
-                let exact = load.exact_peak(&centre, c);
-                let sure = margin > radius && slack > SLACK_BAND;
-                let may = !sure
-                    && (slack > -SLACK_BAND
-                        || exact.is_some_and(|f| f <= EXACT_BAND * load.max_grip()));
-                let bit = 1 << (n % 64);
-                if sure {
-                    block[n / 64].fetch_or(bit, Ordering::Relaxed);
-                } else if may {
-                    block[w + n / 64].fetch_or(bit, Ordering::Relaxed);
-                }
-            }
-            block[2 * w].store(1, Ordering::Release);
+            self.fill(g, load, cand, x, z, cell);
         }
         Some(Holding {
             sure: Bits {
@@ -231,6 +203,54 @@ impl HoldTable {
                 current: 0,
             },
         })
+    }
+
+    /// The words of grasping finger `x`'s cell `cell` for free finger `z`.
+    fn block(&self, x: usize, z: usize, cell: usize) -> &[AtomicU64] {
+        // The two fingers other than x, in order: slot 0 and 1.
+        let first_other = usize::from(x == 0);
+        let slot = usize::from(z != first_other);
+        let stride = 2 * self.words + 1;
+        let at = self.base[x] + (slot * self.charts[x].cells + cell) * stride;
+        &self.bits[at..at + stride]
+    }
+
+    /// Decides a cell at its centre (module docs) and sets its flag.
+    fn fill(
+        &self,
+        g: &Geometry,
+        load: &PairLoad,
+        cand: &Candidates,
+        x: usize,
+        z: usize,
+        cell: usize,
+    ) {
+        let chart = &self.charts[x];
+        let block = self.block(x, z, cell);
+        let w = self.words;
+        let (j, i) = chart.ring_of(cell);
+        let centre = chart.centre(j, i);
+        let radius = 0.75 * CELL_DEG.to_radians();
+        for (n, c) in cand.points[z].iter().enumerate() {
+            let angle = c.angle(&centre);
+            let margin = angle - g.cos_fc_plan.acos();
+            if margin < -radius {
+                continue;
+            }
+            let slack = load.slack(&centre, c, None);
+            let exact = load.exact_peak(&centre, c);
+            let sure = margin > radius && slack > SLACK_BAND;
+            let may = !sure
+                && (slack > -SLACK_BAND
+                    || exact.is_some_and(|f| f <= EXACT_BAND * load.max_grip()));
+            let bit = 1 << (n % 64);
+            if sure {
+                block[n / 64].fetch_or(bit, Ordering::Relaxed);
+            } else if may {
+                block[w + n / 64].fetch_or(bit, Ordering::Relaxed);
+            }
+        }
+        block[2 * w].store(1, Ordering::Release);
     }
 }
 

@@ -119,18 +119,21 @@ impl Fingertips {
         }
     }
 
-    /// The same hand timed with other motion limits (the grids shared).
-    pub fn with_config(&self, config: &HandConfig) -> Self {
+    /// The same hand timed with other motion limits. The grids and the
+    /// resting-pair tables are shared: a table cell is a verdict at rest,
+    /// which the motion limits do not enter (the acceleration's torque
+    /// only matters while turning).
+    pub fn with_limits(&self, limits: &crate::config::LimitsConfig) -> Self {
+        let config = &HandConfig {
+            limits: *limits,
+            ..self.config
+        };
         Self {
             config: *config,
             timing: DurationModel::new(config),
             load: PairLoad::new(config),
             grip: GripModel::new(config),
             zigzags: Arc::default(),
-            tables: Arc::new([
-                HoldTable::new(&self.geom, &self.cand),
-                HoldTable::new(&self.geom, &self.cand),
-            ]),
             exact: false,
             spins: !PairLoad::new(config).active(),
             ..self.clone()
