@@ -26,7 +26,7 @@ fn pct(sorted: &[f64], p: f64) -> f64 {
 /// Worst-case grip computation: three contacts (the paper's start, held).
 fn grip_three_contacts() {
     let cfg = HandConfig::default();
-    let model = gait::executor::grip::GripModel::new(&cfg);
+    let model = gait::grasp::grip::GripModel::new(&cfg);
     let s = HandState::paper_start(&cfg);
     let mut t = Vec::with_capacity(20_000);
     for _ in 0..20_000 {

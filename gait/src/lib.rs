@@ -26,7 +26,6 @@
 pub mod config;
 pub mod contact;
 pub mod executor;
-pub mod gaiting;
 pub mod grasp;
 pub mod hand;
 pub mod planner;

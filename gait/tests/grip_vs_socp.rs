@@ -12,7 +12,7 @@
 mod common;
 
 use gait::HandConfig;
-use gait::executor::grip::GripModel;
+use gait::grasp::grip::GripModel;
 use gait::grasp::{Accel, Contact, Friction, HoldModel, LoadSolver};
 use gait::planner::geometry::Geometry;
 use gait::{FingerMode, FingerState, HandState};

@@ -1,4 +1,4 @@
-//! The gaits recognised in real plans ([`gait::gaiting`]) are what the paper
+//! The gaits recognised in real plans ([`gait::planner::gaiting`]) are what the paper
 //! calls them (§2.1), checked against the plans' hand states: a
 //! substitution hands the grasp from one finger to another; a rewind
 //! relocates one or both fingers of the grasping pair, without object
@@ -7,7 +7,7 @@
 mod planning;
 
 use gait::HandState;
-use gait::gaiting::{FingerGait, GaitTracker};
+use gait::planner::gaiting::{FingerGait, GaitTracker};
 use gait::planner::{Plan, Planner, StepKind};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;

@@ -6,7 +6,7 @@
 
 use gait::HandState;
 use gait::config::LoadConfig;
-use gait::executor::grip::GripModel;
+use gait::grasp::grip::GripModel;
 use nalgebra::Vector3;
 
 use crate::process::config::DaemonConfig;

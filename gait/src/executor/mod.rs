@@ -30,7 +30,6 @@ mod command;
 pub mod correction;
 pub mod feedback;
 mod goals;
-pub mod grip;
 pub mod guard;
 pub mod lifecycle;
 mod memo;
@@ -46,6 +45,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::HandConfig;
 use crate::config::{ConfigError, LimitsConfig};
+use crate::grasp::grip;
 use crate::hand::{InvariantChecker, InvariantReport, StateError};
 use crate::planner::{Motion, Plan, PlanError, Setpoint, Step, StepKind};
 use crate::sim::Measurement;

@@ -429,16 +429,18 @@ impl HoldModel {
             } else {
                 part(&loads.weight, &loads.accel[a])
             };
-            for t in 0..loads.n_torque.max(1) {
+            let torques = torque.iter_mut().enumerate().take(loads.n_torque.max(1));
+            for (t, torque_part) in torques {
                 if a == 0 && t < loads.n_torque {
-                    torque[t] = part(&zero, &-loads.torque[t]);
+                    *torque_part = part(&zero, &-loads.torque[t]);
                 }
-                let with_torque = base.plus(&torque[t]);
-                for f in 0..loads.n_force.max(1) {
+                let with_torque = base.plus(torque_part);
+                let forces = force.iter_mut().enumerate().take(loads.n_force.max(1));
+                for (f, force_part) in forces {
                     if a == 0 && t == 0 && f < loads.n_force {
-                        force[f] = part(&loads.force[f], &zero);
+                        *force_part = part(&loads.force[f], &zero);
                     }
-                    if !held(&with_torque.plus(&force[f])) {
+                    if !held(&with_torque.plus(force_part)) {
                         return false;
                     }
                 }

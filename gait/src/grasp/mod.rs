@@ -45,6 +45,7 @@ pub mod conic;
 pub mod contact;
 pub mod facts;
 pub mod forces;
+pub mod grip;
 pub mod hold;
 pub mod planar;
 mod socp;

@@ -40,7 +40,7 @@
 //! Every step is sampled (rotations every [`ROTATION_SAMPLE`], rolls 8
 //! times, still steps at their ends) and the grasp that carries the load —
 //! tracked through placements, handovers and lifts exactly as the executor
-//! does — is evaluated with the closed form of [`crate::executor::grip`],
+//! does — is evaluated with the closed form of [`crate::grasp::grip`],
 //! with the acceleration bound ±α_max along a rotation's axis. Both ends of
 //! every handover must hold (the blend between them then does). A plan that
 //! fails is not returned.
@@ -50,7 +50,7 @@ use nalgebra::Vector3;
 use super::geometry::{Sinusoid, any_perpendicular};
 use super::plan::{Motion, Step};
 use crate::HandConfig;
-use crate::executor::grip::{CARRY_BITS, Grip, GripModel, grasp_mask};
+use crate::grasp::grip::{CARRY_BITS, Grip, GripModel, grasp_mask};
 use crate::grasp::hold::{Accel, HoldModel, ICOSAHEDRON_RATIO};
 use crate::state::HandState;
 

@@ -32,6 +32,7 @@ pub mod budget;
 pub mod candidates;
 pub mod collision;
 pub mod fingertips;
+pub mod gaiting;
 pub mod geometry;
 pub mod goal;
 pub mod hand_model;
@@ -114,7 +115,7 @@ pub enum PlanError {
 pub struct PlanSummary {
     /// Place and Lift steps.
     pub gaits: u32,
-    /// Finger substitutions among them (paper §2.1; [`crate::gaiting`]).
+    /// Finger substitutions among them (paper §2.1; [`gaiting`]).
     pub substitutions: u32,
     /// Finger rewinds (their two or three substitutions are also counted).
     pub rewinds: u32,
@@ -538,7 +539,7 @@ fn step_rotation_angle(st: &Step) -> f64 {
 
 /// (substitutions, rewinds) in `steps`, as the executor will report them.
 fn count_finger_gaits(steps: &[Step]) -> (u32, u32) {
-    let mut tracker = crate::gaiting::GaitTracker::new();
+    let mut tracker = crate::planner::gaiting::GaitTracker::new();
     let (mut substitutions, mut rewinds) = (0, 0);
     for st in steps {
         tracker.started(st.kind);

@@ -238,7 +238,7 @@ pub enum StepKind {
 
 /// The grip passing between fingers at the end of a step, with the
 /// object and the fingers still (`load.handover_time`; SPEC §1.3 I1',
-/// [`crate::executor::grip`]): the grip of the finger just placed ramps
+/// [`crate::grasp::grip`]): the grip of the finger just placed ramps
 /// in, that of the finger that lifts next ramps out, and no contact force
 /// jumps.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -266,11 +266,11 @@ impl Handover {
     }
 
     /// The carrying set after the handover, from the set `from` before
-    /// (bits as `executor::grip`: carrying fingers, spin marks).
+    /// (bits as `grasp::grip`: carrying fingers, spin marks).
     pub fn target(&self, from: u8) -> u8 {
         let carry =
-            (from | self.take_mask()) & !self.release_mask() & crate::executor::grip::CARRY_BITS;
-        carry | self.spin.map_or(0, crate::executor::grip::spin_bit)
+            (from | self.take_mask()) & !self.release_mask() & crate::grasp::grip::CARRY_BITS;
+        carry | self.spin.map_or(0, crate::grasp::grip::spin_bit)
     }
 }
 

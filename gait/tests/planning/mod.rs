@@ -108,7 +108,7 @@ pub fn random_two_finger_state(rng: &mut impl Rng, cfg: &HandConfig) -> HandStat
         });
         // Valid includes holding the load (SPEC §1.3 I1') at rest.
         if clear
-            && gait::executor::grip::GripModel::new(cfg)
+            && gait::grasp::grip::GripModel::new(cfg)
                 .grip(&s, &Vector3::zeros())
                 .feasible
         {

@@ -7,8 +7,8 @@ use super::GaitController;
 use super::codes::{fault_code, goal_reason, goal_state, reason_finger};
 use crate::control::controller::TickContext;
 use gait::executor::{ExecutorEvent, FaultKind};
-use gait::gaiting::FingerGait;
 use gait::planner::StepKind;
+use gait::planner::gaiting::FingerGait;
 use shm_schema::EventKind;
 
 impl GaitController {

@@ -34,7 +34,7 @@ use codes::reason_code;
 use gait::executor::TickReport;
 use gait::executor::feedback::NOT_A_FINGER;
 use gait::executor::{self, Executor, ExecutorCommand, FaultKind, PlanRequest, Reason};
-use gait::gaiting::GaitTracker;
+use gait::planner::gaiting::GaitTracker;
 use gait::planner::{Budget, Halt, Plan, PlanError, Stop};
 use gait::sim::{KinematicHand, Measurement, Plant};
 use gait::{HandConfig, HandState};

@@ -29,7 +29,7 @@ use super::plan::{GreatCircleRoll, Motion, Step, StepKind};
 use super::timing::DurationModel;
 use super::zigzag::ZigzagCache;
 use crate::HandConfig;
-use crate::executor::grip::GripModel;
+use crate::grasp::grip::GripModel;
 use crate::grasp::hold::Accel;
 use crate::state::{FingerMode, HandState};
 use build::Builder;

@@ -23,7 +23,7 @@ use super::super::zigzag::ZigzagCache;
 use super::{StillAction, lift_finger};
 use crate::HandConfig;
 use crate::contact::{ContactGeometry, ContactState};
-use crate::executor::grip::GripModel;
+use crate::grasp::grip::GripModel;
 use crate::grasp::hold::Accel;
 use crate::rolling::{RollGoal, RollLimits, SegmentKind, plan_roll};
 use crate::state::{FingerMode, HandState};

@@ -20,7 +20,7 @@ use super::super::search::split;
 use super::{StillAction, lift_finger, place_finger};
 use crate::HandConfig;
 use crate::contact::{ContactGeometry, ContactState};
-use crate::executor::grip::{CARRY_BITS, GripModel, spin_bit};
+use crate::grasp::grip::{CARRY_BITS, GripModel, spin_bit};
 use crate::grasp::hold::Accel;
 use crate::grasp::planar::three_hard_certificate;
 use crate::rolling::{RollGoal, RollLimits, RollingPath, plan_roll};
