@@ -18,7 +18,6 @@ Example::
 from __future__ import annotations
 
 import collections
-import ctypes
 import math
 import os
 import time
@@ -43,6 +42,7 @@ from .schema import (
     LimitKind,
     LimitOrder,
     MeasuredMask,
+    Payload,
     Phase,
     ReasonCode,
     SCHEMA_VERSION,
@@ -144,7 +144,7 @@ def _status_ok(s: Status) -> bool:
         return False
     if any(f.measured_contact > 1 for f in s.fingers):
         return False
-    return s.measured_mask & ~int(MeasuredMask(15)) == 0
+    return int(s.measured_mask) & ~int(MeasuredMask(15)) == 0
 
 
 def _event_ok(e: Event) -> bool:
@@ -212,7 +212,7 @@ class Client:
         deadline = ipc.monotonic_ns() + int(timeout * 1e9)
         self._node = ipc.create_node(self.settings, self.node_name)
 
-        def open_pubsub(name: str, payload: type[ctypes.Structure]) -> Any:
+        def open_pubsub(name: str, payload: type[Payload]) -> Any:
             sn = ipc.service_name(name)
             while True:
                 try:
@@ -331,7 +331,7 @@ class Client:
             self._listener.timed_wait(iox2.Duration.from_secs_f64(min(left, MAX_BLOCK)))
 
     def _fresh(self, s: Status) -> bool:
-        return ipc.monotonic_ns() - s.publish_time_ns <= int(self.max_status_age * 1e9)
+        return ipc.monotonic_ns() - int(s.publish_time_ns) <= int(self.max_status_age * 1e9)
 
     def _wait_fresh_status(self, timeout: float) -> Status:
         try:
@@ -401,7 +401,7 @@ class Client:
             if self.daemon_alive():
                 raise ClientError("the daemon's command queue for this client is full")
             raise NoDaemon("no daemon subscribed to the commands service")
-        return cmd.request_id
+        return int(cmd.request_id)
 
     def wait_answer(self, request_id: int, timeout: float | None = None) -> Reply:
         """Waits for the answer to ``request_id``."""
@@ -423,7 +423,13 @@ class Client:
             rid = self.send_command(cmd)
         return self.wait_answer(rid, timeout)
 
-    def _goal(self, frame: GoalFrame, target: Sequence[float], limits: dict | None, goal_id: int | None) -> Command:
+    def _goal(
+        self,
+        frame: GoalFrame,
+        target: Sequence[float],
+        limits: dict[tuple[LimitKind, LimitOrder], float] | None,
+        goal_id: int | None,
+    ) -> Command:
         if goal_id is None:
             goal_id = self._next_goal
             self._next_goal += 1

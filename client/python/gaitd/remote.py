@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import collections
 import enum
+import functools
 import json
 import math
 import os
@@ -38,6 +39,7 @@ import ssl
 import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
+from types import ModuleType
 from typing import Any, TypeVar
 
 from .client import EVENT_BACKLOG, ClientError, NoDaemon, Outcome, Reply, Timeout, _answer_ok, _event_ok, _status_ok
@@ -50,6 +52,7 @@ from .schema import (
     EventKind,
     GoalFrame,
     GoalState,
+    Payload,
     ReasonCode,
     Status,
 )
@@ -118,14 +121,12 @@ class NoDaemonBehindBridge(NoDaemon, RemoteError):
     """The bridge is up, but no gaitd runs behind it."""
 
 
-def zenoh():
+def zenoh() -> ModuleType:
     """The ``zenoh`` module, or a clear error naming the extra to install."""
     try:
         import zenoh as z
     except ImportError as e:  # pragma: no cover - depends on the environment
-        raise RemoteError(
-            f"the remote client needs eclipse-zenoh=={ZENOH_VERSION}: pip install 'gaitd[remote]'"
-        ) from e
+        raise RemoteError(f"the remote client needs eclipse-zenoh=={ZENOH_VERSION}: pip install 'gaitd[remote]'") from e
     return z
 
 
@@ -332,7 +333,7 @@ class RemoteClient:
             f"{p}/events",
             self._on_event,
             history=ext.HistoryConfig(max_samples=256),
-            recovery=ext.RecoveryConfig(heartbeat=True),
+            recovery=ext.RecoveryConfig(periodic_queries=None, heartbeat=True),
         )
         self._misses = events.sample_miss_listener(self._on_miss)
         self._subs.append(events)
@@ -390,8 +391,8 @@ class RemoteClient:
     # ------------------------------------------------------------------ callbacks (Zenoh's threads)
 
     @staticmethod
-    def _bytes_of(sample: Any, cls: type) -> bytes | None:
-        b = sample.payload.to_bytes()
+    def _bytes_of(sample: Any, cls: type[Payload]) -> bytes | None:
+        b = bytes(sample.payload.to_bytes())
         if str(sample.encoding) != encoding_of(cls.type_name()) or len(b) != ctypes_size(cls):
             return None
         return b
@@ -464,6 +465,10 @@ class RemoteClient:
 
     def _in_sight(self) -> bool:
         return self._linked and self._bridge and self._daemon
+
+    def _link_changed(self, drops: int) -> bool:
+        """Whether the link dropped since ``drops`` were counted, or bridge or daemon went out of sight."""
+        return self._link_drops != drops or not self._in_sight()
 
     def _on_alive(self, sample: Any) -> None:
         up = sample.kind == zenoh().SampleKind.PUT
@@ -627,9 +632,7 @@ class RemoteClient:
                         return  # ran out its timeout in sight: unanswered
                     # Ended early in sight: a link drop may be reported in a moment; if not, nobody
                     # answers (access control dropped it: a monitor's command).
-                    self._cond.wait_for(
-                        lambda: self._link_drops != drops or not self._in_sight(), timeout=UNANSWERED_WAIT
-                    )
+                    self._cond.wait_for(functools.partial(self._link_changed, drops), timeout=UNANSWERED_WAIT)
                     if self._in_sight() and self._link_drops == drops:
                         return
             # The link dropped: sent again, with the same request id, when it is back.
@@ -697,7 +700,11 @@ class RemoteClient:
                 ):
                     return Outcome(goal_id, GoalState(e.state), ReasonCode(e.reason))
             s = self._status
-            if s is not None and (s.goal.client_id, s.goal.goal_id) == (me, goal_id) and GoalState(s.goal.state).terminal:
+            if (
+                s is not None
+                and (s.goal.client_id, s.goal.goal_id) == (me, goal_id)
+                and GoalState(s.goal.state).terminal
+            ):
                 return Outcome(goal_id, GoalState(s.goal.state), ReasonCode(s.goal.reason))
             return None
 

@@ -23,7 +23,7 @@ import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar, TypeVar
 from collections.abc import Iterable
 
 #: Version of the payload layout (part of every type name).
@@ -42,34 +42,40 @@ u32 = ctypes.c_uint32
 u64 = ctypes.c_uint64
 f64 = ctypes.c_double
 
-
-def _named(type_name: str):
-    """Class decorator: the iceoryx2 type name (must equal the Rust ``#[type_name]``)."""
-
-    def wrap(cls):
-        cls.type_name = classmethod(lambda _cls: type_name)
-        return cls
-
-    return wrap
+_P = TypeVar("_P", bound=ctypes.Structure)
 
 
 def _v(name: str) -> str:
     return f"gaitd::{name}.v{SCHEMA_VERSION}"
 
 
+class Payload(ctypes.Structure):
+    """A payload of the schema: a ctypes structure with its iceoryx2 type name."""
+
+    #: The iceoryx2 type name (must equal the Rust ``#[type_name]``).
+    _type_name: ClassVar[str] = ""
+
+    @classmethod
+    def type_name(cls) -> str:
+        """The iceoryx2 type name, which iceoryx2 compares with the daemon's."""
+        return cls._type_name
+
+
 # --------------------------------------------------------------------------- payloads
 
 
-@_named(_v("MotionLimits"))
-class MotionLimits(ctypes.Structure):
+class MotionLimits(Payload):
     """Velocity, acceleration and jerk limit overrides of one motion kind."""
+
+    _type_name = _v("MotionLimits")
 
     _fields_ = [("velocity", f64), ("acceleration", f64), ("jerk", f64)]
 
 
-@_named(_v("Command"))
-class Command(ctypes.Structure):
+class Command(Payload):
     """client → daemon: a goal, cancel, hold or reset."""
+
+    _type_name = _v("Command")
 
     _fields_ = [
         ("kind", u32),
@@ -86,9 +92,10 @@ class Command(ctypes.Structure):
     ]
 
 
-@_named(_v("Answer"))
-class Answer(ctypes.Structure):
+class Answer(Payload):
     """daemon → client: one per command, matched by client_id + request_id."""
+
+    _type_name = _v("Answer")
 
     _fields_ = [
         ("client_id", u64),
@@ -103,9 +110,10 @@ class Answer(ctypes.Structure):
     ]
 
 
-@_named(_v("GoalStatus"))
-class GoalStatus(ctypes.Structure):
+class GoalStatus(Payload):
     """The current goal and its progress (part of :class:`Status`)."""
+
+    _type_name = _v("GoalStatus")
 
     _fields_ = [
         ("goal_id", u64),
@@ -121,9 +129,10 @@ class GoalStatus(ctypes.Structure):
     ]
 
 
-@_named(_v("FingerStatus"))
-class FingerStatus(ctypes.Structure):
+class FingerStatus(Payload):
     """One finger in the status: commanded and measured."""
+
+    _type_name = _v("FingerStatus")
 
     _fields_ = [
         ("state", u32),
@@ -143,9 +152,10 @@ class FingerStatus(ctypes.Structure):
     ]
 
 
-@_named(_v("Timing"))
-class Timing(ctypes.Structure):
+class Timing(Payload):
     """Loop timing statistics (part of :class:`Status`)."""
+
+    _type_name = _v("Timing")
 
     _fields_ = [
         ("period_ns", u64),
@@ -167,9 +177,10 @@ class Timing(ctypes.Structure):
     ]
 
 
-@_named(_v("Status"))
-class Status(ctypes.Structure):
+class Status(Payload):
     """daemon → clients, every tick (latest value)."""
+
+    _type_name = _v("Status")
 
     _fields_ = [
         ("tick", u64),
@@ -200,9 +211,10 @@ class Status(ctypes.Structure):
     ]
 
 
-@_named(_v("Event"))
-class Event(ctypes.Structure):
+class Event(Payload):
     """daemon → clients, with history: goal transitions, gaits, faults."""
+
+    _type_name = _v("Event")
 
     _fields_ = [
         ("seq", u64),
@@ -222,9 +234,10 @@ class Event(ctypes.Structure):
     ]
 
 
-@_named(_v("PlantFingerCommand"))
-class PlantFingerCommand(ctypes.Structure):
+class PlantFingerCommand(Payload):
     """One fingertip's setpoint (part of :class:`PlantCommand`)."""
+
+    _type_name = _v("PlantFingerCommand")
 
     _fields_ = [
         ("mode", u32),
@@ -239,9 +252,10 @@ class PlantFingerCommand(ctypes.Structure):
     ]
 
 
-@_named(_v("PlantCommand"))
-class PlantCommand(ctypes.Structure):
+class PlantCommand(Payload):
     """daemon → plant, every tick."""
+
+    _type_name = _v("PlantCommand")
 
     _fields_ = [
         ("session", u64),
@@ -257,9 +271,10 @@ class PlantCommand(ctypes.Structure):
     ]
 
 
-@_named(_v("PlantFingerMeasurement"))
-class PlantFingerMeasurement(ctypes.Structure):
+class PlantFingerMeasurement(Payload):
     """One fingertip as measured (part of :class:`PlantMeasurement`)."""
+
+    _type_name = _v("PlantFingerMeasurement")
 
     _fields_ = [
         ("contact", u32),
@@ -273,9 +288,10 @@ class PlantFingerMeasurement(ctypes.Structure):
     ]
 
 
-@_named(_v("PlantMeasurement"))
-class PlantMeasurement(ctypes.Structure):
+class PlantMeasurement(Payload):
     """plant → daemon, one per plant step."""
+
+    _type_name = _v("PlantMeasurement")
 
     _fields_ = [
         ("session", u64),
@@ -294,7 +310,7 @@ class PlantMeasurement(ctypes.Structure):
 
 
 #: Every mirrored payload (the order of LAYOUT.md).
-PAYLOADS: tuple[type[ctypes.Structure], ...] = (
+PAYLOADS: tuple[type[Payload], ...] = (
     Command,
     MotionLimits,
     Answer,
@@ -721,13 +737,13 @@ VERSION_ATTRIBUTE_BUILD = "gaitd.build"
 def to_python(value: Any) -> Any:
     """A ctypes structure or array as plain dicts, lists and numbers (for JSON, printing)."""
     if isinstance(value, ctypes.Structure):
-        return {name: to_python(getattr(value, name)) for name, _ in value._fields_}
+        return {f[0]: to_python(getattr(value, f[0])) for f in value._fields_}
     if isinstance(value, ctypes.Array):
         return [to_python(v) for v in value]
     return value
 
 
-def copy_from(sample_payload: Any, cls: type[ctypes.Structure]) -> ctypes.Structure:
+def copy_from(sample_payload: Any, cls: type[_P]) -> _P:
     """A private copy of a received payload (the sample's memory is lent, and may be reused)."""
     return cls.from_buffer_copy(sample_payload.contents)
 
@@ -777,7 +793,7 @@ def parse_layout(path: str | Path) -> LayoutDocument:
     types: dict[str, _DocType] = {}
     codes: dict[str, dict[str, int]] = {}
     services: list[tuple[str, str, str | None]] = []
-    current, kind = None, None
+    current, kind = "", None
     for line in text.splitlines():
         if m := _HEAD.match(line):
             name, tname, size, align = m.groups()
@@ -807,7 +823,7 @@ def parse_layout(path: str | Path) -> LayoutDocument:
     return LayoutDocument(version, types, codes, services, notify_ids)
 
 
-def _check_struct(cls: type[ctypes.Structure], doc: _DocType | None, problems: list[str]) -> None:
+def _check_struct(cls: type[Payload], doc: _DocType | None, problems: list[str]) -> None:
     name = cls.__name__
     if doc is None:
         problems.append(f"{name}: not in the document")
@@ -893,7 +909,7 @@ def _check_services(doc: LayoutDocument, problems: list[str]) -> None:
 
 def layout_problems(
     path: str | Path,
-    payloads: Iterable[type[ctypes.Structure]] = PAYLOADS,
+    payloads: Iterable[type[Payload]] = PAYLOADS,
     code_tables: Iterable[type[enum.IntEnum]] = CODE_TABLES,
 ) -> list[str]:
     """Every difference between the mirror and the document (empty: they agree)."""
@@ -920,7 +936,7 @@ def layout_problems(
 
 def check_layout(
     path: str | Path,
-    payloads: Iterable[type[ctypes.Structure]] = PAYLOADS,
+    payloads: Iterable[type[Payload]] = PAYLOADS,
     code_tables: Iterable[type[enum.IntEnum]] = CODE_TABLES,
 ) -> None:
     """Raises :class:`LayoutMismatch` unless every mirror matches LAYOUT.md exactly.
