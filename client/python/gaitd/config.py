@@ -58,7 +58,7 @@ class PlantSection:
     """``[plant]``: which plant and its timing; unknown to older daemons."""
 
     kind: str = "embedded"
-    timing: str = "lockstep"
+    timing: str = "realtime"
     lockstep_timeout_ms: float = 1000.0
 
 
