@@ -3,8 +3,9 @@
 Modules, by what they hold:
 
 * :mod:`gaitd.schema` — ctypes mirror of every shared-memory payload, the
-  code tables and bit constants, and :func:`~gaitd.schema.check_layout`
-  against ``shm_schema/LAYOUT.md``;
+  code tables and bit constants (generated into :mod:`gaitd.layout` from the
+  Rust layout code), and :func:`~gaitd.schema.check_layout` against
+  ``shm_schema/LAYOUT.md``;
 * :mod:`gaitd.ipc` — where the daemon's iceoryx2 resources are (prefix,
   root path, file prefix), resolved as the daemon resolves them;
 * :mod:`gaitd.api` — the command API of a client over any transport: send

@@ -25,6 +25,7 @@ from typing import Any, Self, TypeVar
 
 from . import ipc
 from .schema import (
+    MEASURED_MASK_ALL,
     Answer,
     AnswerCode,
     Command,
@@ -39,7 +40,6 @@ from .schema import (
     GraspState,
     LimitKind,
     LimitOrder,
-    MeasuredMask,
     Phase,
     ReasonCode,
     Status,
@@ -118,7 +118,7 @@ def status_ok(s: Status) -> bool:
         return False
     if any(f.measured_contact > 1 for f in s.fingers):
         return False
-    return int(s.measured_mask) & ~int(MeasuredMask(15)) == 0
+    return int(s.measured_mask) & ~MEASURED_MASK_ALL == 0
 
 
 def event_ok(e: Event) -> bool:
