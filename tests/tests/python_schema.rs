@@ -1,5 +1,6 @@
 //! The `gaitd` Python package's ctypes mirror of the schema
-//! (`client/python/gaitd/schema.py`) matches the generated
+//! (`client/python/gaitd/layout.py`, generated from `shm_schema`'s layout
+//! code, checked by `gaitd.schema`) matches the generated
 //! `shm_schema/LAYOUT.md`: every payload's iceoryx2 type name, size,
 //! alignment and every field's offset and size, every code table, the
 //! bit constants and the service names. The same check catches deliberate

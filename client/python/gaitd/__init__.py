@@ -3,12 +3,15 @@
 Modules, by what they hold:
 
 * :mod:`gaitd.schema` — ctypes mirror of every shared-memory payload, the
-  code tables and bit constants, and :func:`~gaitd.schema.check_layout`
-  against ``shm_schema/LAYOUT.md``;
+  code tables and bit constants (generated into :mod:`gaitd.layout` from the
+  Rust layout code), and :func:`~gaitd.schema.check_layout` against
+  ``shm_schema/LAYOUT.md``;
 * :mod:`gaitd.ipc` — where the daemon's iceoryx2 resources are (prefix,
   root path, file prefix), resolved as the daemon resolves them;
-* :mod:`gaitd.client` — send goals, cancel, hold, reset; read the status
-  and events; wait for a goal's outcome;
+* :mod:`gaitd.api` — the command API of a client over any transport: send
+  goals, cancel, hold, reset; read the status and events; wait for a goal's
+  outcome;
+* :mod:`gaitd.client` — that API over iceoryx2, on the daemon's host;
 * :mod:`gaitd.remote` — the same from another host, through gaitd-bridge
   over Zenoh with mutual TLS (extra ``[remote]``);
 * :mod:`gaitd.plant` — the :class:`~gaitd.plant.Plant` base class: attach

@@ -9,14 +9,16 @@ this reader only takes what it needs and ignores the other keys).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import tomllib
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
-from collections.abc import Mapping
+from typing import Any, TypeVar
 
 from . import ipc
+from .ipc import IpcSettings
 
 
 @dataclass(frozen=True)
@@ -56,7 +58,7 @@ class PlantSection:
     """``[plant]``: which plant and its timing; unknown to older daemons."""
 
     kind: str = "embedded"
-    timing: str = "lockstep"
+    timing: str = "realtime"
     lockstep_timeout_ms: float = 1000.0
 
 
@@ -81,14 +83,17 @@ class DaemonConfig:
         """Control period [ns], rounded as the daemon rounds it (half away from zero)."""
         return math.floor(1e9 / self.tick_hz + 0.5)
 
-    def ipc_settings(self) -> ipc.IpcSettings:
+    def ipc_settings(self) -> IpcSettings:
         """The daemon's IPC namespace, resolved as the daemon resolves it."""
         return ipc.resolve_section(self.ipc)
 
 
-def _take(section: Mapping[str, Any], cls: type, name: str) -> Any:
+_Section = TypeVar("_Section", Model, Load, PlantSection)
+
+
+def _take(section: Mapping[str, Any], cls: type[_Section], name: str) -> _Section:
     kwargs = {}
-    for f in cls.__dataclass_fields__.values():
+    for f in dataclasses.fields(cls):
         if f.name in section:
             v = section[f.name]
             if isinstance(v, list):

@@ -360,6 +360,8 @@ class Plant:
         """Applies the current setpoint and steps one period."""
         t = time.perf_counter()
         sp = self._held
+        if sp is None:
+            raise RuntimeError("no setpoint to apply: run() starts from initial_setpoint()")
         self.apply(sp)
         self.step(self.period)
         # From now on, unless a new command comes, hold this pose still.

@@ -1,7 +1,8 @@
 """A remote client of gaitd: through ``gaitd-bridge`` over Zenoh with mutual TLS.
 
-The counterpart of the Rust client's remote transport (``gaitd_client::remote``),
-with the same methods as :class:`gaitd.client.Client`. Needs the ``remote``
+The counterpart of the Rust client's remote transport (``gaitd_client::remote``):
+:class:`RemoteClient` is the command API of :mod:`gaitd.api` (the same methods
+as :class:`gaitd.client.Client`) over :class:`ZenohTransport`. Needs the ``remote``
 extra (PyPI ``eclipse-zenoh``, pinned to the version of the Rust crate the
 bridge is built with). The wire contract is ``bridge/PROTOCOL.md``:
 
@@ -30,29 +31,34 @@ Example::
 from __future__ import annotations
 
 import collections
+import ctypes
 import enum
+import functools
 import json
-import math
 import os
+import socket
 import ssl
 import threading
 import time
-from collections.abc import Callable, Iterator, Sequence
-from typing import Any, TypeVar
+from collections.abc import Iterator
+from types import ModuleType
+from typing import Any
 
-from .client import EVENT_BACKLOG, ClientError, NoDaemon, Outcome, Reply, Timeout, _answer_ok, _event_ok, _status_ok
-from .schema import (
-    Answer,
-    AnswerCode,
-    Command,
-    CommandKind,
-    Event,
-    EventKind,
-    GoalFrame,
-    GoalState,
-    ReasonCode,
-    Status,
+from . import ipc
+from .api import (
+    EVENT_BACKLOG,
+    ClientApi,
+    ClientError,
+    NoDaemon,
+    Received,
+    Reply,
+    Timeout,
+    Transport,
+    answer_ok,
+    event_ok,
+    status_ok,
 )
+from .schema import Answer, Command, CommandKind, Event, Payload, Status
 
 #: The eclipse-zenoh release matching the Rust crate of the bridge.
 ZENOH_VERSION = "1.10.2"
@@ -76,8 +82,6 @@ COMMAND_NAMES = {
     CommandKind.Hold: "hold",
     CommandKind.Reset: "reset",
 }
-
-_T = TypeVar("_T")
 
 
 class RefusalCode(enum.IntEnum):
@@ -118,14 +122,12 @@ class NoDaemonBehindBridge(NoDaemon, RemoteError):
     """The bridge is up, but no gaitd runs behind it."""
 
 
-def zenoh():
+def zenoh() -> ModuleType:
     """The ``zenoh`` module, or a clear error naming the extra to install."""
     try:
         import zenoh as z
     except ImportError as e:  # pragma: no cover - depends on the environment
-        raise RemoteError(
-            f"the remote client needs eclipse-zenoh=={ZENOH_VERSION}: pip install 'gaitd[remote]'"
-        ) from e
+        raise RemoteError(f"the remote client needs eclipse-zenoh=={ZENOH_VERSION}: pip install 'gaitd[remote]'") from e
     return z
 
 
@@ -146,6 +148,7 @@ def client_id_for(identity: str) -> int:
 def common_name(cert_path: str) -> str:
     """The subject common name of a PEM certificate (the identity the bridge sees)."""
     try:
+        # CPython's own certificate decoder: private, so typeshed does not declare it.
         info = ssl._ssl._test_decode_cert(cert_path)  # type: ignore[attr-defined]
     except (OSError, ssl.SSLError) as e:
         raise RemoteError(f"client certificate {cert_path}: {e}") from e
@@ -182,47 +185,95 @@ def _check_file(what: str, path: str) -> None:
         raise RemoteError(f"{what} {path}: not a PEM file")
 
 
-class RemoteClient:
-    """A connection to gaitd through gaitd-bridge (same methods as :class:`gaitd.client.Client`)."""
+def ctypes_size(cls: type) -> int:
+    """Size of a payload type in bytes."""
+    return ctypes.sizeof(cls)
+
+
+def _payload_bytes(sample: Any, cls: type[Payload]) -> bytes | None:
+    """A sample's bytes if its encoding names ``cls`` and its size is ``cls``'s, else None."""
+    b = bytes(sample.payload.to_bytes())
+    if str(sample.encoding) != encoding_of(cls.type_name()) or len(b) != ctypes.sizeof(cls):
+        return None
+    return b
+
+
+class EventContinuity:
+    """Per-instance continuity of the events received (PROTOCOL.md, "Events").
+
+    Every event is identified by its daemon ``instance`` and ``seq``, which
+    counts from 1 without gaps within an instance. A bridge's history repeats
+    events and a restarted bridge's cache may fill a gap late: each event is
+    delivered once, a hole in the sequence is remembered until an event fills
+    it, and what is still missing is counted (``gaitd_client``'s ``Continuity``).
+    """
+
+    def __init__(self) -> None:
+        self.instance = 0  # the instance the sequence belongs to (0: none yet)
+        self.high = 0  # highest seq seen
+        self._holes: dict[int, int] = {}  # holes below high: first -> last (inclusive)
+
+    def accept(self, instance: int, seq: int) -> bool:
+        """Whether event (instance, seq) is new or fills a hole (else it is a repeat, dropped).
+
+        A new instance (a daemon restart) starts a new sequence at its first event seen.
+        """
+        if instance != self.instance:
+            self.instance, self.high, self._holes = instance, seq, {}
+            return True
+        if seq > self.high:
+            if seq > self.high + 1:
+                self._holes[self.high + 1] = seq - 1
+            self.high = seq
+            return True
+        for first, last in list(self._holes.items()):
+            if first <= seq <= last:
+                del self._holes[first]
+                if first < seq:
+                    self._holes[first] = seq - 1
+                if seq < last:
+                    self._holes[seq + 1] = last
+                return True
+        return False
+
+    def missing(self) -> int:
+        """Events of this instance still missing (holes not filled)."""
+        return sum(b - a + 1 for a, b in self._holes.items())
+
+    def holes(self) -> list[tuple[int, int, int]]:
+        """The holes, oldest first: (instance, first seq, last seq)."""
+        return [(self.instance, a, b) for a, b in sorted(self._holes.items())]
+
+
+class ZenohTransport(Transport):
+    """gaitd-bridge over Zenoh with mutual TLS, as a :class:`~gaitd.api.Transport`.
+
+    Zenoh delivers status, events, liveliness and link changes on its own
+    threads: the callbacks keep them under one condition variable, and
+    :meth:`receive` hands them over to the client's thread.
+    """
 
     def __init__(
-        self,
-        endpoint: str,
-        ca: str,
-        cert: str,
-        key: str,
-        prefix: str | None,
-        identity: str | None,
-        timeout: float,
-        max_status_age: float,
-        lease: float,
+        self, endpoint: str, ca: str, cert: str, key: str, prefix: str | None, identity: str | None, timeout: float
     ):
         self.locator, self._address = parse_endpoint(endpoint)
         for what, path in (("CA certificate", ca), ("client certificate", cert), ("client key", key)):
             _check_file(what, path)
+        self._files = (ca, cert, key)
         self.identity = identity or common_name(cert)
         self.prefix = prefix or os.environ.get("GAITD_PREFIX") or DEFAULT_KEY_PREFIX
         self.client_id = client_id_for(self.identity)
         self.timeout = timeout
-        self.max_status_age = max_status_age
-        self.bad_samples = 0
         self._zenoh_missed = 0
-        self.reconnects = 0
         # Random too: the bridge recognises a request sent again by its id and bytes (PROTOCOL.md,
         # "Known issue"), so sessions of one identity must not reuse one another's ids.
         self._next_request = (int.from_bytes(os.urandom(8), "little") >> 2) + 1
-        # Every session of an identity shares its client id: goal ids start where none did.
-        self._next_goal = (int.from_bytes(os.urandom(4), "little") >> 1) + 1
         self._cond = threading.Condition()
+        # What arrived and was not handed over yet.
         self._status: Status | None = None
-        self._status_at: float | None = None
-        self._status_seq = 0
+        self._status_time_ns = 0
         self._events: collections.deque[Event] = collections.deque(maxlen=EVENT_BACKLOG)
-        # Per-instance continuity (PROTOCOL.md, "Events"): each event once, holes remembered
-        # until filled, what is still missing counted.
-        self._instance = 0
-        self._high = 0
-        self._holes: dict[int, int] = {}
+        self._continuity = EventContinuity()
         self._bridge = False
         self._bridge_seen = False
         self._daemon = False
@@ -231,27 +282,12 @@ class RemoteClient:
         self._link_drops = 0
         # Request id -> (key chunk, replies, bytes, schema, when sent, link drops by then).
         self._pending: dict[int, tuple[str, Any, bytes, str, float, int]] = {}
-        self._open(ca, cert, key, lease)
+        self._session: Any = None
 
-    # ------------------------------------------------------------------ connection
+    # ------------------------------------------------------------------ session
 
-    @classmethod
-    def connect(
-        cls,
-        endpoint: str,
-        ca: str,
-        cert: str,
-        key: str,
-        prefix: str | None = None,
-        identity: str | None = None,
-        timeout: float = 2.0,
-        max_status_age: float = 1.0,
-        lease: float = 3.0,
-    ) -> RemoteClient:
-        """Opens a session to the bridge at ``endpoint`` and waits for a fresh status, within ``timeout`` [s]."""
-        return cls(endpoint, ca, cert, key, prefix, identity, timeout, max_status_age, lease)
-
-    def _config(self, ca: str, cert: str, key: str, lease: float) -> Any:
+    def _config(self, lease: float) -> Any:
+        ca, cert, key = self._files
         conf = {
             "mode": "client",
             "connect": {
@@ -280,8 +316,6 @@ class RemoteClient:
         return zenoh().Config.from_json5(json.dumps(conf))
 
     def _wait_reachable(self, deadline: float) -> None:
-        import socket
-
         host, _, port = self._address.rpartition(":")
         host = host.strip("[]")
         while True:
@@ -295,17 +329,17 @@ class RemoteClient:
                     ) from e
                 time.sleep(0.1)
 
-    def _open(self, ca: str, cert: str, key: str, lease: float) -> None:
+    def open(self, lease: float, deadline: float) -> None:
+        """Opens the session (by ``deadline``, time.monotonic) and declares subscribers, token and beats."""
         z = zenoh()
         from zenoh import ext
 
-        deadline = time.monotonic() + self.timeout
         # A TCP connect tells an absent bridge from a refused certificate; QUIC has no such probe.
         tcp = self.locator.startswith("tls/")
         if tcp:
             self._wait_reachable(deadline)
         try:
-            self._session = z.open(self._config(ca, cert, key, lease))
+            self._session = z.open(self._config(lease))
         except z.ZError as e:
             if not tcp:
                 raise RemoteError(
@@ -332,7 +366,7 @@ class RemoteClient:
             f"{p}/events",
             self._on_event,
             history=ext.HistoryConfig(max_samples=256),
-            recovery=ext.RecoveryConfig(heartbeat=True),
+            recovery=ext.RecoveryConfig(periodic_queries=None, heartbeat=True),
         )
         self._misses = events.sample_miss_listener(self._on_miss)
         self._subs.append(events)
@@ -356,11 +390,24 @@ class RemoteClient:
             pass
         self._beat_thread = threading.Thread(target=beat, name="gaitd-remote-beat", daemon=True)
         self._beat_thread.start()
-        self._wait_fresh_status(max(0.0, deadline - time.monotonic()))
+
+    def silence(self, waited: float) -> RemoteError | None:
+        """Why no status came within ``waited`` [s], if the bridge's or daemon's absence says so."""
+        with self._cond:
+            bridge, daemon = self._bridge, self._daemon
+        if not bridge:
+            return NoBridge(
+                f"connected to {self.locator} as {self.identity!r}, but no gaitd-bridge with key prefix "
+                f"{self.prefix!r} answered within {waited:g} s: wrong prefix, or the bridge's access control "
+                "does not know this identity"
+            )
+        if not daemon:
+            return NoDaemonBehindBridge(f"gaitd-bridge at {self.locator} is up, but no gaitd is running behind it")
+        return None
 
     def close(self) -> None:
         """Undeclares everything and closes the session."""
-        session = getattr(self, "_session", None)
+        session = self._session
         if session is None:
             return
         stop = getattr(self, "_beat_stop", None)
@@ -381,74 +428,28 @@ class RemoteClient:
         session.close()
         self._session = None
 
-    def __enter__(self) -> RemoteClient:
-        return self
-
-    def __exit__(self, *exc: Any) -> None:
-        self.close()
-
     # ------------------------------------------------------------------ callbacks (Zenoh's threads)
 
-    @staticmethod
-    def _bytes_of(sample: Any, cls: type) -> bytes | None:
-        b = sample.payload.to_bytes()
-        if str(sample.encoding) != encoding_of(cls.type_name()) or len(b) != ctypes_size(cls):
-            return None
-        return b
-
     def _on_status(self, sample: Any) -> None:
-        b = self._bytes_of(sample, Status)
+        b = _payload_bytes(sample, Status)
         with self._cond:
             s = Status.from_buffer_copy(b) if b is not None else None
-            if s is not None and _status_ok(s):
-                self._status, self._status_at = s, time.monotonic()
-                self._status_seq += 1
+            if s is not None and status_ok(s):
+                # Judged by arrival: the daemon's clock is another host's.
+                self._status, self._status_time_ns = s, ipc.monotonic_ns()
             else:
                 self.bad_samples += 1
             self._cond.notify_all()
 
     def _on_event(self, sample: Any) -> None:
-        b = self._bytes_of(sample, Event)
+        b = _payload_bytes(sample, Event)
         with self._cond:
             e = Event.from_buffer_copy(b) if b is not None else None
-            if e is None or not _event_ok(e):
+            if e is None or not event_ok(e):
                 self.bad_samples += 1
-            elif self._accept(e.instance, e.seq):
+            elif self._continuity.accept(int(e.instance), int(e.seq)):
                 self._events.append(e)
             self._cond.notify_all()
-
-    def _accept(self, instance: int, seq: int) -> bool:
-        """Whether event (instance, seq) is new or fills a hole (a bridge's history repeats events)."""
-        if instance != self._instance:
-            self._instance, self._high, self._holes = instance, seq, {}
-            return True
-        if seq > self._high:
-            if seq > self._high + 1:
-                self._holes[self._high + 1] = seq - 1
-            self._high = seq
-            return True
-        for first, last in list(self._holes.items()):
-            if first <= seq <= last:
-                del self._holes[first]
-                if first < seq:
-                    self._holes[first] = seq - 1
-                if seq < last:
-                    self._holes[seq + 1] = last
-                return True
-        return False
-
-    @property
-    def missed_events(self) -> int:
-        """Events of the daemon's current sequence never received (holes no later event filled),
-        or Zenoh's count of missed samples if more."""
-        with self._cond:
-            return max(sum(b - a + 1 for a, b in self._holes.items()), self._zenoh_missed)
-
-    @property
-    def event_holes(self) -> list[tuple[int, int, int]]:
-        """The holes in the events received, oldest first: (instance, first seq, last seq)."""
-        with self._cond:
-            return [(self._instance, a, b) for a, b in sorted(self._holes.items())]
 
     def _on_miss(self, miss: Any) -> None:
         with self._cond:
@@ -461,9 +462,6 @@ class RemoteClient:
                 self._link_drops += 1
             self._linked = up
             self._cond.notify_all()
-
-    def _in_sight(self) -> bool:
-        return self._linked and self._bridge and self._daemon
 
     def _on_alive(self, sample: Any) -> None:
         up = sample.kind == zenoh().SampleKind.PUT
@@ -478,76 +476,41 @@ class RemoteClient:
                 self._daemon = up
             self._cond.notify_all()
 
-    # ------------------------------------------------------------------ waiting
-
-    def _wait_until(self, timeout: float, what: str, check: Callable[[], _T | None]) -> _T:
-        deadline = time.monotonic() + timeout
+    @property
+    def missed_events(self) -> int:
+        """Events of the daemon's current sequence never received, or Zenoh's count of missed samples if more."""
         with self._cond:
-            while True:
-                v = check()
-                if v is not None:
-                    return v
-                left = deadline - time.monotonic()
-                if left <= 0:
-                    raise Timeout(f"timed out after {timeout:g} s waiting for {what}")
-                self._cond.wait(min(left, 0.1))
+            return max(self._continuity.missing(), self._zenoh_missed)
 
-    def _fresh(self) -> bool:
-        return self._status_at is not None and time.monotonic() - self._status_at <= self.max_status_age
-
-    def _wait_fresh_status(self, timeout: float) -> Status:
-        try:
-            return self._wait_until(timeout, "a fresh status", lambda: self._status if self._fresh() else None)
-        except Timeout as e:
-            if not self._bridge:
-                raise NoBridge(
-                    f"connected to {self.locator} as {self.identity!r}, but no gaitd-bridge with key prefix "
-                    f"{self.prefix!r} answered within {timeout:g} s: wrong prefix, or the bridge's access control "
-                    "does not know this identity"
-                ) from e
-            if not self._daemon:
-                raise NoDaemonBehindBridge(
-                    f"gaitd-bridge at {self.locator} is up, but no gaitd is running behind it"
-                ) from e
-            raise
-
-    def daemon_alive(self) -> bool:
-        """Whether a status arrived recently."""
+    @property
+    def event_holes(self) -> list[tuple[int, int, int]]:
+        """The holes in the events received, oldest first: (instance, first seq, last seq)."""
         with self._cond:
-            return self._fresh()
+            return self._continuity.holes()
 
-    def latest_status(self) -> Status | None:
-        """The newest status received so far, without waiting."""
-        with self._cond:
-            return self._status
+    def _in_sight(self) -> bool:
+        return self._linked and self._bridge and self._daemon
 
-    def wait_status(self, timeout: float = 1.0) -> Status:
-        """Waits for a status newer than the one seen last."""
-        with self._cond:
-            seen = self._status_seq
-        return self._wait_until(timeout, "a new status", lambda: self._status if self._status_seq != seen else None)
+    def _link_changed(self, drops: int) -> bool:
+        """Whether the link dropped since ``drops`` were counted, or bridge or daemon went out of sight."""
+        return self._link_drops != drops or not self._in_sight()
 
-    def events(self) -> Iterator[Event]:
-        """Every event received so far (oldest first), without waiting."""
+    # ------------------------------------------------------------------ Transport
+
+    def receive(self) -> Received:
         with self._cond:
-            taken = list(self._events)
+            got = Received(self._status, self._status_time_ns, list(self._events))
+            self._status = None
             self._events.clear()
-        yield from taken
+        return got
 
-    def next_event(self, timeout: float = 1.0) -> Event | None:
-        """The next event, or None after ``timeout``."""
-        try:
-            return self._wait_until(timeout, "an event", lambda: self._events.popleft() if self._events else None)
-        except Timeout:
-            return None
+    def wait(self, seconds: float) -> None:
+        with self._cond:
+            if self._status is None and not self._events:
+                self._cond.wait(seconds)
 
-    # ------------------------------------------------------------------ commands
-
-    def send_command(self, cmd: Command, name: str | None = None, schema: str | None = None) -> int:
-        """Sends ``cmd`` (only ``request_id`` filled in) to its command key and returns the request id.
-
-        ``name`` overrides the key chunk and ``schema`` the encoding's type name (tests of bad bytes).
-        """
+    def send(self, cmd: Command, name: str | None = None, schema: str | None = None) -> int:
+        """Sends ``cmd`` to the command key of its kind (or ``name``) with encoding schema ``schema``."""
         cmd.request_id = self._next_request
         self._next_request += 1
         if name is None:
@@ -555,7 +518,7 @@ class RemoteClient:
                 name = COMMAND_NAMES[CommandKind(cmd.kind)]
             except ValueError:
                 name = "reorient"
-        return self._query(name, bytes(cmd), schema or Command.type_name(), cmd.request_id)
+        return self._query(name, bytes(cmd), schema or Command.type_name(), int(cmd.request_id))
 
     def send_raw(self, name: str, payload: bytes, schema: str) -> int:
         """Sends any bytes to command key ``name`` with encoding schema ``schema``; returns a request id."""
@@ -577,21 +540,24 @@ class RemoteClient:
             timeout=max(1.0, self.timeout),
         )
 
-    def wait_answer(self, request_id: int, timeout: float | None = None) -> Reply:
-        """The answer to ``request_id``; raises :class:`Refused` or :class:`NoAnswer` otherwise."""
+    def answer(self, request_id: int, timeout: float) -> Reply:
+        """The answer to ``request_id``; raises :class:`Refused` or :class:`NoAnswer` otherwise.
+
+        The query's own timeout (the connect timeout, at least 1 s) bounds the wait.
+        """
         name, replies, payload, schema, sent, drops = self._pending.pop(request_id)
         for reply in self._replies(name, replies, payload, schema, sent, drops):
             if reply.ok is not None:
                 s = reply.ok
-                b = s.payload.to_bytes()
-                if str(s.encoding) != encoding_of(Answer.type_name()) or len(b) != ctypes_size(Answer):
+                b = bytes(s.payload.to_bytes())
+                if str(s.encoding) != encoding_of(Answer.type_name()) or len(b) != ctypes.sizeof(Answer):
                     raise RemoteError(f"undecodable answer from the bridge ({s.encoding}, {len(b)} bytes)")
                 a = Answer.from_buffer_copy(b)
-                if not _answer_ok(a):
+                if not answer_ok(a):
                     raise RemoteError("undecodable answer codes from the bridge")
-                return Reply(a.code == AnswerCode.Accepted, ReasonCode(a.reason), a.goal_id, a.tick, request_id)
+                return Reply.of(a, request_id)
             err = reply.err
-            b = err.payload.to_bytes()
+            b = bytes(err.payload.to_bytes())
             if str(err.encoding) == encoding_of(REFUSAL_SCHEMA) and len(b) >= 4:
                 code = int.from_bytes(b[:4], "little")
                 if code in RefusalCode._value2member_map_:
@@ -627,85 +593,97 @@ class RemoteClient:
                         return  # ran out its timeout in sight: unanswered
                     # Ended early in sight: a link drop may be reported in a moment; if not, nobody
                     # answers (access control dropped it: a monitor's command).
-                    self._cond.wait_for(
-                        lambda: self._link_drops != drops or not self._in_sight(), timeout=UNANSWERED_WAIT
-                    )
+                    self._cond.wait_for(functools.partial(self._link_changed, drops), timeout=UNANSWERED_WAIT)
                     if self._in_sight() and self._link_drops == drops:
                         return
-            # The link dropped: sent again, with the same request id, when it is back.
-            try:
-                self._wait_until(
-                    max(0.0, deadline - time.monotonic()),
-                    "the link to the bridge",
-                    lambda: True if self._in_sight() else None,
-                )
-            except Timeout:
-                return
+                # The link dropped: sent again, with the same request id, when it is back.
+                if not self._cond.wait_for(self._in_sight, timeout=max(0.0, deadline - time.monotonic())):
+                    return
             time.sleep(max(0.0, last + RESEND_PAUSE - time.monotonic()))
             with self._cond:
                 drops = self._link_drops
             last = time.monotonic()
             replies = self._get(name, payload, schema)
 
-    def command(self, cmd: Command, timeout: float | None = None) -> Reply:
-        """Sends a command and waits for its answer."""
-        return self.wait_answer(self.send_command(cmd), timeout)
 
-    def goal(
+class RemoteClient(ClientApi):
+    """A connection to gaitd through gaitd-bridge (the methods of :class:`gaitd.client.Client`)."""
+
+    def __init__(
         self,
-        target: Sequence[float],
-        frame: GoalFrame = GoalFrame.Absolute,
-        goal_id: int | None = None,
-        timeout: float | None = None,
-    ) -> Reply:
-        """Sends a reorientation goal (a new goal id unless given) and waits for its answer."""
-        if goal_id is None:
-            goal_id = self._next_goal
-            self._next_goal += 1
-        c = Command(kind=CommandKind.Goal, frame=frame, client_id=self.client_id, goal_id=goal_id)
-        for i, v in enumerate(target):
-            c.target[i] = float(v)
-        return self.command(c, timeout)
+        endpoint: str,
+        ca: str,
+        cert: str,
+        key: str,
+        prefix: str | None,
+        identity: str | None,
+        timeout: float,
+        max_status_age: float,
+        lease: float,
+    ):
+        deadline = time.monotonic() + timeout
+        self._zenoh = ZenohTransport(endpoint, ca, cert, key, prefix, identity, timeout)
+        #: ``quic/HOST:PORT`` or ``tls/HOST:PORT``.
+        self.locator = self._zenoh.locator
+        #: The common name of this client's certificate, as the bridge sees it.
+        self.identity = self._zenoh.identity
+        #: The bridge's key prefix.
+        self.prefix = self._zenoh.prefix
+        # Every session of an identity shares its client id: goal ids start where none did.
+        first_goal = (int.from_bytes(os.urandom(4), "little") >> 1) + 1
+        super().__init__(self._zenoh, self._zenoh.client_id, timeout, max_status_age, first_goal)
+        try:
+            self._zenoh.open(lease, deadline)
+            waited = max(0.0, deadline - time.monotonic())
+            try:
+                self._wait_fresh_status(waited)
+            except Timeout as e:
+                why = self._zenoh.silence(waited)
+                if why is not None:
+                    raise why from e
+                raise
+        except BaseException:
+            self.close()
+            raise
 
-    def turn(self, axis: Sequence[float], angle: float, timeout: float | None = None) -> Reply:
-        """Turns the object by ``angle`` [rad] about the hand-frame ``axis``."""
-        n = math.sqrt(sum(a * a for a in axis))
-        return self.goal((angle, axis[0] / n, axis[1] / n, axis[2] / n), GoalFrame.AxisAngle, timeout=timeout)
+    @classmethod
+    def connect(
+        cls,
+        endpoint: str,
+        ca: str,
+        cert: str,
+        key: str,
+        prefix: str | None = None,
+        identity: str | None = None,
+        timeout: float = 2.0,
+        max_status_age: float = 1.0,
+        lease: float = 3.0,
+    ) -> RemoteClient:
+        """Opens a session to the bridge at ``endpoint`` and waits for a fresh status, within ``timeout`` [s]."""
+        return cls(endpoint, ca, cert, key, prefix, identity, timeout, max_status_age, lease)
 
-    def cancel(self, goal_id: int = 0, timeout: float | None = None) -> Reply:
-        """Cancels ``goal_id`` (0: whichever goal is active)."""
-        return self.command(Command(kind=CommandKind.Cancel, client_id=self.client_id, goal_id=goal_id), timeout)
+    @property
+    def missed_events(self) -> int:
+        """Events of the daemon's current sequence never received (holes no later event filled),
+        or Zenoh's count of missed samples if more."""
+        return self._zenoh.missed_events
 
-    def hold(self, timeout: float | None = None) -> Reply:
-        """Stops any motion and holds the grasp."""
-        return self.command(Command(kind=CommandKind.Hold, client_id=self.client_id), timeout)
+    @property
+    def event_holes(self) -> list[tuple[int, int, int]]:
+        """The holes in the events received, oldest first: (instance, first seq, last seq)."""
+        return self._zenoh.event_holes
 
-    def reset(self, timeout: float | None = None) -> Reply:
-        """Clears a fault."""
-        return self.command(Command(kind=CommandKind.Reset, client_id=self.client_id), timeout)
+    def send_command(self, cmd: Command, name: str | None = None, schema: str | None = None) -> int:
+        """Sends ``cmd`` (only ``request_id`` filled in) to its command key and returns the request id.
 
-    def wait_outcome(self, goal_id: int, timeout: float = 60.0) -> Outcome:
-        """Waits until this client's goal ``goal_id`` reaches a terminal state (events, else status)."""
-        me = self.client_id
+        ``name`` overrides the key chunk and ``schema`` the encoding's type name (tests of bad bytes).
+        """
+        return self._zenoh.send(cmd, name, schema)
 
-        def check() -> Outcome | None:
-            for e in self._events:
-                if (
-                    e.kind == EventKind.GoalTransition
-                    and (e.client_id, e.goal_id) == (me, goal_id)
-                    and GoalState(e.state).terminal
-                ):
-                    return Outcome(goal_id, GoalState(e.state), ReasonCode(e.reason))
-            s = self._status
-            if s is not None and (s.goal.client_id, s.goal.goal_id) == (me, goal_id) and GoalState(s.goal.state).terminal:
-                return Outcome(goal_id, GoalState(s.goal.state), ReasonCode(s.goal.reason))
-            return None
+    def send_raw(self, name: str, payload: bytes, schema: str) -> int:
+        """Sends any bytes to command key ``name`` with encoding schema ``schema``; returns a request id."""
+        return self._zenoh.send_raw(name, payload, schema)
 
-        return self._wait_until(timeout, f"goal {goal_id}'s outcome", check)
-
-
-def ctypes_size(cls: type) -> int:
-    """Size of a payload type in bytes."""
-    import ctypes
-
-    return ctypes.sizeof(cls)
+    def wait_answer(self, request_id: int, timeout: float | None = None) -> Reply:
+        """The answer to ``request_id``; raises :class:`Refused` or :class:`NoAnswer` otherwise."""
+        return super().wait_answer(request_id, timeout)

@@ -1,16 +1,18 @@
-"""ctypes mirror of the gaitd shared-memory schema (``shm_schema/LAYOUT.md``).
+"""The gaitd shared-memory schema for Python (``shm_schema/LAYOUT.md``): payloads, codes, helpers.
 
-Why a hand-written mirror: iceoryx2 opens a service only when the payload's
-type name, size and alignment equal the Rust ones, and Python cannot read
-the Rust types. So every payload is declared here field by field, with the
-exact iceoryx2 type name (``type_name()``) and explicit padding, and
-:func:`check_layout` compares the mirror against the generated document
-(type names, sizes, alignments, every field's offset and size, every code
-table, the bit constants, the service names). A mirror that drifts from the
-daemon fails that check instead of misreading memory.
+iceoryx2 opens a service only when the payload's type name, size and
+alignment equal the Rust ones, and Python cannot read the Rust types. So
+every payload is mirrored as a ctypes structure with the exact iceoryx2 type
+name (``type_name()``) and explicit padding, in :mod:`gaitd.layout`, which
+is generated from the Rust layout code (a cargo test fails when it is stale)
+and re-exported here. This module adds the helpers and
+:func:`check_layout`, which compares the mirror against the generated
+document (type names, sizes, alignments, every field's offset and size,
+every code table, the bit constants, the service names): a mirror that
+drifts from the daemon fails that check instead of misreading memory.
 
-Enums travel as ``u32`` codes; the tables below are :class:`enum.IntEnum`
-so that ``ReasonCode(19).name == "NoPlan"``. A reader never trusts another
+Enums travel as ``u32`` codes; the tables are :class:`enum.IntEnum` so that
+``ReasonCode(19).name == "NoPlan"``. A reader never trusts another
 process's bytes: decode codes with :func:`decode` (``None`` for an unknown
 code) rather than indexing tables blindly.
 """
@@ -21,497 +23,129 @@ import ctypes
 import enum
 import re
 import sys
+from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
-from collections.abc import Iterable
+from typing import Any, TypeVar
 
-#: Version of the payload layout (part of every type name).
-SCHEMA_VERSION = 4
-#: The iceoryx2 release the daemon is built with; resource names are
-#: version-tagged, so the Python bindings must be exactly this version.
-ICEORYX2_VERSION = "0.10.0"
-#: Default service-name prefix.
-DEFAULT_PREFIX = "gaitd"
-#: Fingers of the hand (f1, f2, f3).
-FINGERS = 3
-#: ``active_finger`` / ``finger`` value meaning "no finger".
-NO_FINGER = 0xFFFF_FFFF
-
-u32 = ctypes.c_uint32
-u64 = ctypes.c_uint64
-f64 = ctypes.c_double
-
-
-def _named(type_name: str):
-    """Class decorator: the iceoryx2 type name (must equal the Rust ``#[type_name]``)."""
-
-    def wrap(cls):
-        cls.type_name = classmethod(lambda _cls: type_name)
-        return cls
-
-    return wrap
-
-
-def _v(name: str) -> str:
-    return f"gaitd::{name}.v{SCHEMA_VERSION}"
-
-
-# --------------------------------------------------------------------------- payloads
-
-
-@_named(_v("MotionLimits"))
-class MotionLimits(ctypes.Structure):
-    """Velocity, acceleration and jerk limit overrides of one motion kind."""
-
-    _fields_ = [("velocity", f64), ("acceleration", f64), ("jerk", f64)]
-
-
-@_named(_v("Command"))
-class Command(ctypes.Structure):
-    """client → daemon: a goal, cancel, hold or reset."""
-
-    _fields_ = [
-        ("kind", u32),
-        ("frame", u32),
-        ("client_id", u64),
-        ("request_id", u64),
-        ("goal_id", u64),
-        ("target", f64 * 4),
-        ("limit_mask", u32),
-        ("reserved", u32),
-        ("object_limits", MotionLimits),
-        ("fingertip_limits", MotionLimits),
-        ("rolling_limits", MotionLimits),
-    ]
-
-
-@_named(_v("Answer"))
-class Answer(ctypes.Structure):
-    """daemon → client: one per command, matched by client_id + request_id."""
-
-    _fields_ = [
-        ("client_id", u64),
-        ("request_id", u64),
-        ("goal_id", u64),
-        ("command", u32),
-        ("code", u32),
-        ("reason", u32),
-        ("reserved", u32),
-        ("tick", u64),
-        ("instance", u64),
-    ]
-
-
-@_named(_v("GoalStatus"))
-class GoalStatus(ctypes.Structure):
-    """The current goal and its progress (part of :class:`Status`)."""
-
-    _fields_ = [
-        ("goal_id", u64),
-        ("client_id", u64),
-        ("state", u32),
-        ("reason", u32),
-        ("remaining_angle", f64),
-        ("eta", f64),
-        ("gaits_done", u32),
-        ("gaits_planned", u32),
-        ("active_finger", u32),
-        ("reserved", u32),
-    ]
-
-
-@_named(_v("FingerStatus"))
-class FingerStatus(ctypes.Structure):
-    """One finger in the status: commanded and measured."""
-
-    _fields_ = [
-        ("state", u32),
-        ("measured_contact", u32),
-        ("contact_hand", f64 * 3),
-        ("contact_object", f64 * 3),
-        ("commanded_tip_position", f64 * 3),
-        ("commanded_tip_orientation", f64 * 4),
-        ("tip_contact", f64 * 3),
-        ("roll", f64),
-        ("workspace_margin", f64),
-        ("commanded_normal_force", f64),
-        ("measured_tip_position", f64 * 3),
-        ("measured_tip_orientation", f64 * 4),
-        ("measured_normal_force", f64),
-        ("tip_error", f64),
-    ]
-
-
-@_named(_v("Timing"))
-class Timing(ctypes.Structure):
-    """Loop timing statistics (part of :class:`Status`)."""
-
-    _fields_ = [
-        ("period_ns", u64),
-        ("compute_last_ns", u64),
-        ("compute_p50_ns", u64),
-        ("compute_p99_ns", u64),
-        ("compute_max_ns", u64),
-        ("jitter_last_ns", u64),
-        ("jitter_p99_ns", u64),
-        ("jitter_max_ns", u64),
-        ("overruns", u64),
-        ("jitter_hist", u64 * 16),
-        ("plant_commands_late", u64),
-        ("plant_commands_repeated", u64),
-        ("plant_measurements_late", u64),
-        ("plant_measurements_repeated", u64),
-        ("plant_misses_in_row", u64),
-        ("plant_misses_in_row_max", u64),
-    ]
-
-
-@_named(_v("Status"))
-class Status(ctypes.Structure):
-    """daemon → clients, every tick (latest value)."""
-
-    _fields_ = [
-        ("tick", u64),
-        ("time_ns", u64),
-        ("publish_time_ns", u64),
-        ("instance", u64),
-        ("daemon_state", u32),
-        ("phase", u32),
-        ("fault", u32),
-        ("grasp", u32),
-        ("grasp_margin", f64),
-        ("load_grip", f64),
-        ("load_margin", f64),
-        ("commanded_object_q", f64 * 4),
-        ("commanded_object_omega", f64 * 3),
-        ("measured_object_q", f64 * 4),
-        ("object_error", f64),
-        ("measured_tick", u64),
-        ("measured_mask", u32),
-        ("measured_age", u32),
-        ("goal", GoalStatus),
-        ("fingers", FingerStatus * FINGERS),
-        ("timing", Timing),
-        ("commands", u64),
-        ("rejected", u64),
-        ("clients", u32),
-        ("reserved", u32),
-    ]
-
-
-@_named(_v("Event"))
-class Event(ctypes.Structure):
-    """daemon → clients, with history: goal transitions, gaits, faults."""
-
-    _fields_ = [
-        ("seq", u64),
-        ("tick", u64),
-        ("time_ns", u64),
-        ("instance", u64),
-        ("kind", u32),
-        ("finger", u32),
-        ("state", u32),
-        ("reason", u32),
-        ("goal_id", u64),
-        ("client_id", u64),
-        ("fault", u32),
-        ("reserved", u32),
-        ("count", u64),
-        ("value", f64),
-    ]
-
-
-@_named(_v("PlantFingerCommand"))
-class PlantFingerCommand(ctypes.Structure):
-    """One fingertip's setpoint (part of :class:`PlantCommand`)."""
-
-    _fields_ = [
-        ("mode", u32),
-        ("reserved", u32),
-        ("position", f64 * 3),
-        ("orientation", f64 * 4),
-        ("velocity", f64 * 3),
-        ("angular_velocity", f64 * 3),
-        ("acceleration", f64 * 3),
-        ("roll", f64),
-        ("grip_force", f64),
-    ]
-
-
-@_named(_v("PlantCommand"))
-class PlantCommand(ctypes.Structure):
-    """daemon → plant, every tick."""
-
-    _fields_ = [
-        ("session", u64),
-        ("seq", u64),
-        ("answers", u64),
-        ("target_time_ns", u64),
-        ("period_ns", u64),
-        ("flags", u32),
-        ("reserved", u32),
-        ("object_q", f64 * 4),
-        ("object_omega", f64 * 3),
-        ("fingers", PlantFingerCommand * FINGERS),
-    ]
-
-
-@_named(_v("PlantFingerMeasurement"))
-class PlantFingerMeasurement(ctypes.Structure):
-    """One fingertip as measured (part of :class:`PlantMeasurement`)."""
-
-    _fields_ = [
-        ("contact", u32),
-        ("reserved", u32),
-        ("position", f64 * 3),
-        ("orientation", f64 * 4),
-        ("velocity", f64 * 3),
-        ("angular_velocity", f64 * 3),
-        ("roll", f64),
-        ("normal_force", f64),
-    ]
-
-
-@_named(_v("PlantMeasurement"))
-class PlantMeasurement(ctypes.Structure):
-    """plant → daemon, one per plant step."""
-
-    _fields_ = [
-        ("session", u64),
-        ("seq", u64),
-        ("applied", u64),
-        ("time_ns", u64),
-        ("valid", u32),
-        ("state", u32),
-        ("fault", u32),
-        ("reserved", u32),
-        ("object_q", f64 * 4),
-        ("object_omega", f64 * 3),
-        ("object_center", f64 * 3),
-        ("fingers", PlantFingerMeasurement * FINGERS),
-    ]
-
-
-#: Every mirrored payload (the order of LAYOUT.md).
-PAYLOADS: tuple[type[ctypes.Structure], ...] = (
-    Command,
-    MotionLimits,
+from .layout import (
+    CODE_TABLES,
+    COMMAND_FLAGS_ALL,
+    DEFAULT_PREFIX,
+    FINGERS,
+    ICEORYX2_VERSION,
+    LIMIT_MASK_ALL,
+    MEASURED_MASK_ALL,
+    NO_FINGER,
+    PAYLOADS,
+    PLANT_STATE_ALL,
+    SCHEMA_VERSION,
+    VALID_ALL,
+    VALID_REQUIRED,
+    VERSION_ATTRIBUTE_BUILD,
+    VERSION_ATTRIBUTE_SCHEMA,
     Answer,
-    Status,
-    GoalStatus,
-    FingerStatus,
-    Timing,
-    Event,
-    PlantCommand,
-    PlantFingerCommand,
-    PlantMeasurement,
-    PlantFingerMeasurement,
-)
-
-# --------------------------------------------------------------------------- codes
-
-
-class CommandKind(enum.IntEnum):
-    """What a :class:`Command` asks."""
-
-    Goal = 1
-    Cancel = 2
-    Hold = 3
-    Reset = 4
-
-
-class GoalFrame(enum.IntEnum):
-    """Meaning of a goal's target."""
-
-    Absolute = 1
-    Relative = 2
-    AxisAngle = 3
-
-
-class AnswerCode(enum.IntEnum):
-    """Accepted or rejected."""
-
-    Accepted = 1
-    Rejected = 2
-
-
-class GoalState(enum.IntEnum):
-    """Goal lifecycle (SPEC §6.4)."""
-
-    None_ = 0
-    Accepted = 1
-    Planning = 2
-    Executing = 3
-    Succeeded = 4
-    Aborted = 5
-    Canceled = 6
-    Preempted = 7
-    Rejected = 8
-
-    @property
-    def terminal(self) -> bool:
-        """Whether the goal is over."""
-        return self >= GoalState.Succeeded
-
-
-class ReasonCode(enum.IntEnum):
-    """Why a command was rejected or a goal ended."""
-
-    None_ = 0
-    UnknownCommandKind = 1
-    UnknownGoalFrame = 2
-    ZeroGoalId = 3
-    ZeroClientId = 4
-    NonFiniteQuaternion = 5
-    ZeroQuaternion = 6
-    NonUnitQuaternion = 7
-    BadLimitMask = 8
-    NonFiniteLimit = 9
-    NonPositiveLimit = 10
-    NonZeroReserved = 11
-    DuplicateGoalId = 12
-    LimitAboveConfigured = 13
-    PlannerUnavailable = 14
-    Faulted = 15
-    UnknownGoalId = 16
-    NoActiveGoal = 17
-    ShuttingDown = 18
-    NoPlan = 19
-    NotFaulted = 20
-    PreemptedByGoal = 21
-    CanceledByClient = 22
-    HoldRequested = 23
-    FaultDetected = 24
-    Reached = 25
-    BadAxisAngle = 26
-    LimitBelowMinimum = 27
-    StartNotForceClosure = 28
-    StartNotFinite = 29
-    NoTwoFingerGrasp = 30
-    FingerBlocked = 31
-    InvalidGoalTarget = 32
-    MeasuredStateInvalid = 33
-    LoadInfeasible = 34
-    PlanTimeout = 35
-    NoFreshMeasurement = 36
-    NotAtRest = 37
-
-
-class Phase(enum.IntEnum):
-    """Controller phase."""
-
-    Hold = 1
-    Roll = 2
-    Rotate = 3
-    Place = 4
-    Lift = 5
-    Stopping = 6
-    SafeHold = 7
-
-
-class FingerPhase(enum.IntEnum):
-    """A finger's state in the status."""
-
-    Grasping = 1
-    Rolling = 2
-    Lifting = 3
-    Free = 4
-    Placing = 5
-
-
-class GraspState(enum.IntEnum):
-    """Force closure of the grasping fingers."""
-
-    Unknown = 0
-    ForceClosure = 1
-    NotForceClosure = 2
-
-
-class FaultCode(enum.IntEnum):
-    """The controller's fault."""
-
-    None_ = 0
-    ForceClosureLost = 1
-    WorkspaceViolation = 2
-    FingertipViolation = 3
-    FingertipCollision = 4
-    Slip = 5
-    MeasurementMissing = 6
-    StuckFinger = 7
-    NonFiniteState = 8
-    PlantLost = 9
-    PlantInvalid = 10
-    PlantSequence = 11
-    PlantFault = 12
-    ContactLost = 13
-    PlantWaiting = 14
-    PlantTiming = 15
-
-
-class EventKind(enum.IntEnum):
-    """What an :class:`Event` reports."""
-
-    GoalTransition = 1
-    Place = 2
-    Lift = 3
-    Roll = 4
-    Substitution = 5
-    Rewind = 6
-    Fault = 7
-    FaultCleared = 8
-    Overrun = 9
-    ClientsCleaned = 10
-    DaemonStarted = 11
-    DaemonStopping = 12
-    Hold = 13
-    Drift = 14
-    NearLimit = 15
-
-
-class DaemonState(enum.IntEnum):
-    """Running, or the final status."""
-
-    Running = 1
-    Stopped = 2
-
-
-class PlantFingerMode(enum.IntEnum):
-    """What a fingertip is asked to do (:class:`PlantFingerCommand`)."""
-
-    Grasping = 1
-    Free = 2
-    Placing = 3
-    Lifting = 4
-
-
-class PlantFault(enum.IntEnum):
-    """A plant's own fault (:class:`PlantMeasurement`)."""
-
-    None_ = 0
-    EmergencyStop = 1
-    Hardware = 2
-    Limit = 3
-    Diverged = 4
-    Other = 5
-
-
-#: Every code table, by its LAYOUT.md heading.
-CODE_TABLES: tuple[type[enum.IntEnum], ...] = (
-    CommandKind,
-    GoalFrame,
     AnswerCode,
-    GoalState,
-    ReasonCode,
-    Phase,
-    FingerPhase,
-    GraspState,
-    FaultCode,
-    EventKind,
+    Command,
+    CommandFlags,
+    CommandKind,
     DaemonState,
-    PlantFingerMode,
+    Event,
+    EventKind,
+    FaultCode,
+    FingerPhase,
+    FingerStatus,
+    GoalFrame,
+    GoalState,
+    GoalStatus,
+    GraspState,
+    LimitKind,
+    LimitOrder,
+    MeasuredMask,
+    MotionLimits,
+    Notify,
+    Payload,
+    Phase,
+    PlantCommand,
     PlantFault,
+    PlantFingerCommand,
+    PlantFingerMeasurement,
+    PlantFingerMode,
+    PlantMeasurement,
+    PlantState,
+    ReasonCode,
+    Status,
+    Timing,
+    Valid,
 )
+
+__all__ = [
+    "CODE_TABLES",
+    "COMMAND_FLAGS_ALL",
+    "DEFAULT_PREFIX",
+    "FINGERS",
+    "ICEORYX2_VERSION",
+    "LIMIT_MASK_ALL",
+    "MEASURED_MASK_ALL",
+    "NO_FINGER",
+    "PAYLOADS",
+    "PLANT_EVENT_ID",
+    "PLANT_STATE_ALL",
+    "SCHEMA_VERSION",
+    "VALID_ALL",
+    "VALID_REQUIRED",
+    "VERSION_ATTRIBUTE_BUILD",
+    "VERSION_ATTRIBUTE_SCHEMA",
+    "Answer",
+    "AnswerCode",
+    "Command",
+    "CommandFlags",
+    "CommandKind",
+    "DaemonState",
+    "Event",
+    "EventKind",
+    "FaultCode",
+    "FingerPhase",
+    "FingerStatus",
+    "GoalFrame",
+    "GoalState",
+    "GoalStatus",
+    "GraspState",
+    "LayoutDocument",
+    "LayoutMismatch",
+    "LimitKind",
+    "LimitOrder",
+    "MeasuredMask",
+    "MotionLimits",
+    "Notify",
+    "Payload",
+    "Phase",
+    "PlantCommand",
+    "PlantFault",
+    "PlantFingerCommand",
+    "PlantFingerMeasurement",
+    "PlantFingerMode",
+    "PlantMeasurement",
+    "PlantState",
+    "ReasonCode",
+    "ServiceNames",
+    "Status",
+    "Timing",
+    "Valid",
+    "check_layout",
+    "code_name",
+    "copy_from",
+    "decode",
+    "layout_problems",
+    "limit_bit",
+    "main",
+    "parse_layout",
+    "to_python",
+]
+
+_P = TypeVar("_P", bound=ctypes.Structure)
+
+# --------------------------------------------------------------------------- codes and bits
 
 
 def code_name(member: enum.IntEnum) -> str:
@@ -527,96 +161,15 @@ def decode(table: type[enum.IntEnum], value: int) -> enum.IntEnum | None:
         return None
 
 
-# --------------------------------------------------------------------------- bits
-
-
-class LimitKind(enum.IntEnum):
-    """Motion kind of a limit override; mask bits 3*kind + order."""
-
-    Object = 0
-    Fingertip = 1
-    Rolling = 2
-
-
-class LimitOrder(enum.IntEnum):
-    """Derivative order of a limit override."""
-
-    Velocity = 0
-    Acceleration = 1
-    Jerk = 2
-
-
 def limit_bit(kind: LimitKind, order: LimitOrder) -> int:
     """Bit of ``Command.limit_mask`` for one override."""
     return 1 << (3 * int(kind) + int(order))
 
 
-#: Every defined bit of ``Command.limit_mask``.
-LIMIT_MASK_ALL = (1 << 9) - 1
-
-
-class Notify(enum.IntEnum):
-    """Notification ids on ``<prefix>/notify``."""
-
-    Status = 1
-    Event = 2
-    Answer = 3
-    DaemonDead = 4
-
-
 #: Notification id on ``plant/commanded`` and ``plant/measured``.
 PLANT_EVENT_ID = 1
 
-
-class MeasuredMask(enum.IntFlag):
-    """Bits of ``Status.measured_mask``: which measured fields are valid."""
-
-    OBJECT = 1
-    TIPS = 2
-    CONTACTS = 4
-    FORCES = 8
-
-
-class CommandFlags(enum.IntFlag):
-    """Bits of ``PlantCommand.flags``."""
-
-    ENABLE = 1
-    HOLD = 2
-    LOCKSTEP = 4
-
-
-COMMAND_FLAGS_ALL = int(CommandFlags.ENABLE | CommandFlags.HOLD | CommandFlags.LOCKSTEP)
-
-
-class Valid(enum.IntFlag):
-    """Bits of ``PlantMeasurement.valid``."""
-
-    OBJECT_ORIENTATION = 1
-    OBJECT_VELOCITY = 2
-    OBJECT_CENTER = 4
-    TIP_POSE = 8
-    TIP_VELOCITY = 16
-    CONTACT = 32
-    FORCE = 64
-    ROLL = 128
-
-
-#: What the daemon needs to control the hand.
-VALID_REQUIRED = int(Valid.OBJECT_ORIENTATION | Valid.TIP_POSE | Valid.CONTACT | Valid.ROLL)
-VALID_ALL = 255
-
-
-class PlantState(enum.IntFlag):
-    """Bits of ``PlantMeasurement.state``."""
-
-    SIMULATED = 1
-    PAUSED = 2
-    FAULT = 4
-
-
-PLANT_STATE_ALL = 7
-
-# (field, {bit value: name as the document's meaning column spells it})
+# (payload, field, {bit value: name as the document's meaning column spells it})
 _DOCUMENTED_BITS: tuple[tuple[str, str, dict[int, str]], ...] = (
     ("Status", "measured_mask", {1: "OBJECT", 2: "TIPS", 4: "CONTACTS", 8: "FORCES"}),
     ("PlantCommand", "flags", {1: "ENABLE", 2: "HOLD", 4: "LOCKSTEP"}),
@@ -711,23 +264,19 @@ _SERVICES: tuple[tuple[str, str, str | None], ...] = (
     ("version", "event", None),
 )
 
-#: Attributes of the ``version`` service: the daemon's schema version (decimal) and build.
-VERSION_ATTRIBUTE_SCHEMA = "gaitd.schema"
-VERSION_ATTRIBUTE_BUILD = "gaitd.build"
-
 # --------------------------------------------------------------------------- helpers
 
 
 def to_python(value: Any) -> Any:
     """A ctypes structure or array as plain dicts, lists and numbers (for JSON, printing)."""
     if isinstance(value, ctypes.Structure):
-        return {name: to_python(getattr(value, name)) for name, _ in value._fields_}
+        return {f[0]: to_python(getattr(value, f[0])) for f in value._fields_}
     if isinstance(value, ctypes.Array):
         return [to_python(v) for v in value]
     return value
 
 
-def copy_from(sample_payload: Any, cls: type[ctypes.Structure]) -> ctypes.Structure:
+def copy_from(sample_payload: Any, cls: type[_P]) -> _P:
     """A private copy of a received payload (the sample's memory is lent, and may be reused)."""
     return cls.from_buffer_copy(sample_payload.contents)
 
@@ -777,7 +326,7 @@ def parse_layout(path: str | Path) -> LayoutDocument:
     types: dict[str, _DocType] = {}
     codes: dict[str, dict[str, int]] = {}
     services: list[tuple[str, str, str | None]] = []
-    current, kind = None, None
+    current, kind = "", None
     for line in text.splitlines():
         if m := _HEAD.match(line):
             name, tname, size, align = m.groups()
@@ -807,7 +356,7 @@ def parse_layout(path: str | Path) -> LayoutDocument:
     return LayoutDocument(version, types, codes, services, notify_ids)
 
 
-def _check_struct(cls: type[ctypes.Structure], doc: _DocType | None, problems: list[str]) -> None:
+def _check_struct(cls: type[Payload], doc: _DocType | None, problems: list[str]) -> None:
     name = cls.__name__
     if doc is None:
         problems.append(f"{name}: not in the document")
@@ -893,7 +442,7 @@ def _check_services(doc: LayoutDocument, problems: list[str]) -> None:
 
 def layout_problems(
     path: str | Path,
-    payloads: Iterable[type[ctypes.Structure]] = PAYLOADS,
+    payloads: Iterable[type[Payload]] = PAYLOADS,
     code_tables: Iterable[type[enum.IntEnum]] = CODE_TABLES,
 ) -> list[str]:
     """Every difference between the mirror and the document (empty: they agree)."""
@@ -920,7 +469,7 @@ def layout_problems(
 
 def check_layout(
     path: str | Path,
-    payloads: Iterable[type[ctypes.Structure]] = PAYLOADS,
+    payloads: Iterable[type[Payload]] = PAYLOADS,
     code_tables: Iterable[type[enum.IntEnum]] = CODE_TABLES,
 ) -> None:
     """Raises :class:`LayoutMismatch` unless every mirror matches LAYOUT.md exactly.

@@ -13,8 +13,10 @@ Lifting; otherwise Free. Velocities are backward differences.
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from . import quat
 from .schema import CommandFlags, PlantFingerMode
@@ -25,8 +27,8 @@ from .setpoint import FingerSetpoint, Setpoint
 class Trace:
     """A parsed trace: its header and its samples (dicts as in the file)."""
 
-    header: dict
-    samples: list[dict]
+    header: dict[str, Any]
+    samples: list[dict[str, Any]]
 
     @property
     def dt(self) -> float:
@@ -40,6 +42,20 @@ def read(path: str | Path) -> Trace:
     if not lines or lines[0].get("format") != "gait-trajectory/1":
         raise ValueError(f"{path}: not a gait-trajectory/1 trace")
     return Trace(lines[0], lines[1:])
+
+
+def _vec(x: Sequence[float]) -> quat.Vec:
+    return (float(x[0]), float(x[1]), float(x[2]))
+
+
+def _per_second(v: Sequence[float], dt: float) -> quat.Vec:
+    """A change over one sample as a rate: ``v / dt``."""
+    return (v[0] / dt, v[1] / dt, v[2] / dt)
+
+
+def _rate(a: Sequence[float], b: Sequence[float], dt: float) -> quat.Vec:
+    """The backward difference ``(a - b) / dt``."""
+    return ((a[0] - b[0]) / dt, (a[1] - b[1]) / dt, (a[2] - b[2]) / dt)
 
 
 def finger_modes(trace: Trace) -> list[list[PlantFingerMode]]:
@@ -81,9 +97,9 @@ def setpoints(trace: Trace, lockstep: bool = True) -> list[Setpoint]:
         fingers = []
         for i, f in enumerate(x["fingers"]):
             fp, fpp = prev["fingers"][i], prev2["fingers"][i]
-            p, p0, p00 = tuple(f["p"]), tuple(fp["p"]), tuple(fpp["p"])
-            v = tuple((a - b) / dt for a, b in zip(p, p0))
-            v0 = tuple((a - b) / dt for a, b in zip(p0, p00))
+            p, p0, p00 = _vec(f["p"]), _vec(fp["p"]), _vec(fpp["p"])
+            v = _rate(p, p0, dt)
+            v0 = _rate(p0, p00, dt)
             w = quat.to_rotvec(quat.mul(quat.normalize(f["q"]), quat.conj(quat.normalize(fp["q"]))))
             fingers.append(
                 FingerSetpoint(
@@ -91,8 +107,8 @@ def setpoints(trace: Trace, lockstep: bool = True) -> list[Setpoint]:
                     position=p,
                     orientation=quat.normalize(f["q"]),
                     velocity=v,
-                    angular_velocity=tuple(c / dt for c in w),
-                    acceleration=tuple((a - b) / dt for a, b in zip(v, v0)),
+                    angular_velocity=_per_second(w, dt),
+                    acceleration=_rate(v, v0, dt),
                     roll=float(f.get("roll", 0.0)),
                     grip_force=float(f["grip_force"]) if f["contact"] else 0.0,
                 )
@@ -102,7 +118,7 @@ def setpoints(trace: Trace, lockstep: bool = True) -> list[Setpoint]:
             Setpoint(
                 fingers=tuple(fingers),
                 object_q=quat.normalize(x["object_q"]),
-                object_omega=tuple(c / dt for c in wo),
+                object_omega=_per_second(wo, dt),
                 flags=flags,
             )
         )

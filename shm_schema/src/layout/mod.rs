@@ -2,8 +2,10 @@
 //!
 //! [`layouts`] lists every field with offset, size, type and unit, taken
 //! from the compiler (`offset_of!`, `size_of`); a test checks that the
-//! fields tile each struct exactly (no gap, no overlap, nothing missing) and
-//! that `LAYOUT.md` equals [`layout_markdown`], so the document cannot drift.
+//! fields tile each struct exactly (no gap, no overlap, nothing missing),
+//! that `LAYOUT.md` equals [`layout_markdown`] and that the Python package's
+//! mirror, `client/python/gaitd/layout.py`, equals [`python_layout`], so
+//! neither can drift.
 
 use crate::codes::CodeInfo;
 use crate::*;
@@ -105,8 +107,10 @@ fn layout<T: ZeroCopySend>(name: &'static str, fields: Vec<FieldInfo>) -> TypeLa
 mod client;
 mod markdown;
 mod plant;
+mod python;
 
 pub use markdown::layout_markdown;
+pub use python::python_layout;
 
 /// Every payload type, nested types after the types that use them: the
 /// client's (commands, answers, status, events), then the plant's.
@@ -195,7 +199,7 @@ mod tests {
         let ci = ci.is_some_and(|v| !matches!(v, "" | "false" | "0"));
         match (bless, ci, current) {
             (true, true, _) => Some(Stale::Fail(
-                "GAITD_BLESS is set in CI (CI=true): LAYOUT.md is never rewritten in CI; \
+                "GAITD_BLESS is set in CI (CI=true): generated files are never rewritten in CI; \
                  bless locally (`GAITD_BLESS=1 cargo test -p shm_schema`) and commit the result",
             )),
             (_, _, true) => None,
@@ -221,17 +225,35 @@ mod tests {
         }
     }
 
-    #[test]
-    fn layout_document_is_current() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/LAYOUT.md");
-        let want = layout_markdown();
+    /// Fails (or, blessed, rewrites the file) unless `path` holds `want`.
+    fn generated_file_is_current(path: &str, want: &str) {
         let have = std::fs::read_to_string(path).unwrap_or_default();
         let ci = std::env::var("CI").ok();
         let bless = std::env::var_os("GAITD_BLESS").is_some();
         match on_stale(bless, ci.as_deref(), have == want) {
             None => {}
-            Some(Stale::Rewrite) => std::fs::write(path, &want).unwrap(),
+            Some(Stale::Rewrite) => std::fs::write(path, want).unwrap(),
             Some(Stale::Fail(why)) => panic!("{path}: {why}"),
         }
+    }
+
+    #[test]
+    fn layout_document_is_current() {
+        generated_file_is_current(
+            concat!(env!("CARGO_MANIFEST_DIR"), "/LAYOUT.md"),
+            &layout_markdown(),
+        );
+    }
+
+    /// The Python package's mirror (`client/python/gaitd/layout.py`).
+    #[test]
+    fn python_layout_module_is_current() {
+        generated_file_is_current(
+            concat!(
+                env!("CARGO_MANIFEST_DIR"),
+                "/../client/python/gaitd/layout.py"
+            ),
+            &python_layout(),
+        );
     }
 }

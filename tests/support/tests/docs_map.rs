@@ -45,9 +45,19 @@ fn root() -> PathBuf {
         .expect("the repository root (tests/support/../..)")
 }
 
-/// Directories never walked: build output, VCS data, local environments.
+/// Directories never walked: build output, VCS data, local environments,
+/// the Python tools' caches.
 fn skipped_dir(name: &str) -> bool {
-    matches!(name, "target" | ".git" | "node_modules" | "__pycache__") || name.starts_with(".venv")
+    matches!(
+        name,
+        "target"
+            | ".git"
+            | "node_modules"
+            | "__pycache__"
+            | ".mypy_cache"
+            | ".ruff_cache"
+            | ".pytest_cache"
+    ) || name.starts_with(".venv")
 }
 
 /// Every text file under `dir` (relative to `root`), sorted.

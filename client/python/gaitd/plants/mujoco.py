@@ -16,25 +16,27 @@ import argparse
 import json
 import math
 import sys
+from typing import Any
 
 from .. import config as gaitd_config
 from ..ipc import IpcError
 from ..plant import LOCKSTEP, REALTIME
+from ..setpoint import Measured
 from .mujoco_plant import MujocoPlant
 
 
 class ReportingPlant(MujocoPlant):
     """The MuJoCo plant, remembering what a report needs as it runs."""
 
-    def __init__(self, *a, **kw):
+    def __init__(self, *a: Any, **kw: Any) -> None:
         super().__init__(*a, **kw)
         self.max_drift = 0.0
-        self.min_grasp_force = math.inf
 
-    def measure(self):
+    def measure(self) -> Measured:
         m = super().measure()
         c = m.object_center
-        self.max_drift = max(self.max_drift, math.sqrt(sum(x * x for x in c)))
+        if c is not None:
+            self.max_drift = max(self.max_drift, math.sqrt(sum(x * x for x in c)))
         return m
 
 
@@ -101,7 +103,7 @@ def main(argv: list[str] | None = None) -> int:
             "compute_us_per_step": 1e6 * stats.compute_s / max(1, stats.steps),
             "sessions": stats.sessions,
             "final_object_q": list(m.object_q),
-            "final_object_center": list(m.object_center),
+            "final_object_center": list(m.object_center) if m.object_center is not None else None,
             "max_object_drift_m": plant.max_drift,
             "final_normal_force": [f.normal_force for f in m.fingers],
             "final_contact": [f.contact for f in m.fingers],
@@ -116,7 +118,7 @@ def plant_version() -> str:
     """The MuJoCo version simulated."""
     import mujoco
 
-    return mujoco.__version__
+    return str(mujoco.__version__)
 
 
 if __name__ == "__main__":

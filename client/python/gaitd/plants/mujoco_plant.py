@@ -36,12 +36,15 @@ from the contact solver (``mj_contactForce``); the roll integrated as
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import mujoco
 import numpy as np
 
 from .. import quat
+from ..quat import Quat, Vec
 from ..config import DaemonConfig
 from ..hand import holding_grip, paper_start
 from ..plant import Plant
@@ -49,23 +52,19 @@ from ..schema import PlantFault, PlantFingerMode
 from ..setpoint import FingerMeasured, Measured, Setpoint
 from .mujoco_scene import SceneParams, build_xml, contact_stiffness
 
-E_X = (1.0, 0.0, 0.0)
-E_Z = (0.0, 0.0, 1.0)
+E_X: Vec = (1.0, 0.0, 0.0)
+E_Z: Vec = (0.0, 0.0, 1.0)
 
 
-def _sub(a, b):
-    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
-
-
-def _cross(a, b):
+def _cross(a: Sequence[float], b: Sequence[float]) -> Vec:
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
-def _dot(a, b):
+def _dot(a: Sequence[float], b: Sequence[float]) -> float:
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-def _inward(p):
+def _inward(p: Sequence[float]) -> Vec:
     n = math.sqrt(_dot(p, p))
     return (-p[0] / n, -p[1] / n, -p[2] / n)
 
@@ -81,16 +80,16 @@ class _Finger:
     qpos_ball: int
     qvel_ball: int
     geom: int
-    position: tuple  # commanded pose reached at the start of the next step
-    orientation: tuple
-    frame: tuple  # mount frame (x = inward normal)
-    target_position: tuple
-    target_orientation: tuple
+    position: Vec  # commanded pose reached at the start of the next step
+    orientation: Quat
+    frame: Quat  # mount frame (x = inward normal)
+    target_position: Vec
+    target_orientation: Quat
     mode: PlantFingerMode
     grip: float  # F: the force the press axis delivers when engaged
     engaged: float  # e in [0, 1]
     roll: float
-    measured_orientation: tuple
+    measured_orientation: Quat
     touching: bool = False
     normal_force: float = 0.0
 
@@ -107,8 +106,8 @@ class MujocoPlant(Plant):
         initial_grip: float | None = None,
         press_ramp_in: float = 0.01,
         press_ramp_out: float = 0.005,
-        scene: dict | None = None,
-        **plant_args,
+        scene: dict[str, Any] | None = None,
+        **plant_args: Any,
     ):
         super().__init__(config, **plant_args)
         model = config.model
@@ -138,10 +137,19 @@ class MujocoPlant(Plant):
 
     def _reset(self) -> None:
         m, d = self.model, self.data
-        jq = lambda name: int(m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)])
-        jv = lambda name: int(m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)])
-        body = lambda name: mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, name)
-        geom = lambda name: mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, name)
+
+        def jq(name: str) -> int:
+            return int(m.jnt_qposadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)])
+
+        def jv(name: str) -> int:
+            return int(m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)])
+
+        def body(name: str) -> int:
+            return int(mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, name))
+
+        def geom(name: str) -> int:
+            return int(mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, name))
+
         self._obj_q, self._obj_v = jq("object"), jv("object")
         self._obj_geom = geom("object")
         stiffness = contact_stiffness(
@@ -229,7 +237,7 @@ class MujocoPlant(Plant):
                     p1, q1 = fs.target_position, fs.target_orientation
                 else:
                     tp = fs.target_position
-                    p1 = tuple(a + (b - a) * s for a, b in zip(p0, tp))
+                    p1 = (p0[0] + (tp[0] - p0[0]) * s, p0[1] + (tp[1] - p0[1]) * s, p0[2] + (tp[2] - p0[2]) * s)
                     q1 = quat.slerp(q0, fs.target_orientation, s)
                 self._drive(fs, p1, q1, h, rate)
             mujoco.mj_step(m, d)
@@ -237,7 +245,7 @@ class MujocoPlant(Plant):
             if self.diverged:
                 return
 
-    def _drive(self, fs: _Finger, p1: tuple, q1: tuple, h: float, rate: tuple[float, float]) -> None:
+    def _drive(self, fs: _Finger, p1: Vec, q1: Quat, h: float, rate: tuple[float, float]) -> None:
         """Overwrites one finger's mount and ball for the step that ends at pose (p1, q1)."""
         d = self.data
         p0, q0, c0 = fs.position, fs.orientation, fs.frame
@@ -300,7 +308,7 @@ class MujocoPlant(Plant):
                     mujoco.mj_contactForce(m, d, c, self._force)
                     fs.normal_force += float(self._force[0])
 
-    def _tip_orientation(self, fs: _Finger) -> tuple:
+    def _tip_orientation(self, fs: _Finger) -> Quat:
         q = self.data.qpos
         a, b = fs.qpos_mount, fs.qpos_ball
         return quat.normalize(quat.mul((q[a + 3], q[a + 4], q[a + 5], q[a + 6]), (q[b], q[b + 1], q[b + 2], q[b + 3])))

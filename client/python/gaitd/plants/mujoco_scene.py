@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 from ..config import DaemonConfig
 
@@ -65,7 +66,7 @@ class SceneParams:
         return 2.0 * self.timestep
 
     @staticmethod
-    def from_config(cfg: DaemonConfig, **overrides) -> SceneParams:
+    def from_config(cfg: DaemonConfig, **overrides: Any) -> SceneParams:
         """The scene of the hand a daemon with ``cfg`` controls.
 
         The timestep divides the control period and is at most 1 ms (the
@@ -73,16 +74,16 @@ class SceneParams:
         """
         substeps = max(1, math.ceil(cfg.period / 0.001 - 1e-9))
         m = cfg.model
-        kw = dict(
-            object_radius=m.object_radius,
-            fingertip_radius=m.fingertip_radius,
-            mu=m.mu,
-            torsion=m.torsion,
-            object_mass=cfg.load.object_mass,
-            gravity=tuple(cfg.load.gravity),
-            timestep=cfg.period / substeps,
-            touch_distance=m.contact_tolerance,
-        )
+        kw: dict[str, Any] = {
+            "object_radius": m.object_radius,
+            "fingertip_radius": m.fingertip_radius,
+            "mu": m.mu,
+            "torsion": m.torsion,
+            "object_mass": cfg.load.object_mass,
+            "gravity": tuple(cfg.load.gravity),
+            "timestep": cfg.period / substeps,
+            "touch_distance": m.contact_tolerance,
+        }
         kw.update(overrides)
         return SceneParams(**kw)
 
