@@ -197,7 +197,7 @@ def lockstep_checks(check: Checks, s: StandIn, settings, plant_dir: Path, mutate
     first = s.wait(1, timeout=30.0)
     m1 = first[0] if first else None
     check(
-        "first measurement: seq 1, session 0, applied 0, time one period, required fields, simulated",
+        "first measurement: seq 1, session id 0, applied 0, time one period, required fields, simulated",
         m1 is not None
         and (m1.seq, m1.session, m1.applied, m1.time_ns) == (1, 0, 0, PERIOD_NS)
         and m1.valid & VALID_REQUIRED == VALID_REQUIRED
@@ -366,7 +366,7 @@ def lockstep_checks(check: Checks, s: StandIn, settings, plant_dir: Path, mutate
     got = s.wait(3, timeout=3.0)
     rejected += 1
     check(
-        "a command of session 0 is refused",
+        "a command of session id 0 is refused",
         len(got) >= 3 and all(abs(m.fingers[0].position[2] - 0.036) > 1e-9 for m in got),
         [{"seq": m.seq, "applied": m.applied} for m in got[:3]],
     )

@@ -125,7 +125,7 @@ def check_header(c: PlantCommand, period_ns: int, last_measurement: int, lockste
     if c.reserved != 0:
         raise BadCommand("reserved padding is not 0")
     if c.session == 0:
-        raise BadCommand("session 0")
+        raise BadCommand("session id 0 (a daemon numbers its sessions from 1)")
     if c.seq == 0:
         raise BadCommand("seq 0")
     if c.answers > last_measurement:

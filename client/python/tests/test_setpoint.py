@@ -62,7 +62,7 @@ def test_decode_renormalises_quaternions() -> None:
     [
         ("flags", 8 | int(CommandFlags.ENABLE), "unknown bits"),
         ("reserved", 1, "reserved padding"),
-        ("session", 0, "session 0"),
+        ("session", 0, "session id 0"),
         ("seq", 0, "seq 0"),
         ("answers", 2, "the newest sent is 1"),
         ("period_ns", PERIOD_NS + 1, "period"),
