@@ -33,6 +33,8 @@
 //! - [`patch`]: the tip patch; [`capsule`]: link capsules and clearances;
 //!   [`torque`]: the torque box $\tau = J_v^\top f + g(q)$ (§14.1).
 //! - [`rolling`]: the rolling law of a 3-joint finger (§14.2).
+//! - [`workspace`]: the normals a finger can grasp at (§14.1), and the
+//!   gap between two fingers.
 //!
 //! ```
 //! use kinematics::{Chain, ClosedFormIk, HandDescription};
@@ -60,6 +62,7 @@ pub mod rolling;
 pub mod section;
 pub mod torque;
 mod urdf_chain;
+pub mod workspace;
 
 pub use capsule::{Capsule, LinkCapsule};
 pub use chain::{CapsuleSet, Chain, ChainState, MAX_CAPSULES};
@@ -73,3 +76,4 @@ pub use ik_dls::{DlsParams, DlsResult};
 pub use patch::TipPatch;
 pub use rolling::{RollingRates, rolling_rates};
 pub use torque::{gravity_torques, joint_torques, max_force_scale};
+pub use workspace::{Margins, Reach, Workspace, finger_gap, reach, sphere_grid};
