@@ -59,7 +59,6 @@ pub mod patch;
 pub mod rolling;
 pub mod section;
 pub mod torque;
-mod urdf_chain;
 
 pub use capsule::{Capsule, LinkCapsule};
 pub use chain::{CapsuleSet, Chain, ChainState, MAX_CAPSULES};
