@@ -5,6 +5,7 @@
 //! - [`clock`]: injected time: the monotonic clock and a mock clock tests step.
 //! - [`ticker`]: absolute-deadline wake-ups; missed periods counted, never burst.
 //! - [`runtime`]: the loop and its phases, shutdown.
+//! - [`lockstep`]: lockstep pacing: a plant's measurements pace the loop.
 //! - [`intake`]: commands in: validation, duplicate ids, answers.
 //! - [`events`]: events out: the per-tick queue of wire events.
 //! - [`stats`]: loop timing: compute time, jitter, overruns.
@@ -14,6 +15,7 @@ pub mod clock;
 pub mod events;
 pub mod histogram;
 pub mod intake;
+pub mod lockstep;
 pub mod runtime;
 pub mod stats;
 pub mod ticker;
