@@ -30,6 +30,7 @@ pub mod io;
 pub mod plant;
 pub mod process;
 pub mod realtime;
+pub mod sys;
 
 // The still test controller, shared with the integration tests.
 #[cfg(test)]
@@ -43,7 +44,7 @@ pub fn new_instance_id() -> u64 {
     let n = unsafe { libc::getrandom((&raw mut v).cast(), 8, 0) };
     if n != 8 || v == 0 {
         // No entropy source: fall back to time and pid (unique enough per host).
-        v = realtime::clock::monotonic_now() ^ (u64::from(std::process::id()) << 32) | 1;
+        v = sys::clock::monotonic_now() ^ (u64::from(std::process::id()) << 32) | 1;
     }
     v
 }

@@ -22,8 +22,8 @@ mod ipc_rig;
 
 use gaitd::control::controller::{ControlCommand, ControlOutput, Controller, TickContext};
 use gaitd::control::planner::{self, BackgroundPlanner, PlannerLink, Wanted};
-use gaitd::realtime::clock::MockClock;
 use gaitd::realtime::runtime::Runtime;
+use gaitd::sys::clock::MockClock;
 use hold::HoldController;
 use ipc_rig::{Namespace, TestClient, daemon};
 use shm_schema::{Command, CommandKind, GoalFrame, GoalState, ReasonCode, Verdict};

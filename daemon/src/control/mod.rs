@@ -6,10 +6,8 @@
 //! - [`gait_controller`]: the real controller: planner + executor + plant.
 //! - [`convert`]: maths types to wire types (status), in one place.
 //! - [`planner`]: the planner thread and its lock-free link to the loop.
-//! - [`handoff`]: pre-allocated lock-free rings between the loop and other threads.
 
 pub mod controller;
 pub mod convert;
 pub mod gait_controller;
-pub mod handoff;
 pub mod planner;

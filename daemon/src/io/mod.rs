@@ -6,10 +6,8 @@
 //! - [`outbox`]: the writer thread: publishes status, answers and events.
 //! - [`tracer`]: goal traces (`gait-trajectory/1`) written off the loop.
 //! - [`housekeeping`]: dead-node cleanup, client bookkeeping, `STATUS=`.
-//! - [`worker`]: a background thread that stops when asked.
 
 pub mod housekeeping;
 pub mod ipc;
 pub mod outbox;
 pub mod tracer;
-pub mod worker;

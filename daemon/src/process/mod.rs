@@ -5,8 +5,6 @@
 //! - [`plant_config`]: `[plant]`, which hand the daemon controls.
 //! - [`check`]: what `--check-config` prints: the configuration in effect.
 //! - [`load_check`]: whether the start grasp can hold the load.
-//! - [`rt`]: real-time set-up: SCHED_FIFO, affinity, memory locking.
-//! - [`sd_notify`]: systemd notification (`READY=1`, `WATCHDOG=1`, `STATUS=`).
 //! - [`signals`]: SIGTERM/SIGINT handling.
 //! - [`logging`]: tracing set-up: human or JSON logs.
 //! - [`startup`]: the start-up steps in their order, and the shut-down.
@@ -16,7 +14,5 @@ pub mod config;
 pub mod load_check;
 pub mod logging;
 pub mod plant_config;
-pub mod rt;
-pub mod sd_notify;
 pub mod signals;
 pub mod startup;

@@ -22,7 +22,7 @@
 //!    the node.
 
 use crate::control::gait_controller::{GaitController, GaitPlanner};
-use crate::control::planner::{self, Doorbell, PlannerThread};
+use crate::control::planner::{self, PlannerThread};
 use crate::io::housekeeping::{self, Housekeeping, HousekeepingSetup};
 use crate::io::ipc::{self, IpcError};
 use crate::io::outbox::{self, Outbox, Writer, WriterSettings};
@@ -30,9 +30,12 @@ use crate::io::tracer::{self, TraceError, TraceSettings, TraceWriter};
 use crate::plant::external::ExternalPlant;
 use crate::plant::ports::PlantInput;
 use crate::process::config::DaemonConfig;
-use crate::process::{rt, sd_notify, signals};
-use crate::realtime::clock::MonotonicClock;
-use crate::realtime::runtime::{Runtime, Shared};
+use crate::process::signals;
+use crate::realtime::runtime::Runtime;
+use crate::sys::clock::MonotonicClock;
+use crate::sys::doorbell::Doorbell;
+use crate::sys::shared::Shared;
+use crate::sys::{rt, sd_notify};
 use iceoryx2::config::Config;
 use iceoryx2::node::Node;
 use iceoryx2::port::subscriber::Subscriber;

@@ -22,7 +22,7 @@
 //! [`Controller::awaits_plan`]: crate::control::controller::Controller::awaits_plan
 
 use crate::plant::PlantSample;
-use crate::realtime::clock::Nanos;
+use crate::sys::clock::Nanos;
 
 /// How long a lockstep tick is held for a plan before it runs without it
 /// \[ns\].

@@ -2,7 +2,6 @@
 //! deadlines, the tick's phases, command intake, events and timing
 //! statistics. Nothing here allocates, blocks or logs once running.
 //!
-//! - [`clock`]: injected time: the monotonic clock and a mock clock tests step.
 //! - [`ticker`]: absolute-deadline wake-ups; missed periods counted, never burst.
 //! - [`runtime`]: the loop and its phases, shutdown.
 //! - [`lockstep`]: lockstep pacing: a plant's measurements pace the loop.
@@ -11,7 +10,6 @@
 //! - [`stats`]: loop timing: compute time, jitter, overruns.
 //! - [`histogram`]: fixed-size latency histograms.
 
-pub mod clock;
 pub mod events;
 pub mod histogram;
 pub mod intake;

@@ -37,13 +37,14 @@ use crate::plant::PlantSample;
 use crate::plant::contract::ContractWatch;
 use crate::plant::ports::PlantInput;
 use crate::process::config::DaemonConfig;
-use crate::process::sd_notify;
-use crate::realtime::clock::{Clock, Nanos};
 use crate::realtime::events::TickEvents;
 use crate::realtime::intake::Intake;
 use crate::realtime::lockstep::{Lockstep, Pass};
 use crate::realtime::stats::LoopStats;
 use crate::realtime::ticker::{Ticker, Wake};
+use crate::sys::clock::{Clock, Nanos};
+use crate::sys::sd_notify;
+use crate::sys::shared::Shared;
 use gait::HandState;
 use iceoryx2::port::subscriber::Subscriber;
 use nalgebra::Vector3;
@@ -52,36 +53,7 @@ use shm_schema::{
     Status,
 };
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
-
-/// Counters shared between the loop and housekeeping (atomics only).
-#[derive(Debug, Default)]
-pub struct Shared {
-    /// Ticks run (loop writes).
-    pub ticks: AtomicU64,
-    /// Missed periods (loop writes).
-    pub overruns: AtomicU64,
-    /// Failed iceoryx2 sends/receives/notifications (loop and writer).
-    pub ipc_errors: AtomicU64,
-    /// Messages the loop dropped because the writer's ring was full.
-    pub outbox_dropped: AtomicU64,
-    /// Events lost because more than `EVENTS_PER_TICK` happened in a tick.
-    pub events_dropped: AtomicU64,
-    /// Client nodes alive (housekeeping writes).
-    pub clients: AtomicU32,
-    /// The loop's next deadline \[ns\] (loop writes; the writer thread sleeps
-    /// until it). 0 before the first tick.
-    pub next_deadline: AtomicU64,
-    /// Deadline of the last tick whose output is queued (loop writes).
-    pub done_deadline: AtomicU64,
-    /// Messages the loop queued for the writer so far (loop writes, once
-    /// per tick).
-    pub queued: AtomicU64,
-    /// Messages the writer took from the ring so far (writer writes).
-    pub published: AtomicU64,
-    /// Dead nodes cleaned up since start (housekeeping writes).
-    pub cleaned: AtomicU64,
-}
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The loop's settings, from the config.
 #[derive(Debug, Clone, Copy, PartialEq)]
