@@ -25,6 +25,7 @@
 #[cfg(test)]
 extern crate self as gaitd;
 
+pub mod config;
 pub mod control;
 pub mod io;
 pub mod plant;

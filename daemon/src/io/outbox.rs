@@ -34,8 +34,8 @@
 //! If the ring is full (the writer starved for many periods) the loop drops
 //! the message and counts it; it never waits.
 
+pub use crate::config::WriterWake;
 use crate::io::ipc::{IpcError, OutPorts, OutServices};
-pub use crate::process::config::WriterWake;
 use crate::sys::clock::{Clock, MonotonicClock, Nanos, monotonic_now};
 use crate::sys::doorbell::Doorbell;
 use crate::sys::handoff::{self, Consumer, Producer};
@@ -132,7 +132,7 @@ pub struct WriterSettings {
     /// busy-wait (`[rt] spin_us`) when they may share a CPU, so the
     /// writer's timer fires when the loop's does, not in the middle of its
     /// spin (where the interrupt would make the loop late); 0 on disjoint
-    /// CPUs ([`DaemonConfig::writer_lead_ns`](crate::process::config::DaemonConfig::writer_lead_ns)).
+    /// CPUs ([`DaemonConfig::writer_lead_ns`](crate::config::DaemonConfig::writer_lead_ns)).
     pub spin: Nanos,
     /// CPUs to pin the writer to (empty: any).
     pub cpus: Vec<u32>,

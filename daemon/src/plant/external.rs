@@ -18,7 +18,7 @@
 
 use super::PlantSample;
 use super::wire::{self, finger_commands, object_command};
-use crate::process::config::PlantSection;
+use crate::config::PlantSection;
 use crate::sys::clock::Nanos;
 use gait::executor::FaultKind;
 use gait::planner::Setpoint;

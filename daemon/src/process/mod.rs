@@ -1,8 +1,6 @@
 //! The process around the loop (SPEC §7.1): configuration, real-time
 //! set-up, systemd notification, signals and logging.
 //!
-//! - [`config`]: the TOML file, every key validated by name.
-//! - [`plant_config`]: `[plant]`, which hand the daemon controls.
 //! - [`check`]: what `--check-config` prints: the configuration in effect.
 //! - [`load_check`]: whether the start grasp can hold the load.
 //! - [`signals`]: SIGTERM/SIGINT handling.
@@ -10,9 +8,7 @@
 //! - [`startup`]: the start-up steps in their order, and the shut-down.
 
 pub mod check;
-pub mod config;
 pub mod load_check;
 pub mod logging;
-pub mod plant_config;
 pub mod signals;
 pub mod startup;

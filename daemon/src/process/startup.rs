@@ -21,6 +21,7 @@
 //!    housekeeping threads, the loop's ports, the planner, the services,
 //!    the node.
 
+use crate::config::DaemonConfig;
 use crate::control::gait_controller::{GaitController, GaitPlanner};
 use crate::control::planner::{self, PlannerThread};
 use crate::io::housekeeping::{self, Housekeeping, HousekeepingSetup};
@@ -29,7 +30,6 @@ use crate::io::outbox::{self, Outbox, Writer, WriterSettings};
 use crate::io::tracer::{self, TraceError, TraceSettings, TraceWriter};
 use crate::plant::external::ExternalPlant;
 use crate::plant::ports::PlantInput;
-use crate::process::config::DaemonConfig;
 use crate::process::signals;
 use crate::realtime::runtime::Runtime;
 use crate::sys::clock::MonotonicClock;

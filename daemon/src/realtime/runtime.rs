@@ -27,6 +27,7 @@
 //! `daemon_state = Stopped` → return; the caller then joins the writer,
 //! which publishes them, and drops the ports.
 
+use crate::config::DaemonConfig;
 use crate::control::controller::{
     ControlOutput, Controller, FingerOutput, GoalReport, TickContext,
 };
@@ -36,7 +37,6 @@ use crate::io::outbox::{Outbound, Outbox};
 use crate::plant::PlantSample;
 use crate::plant::contract::ContractWatch;
 use crate::plant::ports::PlantInput;
-use crate::process::config::DaemonConfig;
 use crate::realtime::events::TickEvents;
 use crate::realtime::intake::Intake;
 use crate::realtime::lockstep::{Lockstep, Pass};

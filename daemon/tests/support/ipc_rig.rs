@@ -6,9 +6,9 @@
 
 #![allow(dead_code)]
 
+use gaitd::config::DaemonConfig;
 use gaitd::io::ipc::{self, Ipc};
 use gaitd::io::outbox;
-use gaitd::process::config::DaemonConfig;
 use gaitd::sys::shared::Shared;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::publisher::Publisher;
