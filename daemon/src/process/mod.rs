@@ -1,13 +1,17 @@
-//! The process around the loop (SPEC §7.1): configuration, real-time
-//! set-up, systemd notification, signals and logging.
+//! The process around the loop (SPEC §7.1): the start-up that builds and
+//! wires every other part of the daemon, `--check-config`, signals, logging
+//! and housekeeping.
 //!
+//! - [`startup`]: the start-up steps in their order, and the shut-down.
 //! - [`check`]: what `--check-config` prints: the configuration in effect.
 //! - [`load_check`]: whether the start grasp can hold the load.
+//! - [`housekeeping`]: dead-node cleanup, client bookkeeping, `STATUS=`,
+//!   rate-limited warnings for what the loop counted.
 //! - [`signals`]: SIGTERM/SIGINT handling.
 //! - [`logging`]: tracing set-up: human or JSON logs.
-//! - [`startup`]: the start-up steps in their order, and the shut-down.
 
 pub mod check;
+pub mod housekeeping;
 pub mod load_check;
 pub mod logging;
 pub mod signals;

@@ -24,12 +24,12 @@
 use crate::config::DaemonConfig;
 use crate::control::gait_controller::{GaitController, GaitPlanner};
 use crate::control::planner::{self, PlannerThread};
-use crate::io::housekeeping::{self, Housekeeping, HousekeepingSetup};
 use crate::io::ipc::{self, IpcError};
 use crate::io::outbox::{self, Outbox, Writer, WriterSettings};
 use crate::io::tracer::{self, TraceError, TraceSettings, TraceWriter};
 use crate::plant::external::ExternalPlant;
 use crate::plant::ports::PlantInput;
+use crate::process::housekeeping::{self, Housekeeping, HousekeepingSetup};
 use crate::process::signals;
 use crate::realtime::runtime::Runtime;
 use crate::sys::clock::MonotonicClock;

@@ -32,12 +32,12 @@ use crate::control::controller::{
     ControlOutput, Controller, FingerOutput, GoalReport, TickContext,
 };
 use crate::control::convert::fill_status;
+use crate::control::events::TickEvents;
 use crate::io::ipc::Ipc;
 use crate::io::outbox::{Outbound, Outbox};
 use crate::plant::PlantSample;
 use crate::plant::contract::ContractWatch;
 use crate::plant::ports::PlantInput;
-use crate::realtime::events::TickEvents;
 use crate::realtime::intake::Intake;
 use crate::realtime::lockstep::{Lockstep, Pass};
 use crate::realtime::stats::LoopStats;

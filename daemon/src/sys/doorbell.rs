@@ -5,8 +5,7 @@
 //! on a VM, several µs). The loop only presses a [`Doorbell`] (one atomic
 //! store); a thread that runs after every tick anyway — the writer —
 //! delivers the wake-ups pressed since its last round. The planner link
-//! wakes its thread this way (`PlannerLink::wake_through` in
-//! [`control::planner`](crate::control::planner)).
+//! wakes the planner thread this way.
 
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -14,8 +14,8 @@
 //!
 //! It has its own iceoryx2 node (ports are not shared across threads).
 
+use super::logging::RateLimit;
 use crate::io::ipc::{Ipc, create_node, status_subscriber};
-use crate::process::logging::RateLimit;
 use crate::sys::sd_notify;
 use crate::sys::shared::Shared;
 use iceoryx2::config::Config;
@@ -235,10 +235,7 @@ impl LoadWatch {
             self.armed = false;
             if st.load_margin < 0.0 {
                 let which = "the grasp the hand holds";
-                warn!(
-                    "{}",
-                    crate::process::load_check::warning(which, st.load_grip, load)
-                );
+                warn!("{}", super::load_check::warning(which, st.load_grip, load));
             }
         }
     }
