@@ -1,9 +1,10 @@
 //! Daemon configuration file (SPEC.md §7.1): TOML with the model sections of
-//! [`gait::HandConfig`] (`[model]`, `[load]`, `[limits]`) plus `[control]`,
-//! and the daemon's own `[daemon]`, `[ipc]`, `[rt]` and `[plant]` (in
-//! [`plant`]: which hand the daemon controls). Every key is validated at
-//! start; errors name the key. Plain settings: every part of the daemon
-//! reads them, and this module names none of those parts.
+//! [`gait::HandConfig`] (`[model]`, `[load]`, `[limits]`, `[planner]`,
+//! `[feedback]`) and the daemon's own `[control]`, `[daemon]`, `[ipc]`,
+//! `[rt]` and `[plant]` (in [`plant`]: which hand the daemon controls).
+//! Every key is validated at start; errors name the key. Plain settings:
+//! every part of the daemon reads them, and this module uses none of
+//! those parts.
 
 pub mod plant;
 

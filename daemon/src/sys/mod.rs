@@ -1,6 +1,6 @@
 //! What every other part of the daemon stands on: time, the operating
 //! system's real-time and systemd facilities, and the means by which the
-//! daemon's threads share data. Nothing here names another part of the
+//! daemon's threads share data. Nothing here uses another part of the
 //! daemon.
 //!
 //! - [`clock`]: injected time: the monotonic clock and a mock clock tests step.
