@@ -2,22 +2,29 @@
 //!
 //! Everything of the `gaitd` binary except argument parsing lives here so
 //! that tests drive the same code (SPEC.md §7). The folders are the
-//! daemon's design:
+//! daemon's design, each using only those below it:
 //!
 //! ```text
-//!  process/   the process around it: config, RT set-up, systemd, signals, logs
-//!  realtime/  the loop thread: clock, deadlines, the tick's phases, command
-//!             intake, events, timing statistics          (never allocates)
-//!  control/   what a tick runs: the controller seam, the gait controller
-//!             (planner link + executor + plant), status conversion
-//!  io/        threads off the loop: iceoryx2 ports, the writer (outbox),
-//!             goal traces, housekeeping
+//!  process/   the process around it: start-up (which builds and wires every
+//!             part below), --check-config, signals, logs, housekeeping
+//!  realtime/  the loop thread: deadlines, the tick's phases, lockstep
+//!             pacing, command intake, timing statistics   (never allocates)
+//!  control/   what a tick runs: the controller seam and the tick's events,
+//!             the gait controller (planner link + executor + plant), the
+//!             planner thread, status conversion
 //!  plant/     the hand: the embedded kinematic hand or an external plant's
-//!             link (checks, held measurements, faults, lockstep pacing)
+//!             link (checks, held measurements, faults, timing contract)
+//!  io/        off the loop: iceoryx2 services and ports, the writer thread
+//!             (outbox), goal traces
+//!  config/    the configuration file, every key validated
+//!  sys/       time, real-time set-up, systemd, and what threads share:
+//!             rings, doorbells, counters, stoppable threads
 //! ```
 //!
+//! `config/` and `sys/` use none of the others.
+//!
 //! Data flows one way per tick: commands → [`realtime::intake`] →
-//! [`control::controller::Controller`] → [`realtime::events`] and
+//! [`control::controller::Controller`] → [`control::events`] and
 //! [`control::convert`] → [`io::outbox`] (published by the writer thread).
 
 // Lets the test-support files shared with the integration tests name
@@ -25,11 +32,13 @@
 #[cfg(test)]
 extern crate self as gaitd;
 
+pub mod config;
 pub mod control;
 pub mod io;
 pub mod plant;
 pub mod process;
 pub mod realtime;
+pub mod sys;
 
 // The still test controller, shared with the integration tests.
 #[cfg(test)]
@@ -43,7 +52,7 @@ pub fn new_instance_id() -> u64 {
     let n = unsafe { libc::getrandom((&raw mut v).cast(), 8, 0) };
     if n != 8 || v == 0 {
         // No entropy source: fall back to time and pid (unique enough per host).
-        v = realtime::clock::monotonic_now() ^ (u64::from(std::process::id()) << 32) | 1;
+        v = sys::clock::monotonic_now() ^ (u64::from(std::process::id()) << 32) | 1;
     }
     v
 }

@@ -4,8 +4,8 @@
 
 use anyhow::{Context, Result};
 use clap::Parser;
+use gaitd::config::{DEFAULT_CONFIG_PATH, DaemonConfig};
 use gaitd::io::ipc;
-use gaitd::process::config::{DEFAULT_CONFIG_PATH, DaemonConfig};
 use gaitd::process::logging::{self, LogFormat};
 use gaitd::process::startup::Daemon;
 use gaitd::process::{check, load_check, signals};

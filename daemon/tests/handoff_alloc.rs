@@ -3,7 +3,7 @@
 //! `push`, `pop`, `free` or `is_empty` (per-thread counting allocator), and
 //! each value arrives once, in order.
 
-use gaitd::control::handoff;
+use gaitd::sys::handoff;
 use test_support::counting::{self, Counting, Tally};
 
 #[global_allocator]

@@ -53,8 +53,8 @@ impl Drop for Release<'_> {
 #[test]
 fn a_plan_in_flight_holds_the_lockstep_tick_and_the_loop_beats_meanwhile() {
     let mut ns = Namespace::new("xgate");
-    ns.cfg.plant.kind = gaitd::process::config::PlantKind::Shm;
-    ns.cfg.plant.timing = gaitd::process::config::PlantTiming::Lockstep;
+    ns.cfg.plant.kind = gaitd::config::PlantKind::Shm;
+    ns.cfg.plant.timing = gaitd::config::PlantTiming::Lockstep;
     let (open, entered) = (
         Arc::new(AtomicBool::new(false)),
         Arc::new(AtomicU64::new(0)),

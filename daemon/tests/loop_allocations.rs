@@ -22,8 +22,8 @@ mod ipc_rig;
 
 use gaitd::control::controller::{ControlCommand, ControlOutput, Controller, TickContext};
 use gaitd::control::planner::{self, BackgroundPlanner, PlannerLink, Wanted};
-use gaitd::realtime::clock::MockClock;
 use gaitd::realtime::runtime::Runtime;
+use gaitd::sys::clock::MockClock;
 use hold::HoldController;
 use ipc_rig::{Namespace, TestClient, daemon};
 use shm_schema::{Command, CommandKind, GoalFrame, GoalState, ReasonCode, Verdict};
@@ -511,7 +511,7 @@ fn the_counter_sees_an_allocation() {
 #[test]
 fn the_loop_does_not_allocate_with_an_external_plant() {
     let mut ns = Namespace::new("xplant");
-    ns.cfg.plant.kind = gaitd::process::config::PlantKind::Shm;
+    ns.cfg.plant.kind = gaitd::config::PlantKind::Shm;
     ns.cfg.plant.max_missed = 50;
     let mut g = ipc_rig::gait_loop(&ns, 46, |_| {});
     let mut plant = ipc_rig::RigPlant::open(&ns);
@@ -593,8 +593,8 @@ fn the_loop_does_not_allocate_with_an_external_plant() {
 fn the_lockstep_loop_does_not_allocate() {
     use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
     let mut ns = Namespace::new("xlock");
-    ns.cfg.plant.kind = gaitd::process::config::PlantKind::Shm;
-    ns.cfg.plant.timing = gaitd::process::config::PlantTiming::Lockstep;
+    ns.cfg.plant.kind = gaitd::config::PlantKind::Shm;
+    ns.cfg.plant.timing = gaitd::config::PlantTiming::Lockstep;
     let mut g = ipc_rig::gait_loop(&ns, 48, |_| {});
     let (done, steps) = (AtomicBool::new(false), AtomicU64::new(0));
     // The plant's ports live until the loop stopped counting: a port that

@@ -61,7 +61,6 @@ pub mod patch;
 pub mod rolling;
 pub mod section;
 pub mod torque;
-mod urdf_chain;
 pub mod workspace;
 
 pub use capsule::{Capsule, LinkCapsule};

@@ -13,8 +13,8 @@
 //! [`Controller::command`] for each command that arrived (in order), then
 //! [`Controller::tick`] exactly once.
 
-use crate::realtime::clock::Nanos;
-use crate::realtime::events::TickEvents;
+use crate::control::events::TickEvents;
+use crate::sys::clock::Nanos;
 use gait::HandState;
 use gait::config::LimitsConfig;
 use gait::sim::Measurement;

@@ -167,8 +167,8 @@ fn finger_status(hand: &HandState, k: usize, object_radius: f64) -> FingerStatus
 mod tests {
     use super::*;
     use crate::control::controller::Controller;
+    use crate::control::events::TickEvents;
     use crate::hold::HoldController;
-    use crate::realtime::events::TickEvents;
     use gait::HandConfig;
     use shm_schema::{Command, DaemonState};
 

@@ -1,15 +1,17 @@
-//! What a tick runs (SPEC §6): the controller seam, the gait controller
-//! (planner link, executor, plant) and the conversion of its output to the
+//! What a tick runs (SPEC §6): the controller seam and the events a tick
+//! produces, the gait controller (planner link, executor, plant), the
+//! planner thread, and the conversion of the controller's output to the
 //! wire format.
 //!
 //! - [`controller`]: the seam: the `Controller` trait the loop drives.
+//! - [`events`]: the events of one tick: the queue a controller fills and
+//!   the loop publishes.
 //! - [`gait_controller`]: the real controller: planner + executor + plant.
 //! - [`convert`]: maths types to wire types (status), in one place.
 //! - [`planner`]: the planner thread and its lock-free link to the loop.
-//! - [`handoff`]: pre-allocated lock-free rings between the loop and other threads.
 
 pub mod controller;
 pub mod convert;
+pub mod events;
 pub mod gait_controller;
-pub mod handoff;
 pub mod planner;

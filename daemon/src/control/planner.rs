@@ -24,9 +24,10 @@
 //! thread, which runs right after every tick anyway, rings — so a flood of
 //! goals costs the loop no syscalls, and planning starts a few µs later.
 
-use crate::control::handoff::{self, Consumer, Producer};
+use crate::sys::doorbell::Doorbell;
+use crate::sys::handoff::{self, Consumer, Producer};
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, OnceLock};
 use std::thread::Thread;
 use std::time::Duration;
 
@@ -70,31 +71,6 @@ pub struct Reply<P, E> {
     pub result: Result<Box<P>, E>,
 }
 
-/// A wake-up that the real-time loop requests without a system call and
-/// another thread delivers (module docs).
-#[derive(Debug, Default)]
-pub struct Doorbell {
-    pending: AtomicBool,
-    thread: OnceLock<Thread>,
-}
-
-impl Doorbell {
-    /// Requests a wake-up (one atomic store).
-    pub fn press(&self) {
-        self.pending.store(true, Ordering::Release);
-    }
-
-    /// Wakes the thread if a wake-up was requested since the last call
-    /// (called off the loop, e.g. by the writer thread every tick).
-    pub fn deliver(&self) {
-        if self.pending.swap(false, Ordering::AcqRel)
-            && let Some(t) = self.thread.get()
-        {
-            t.unpark();
-        }
-    }
-}
-
 /// The loop's end of the planner link. Every method is wait-free and
 /// allocation-free.
 pub struct PlannerLink<Req, P, E> {
@@ -119,7 +95,7 @@ impl<Req: Send, P: Send, E: Send> PlannerLink<Req, P, E> {
     /// From now on the planner is woken through `doorbell` (flagged here,
     /// delivered by whoever calls [`Doorbell::deliver`]) instead of at once.
     pub fn wake_through(&mut self, doorbell: Arc<Doorbell>) {
-        let _ = doorbell.thread.set(self.planner.clone());
+        doorbell.attach(self.planner.clone());
         self.doorbell = Some(doorbell);
     }
 
@@ -172,7 +148,7 @@ impl<Req: Send, P: Send, E: Send> PlannerLink<Req, P, E> {
 }
 
 /// Handle of the planner thread: `join` (or drop) stops it and waits.
-pub type PlannerThread = crate::io::worker::StoppableThread;
+pub type PlannerThread = crate::sys::worker::StoppableThread;
 
 /// What [`spawn`] returns: the loop's link and the thread's handle.
 pub type Spawned<Pl> = (
@@ -326,9 +302,9 @@ mod tests {
         // Let the planner park (its first poll finds nothing).
         std::thread::sleep(Duration::from_millis(20));
         let seq = link.submit(3).unwrap();
-        assert!(bell.pending.load(Ordering::Acquire), "flagged, not woken");
+        assert!(bell.pressed(), "flagged, not woken");
         bell.deliver();
-        assert!(!bell.pending.load(Ordering::Acquire));
+        assert!(!bell.pressed());
         let reply = loop {
             if let Some(r) = link.poll() {
                 break r;

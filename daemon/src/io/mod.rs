@@ -1,15 +1,11 @@
-//! Threads off the loop (SPEC §7.2, §7.3): iceoryx2 services and ports, the
-//! writer that publishes what the loop produced, goal traces and
-//! housekeeping.
+//! iceoryx2 and the threads that publish off the loop (SPEC §7.2, §7.3):
+//! services and ports, the writer that publishes what the loop produced,
+//! goal traces.
 //!
 //! - [`ipc`]: iceoryx2 services and ports.
 //! - [`outbox`]: the writer thread: publishes status, answers and events.
 //! - [`tracer`]: goal traces (`gait-trajectory/1`) written off the loop.
-//! - [`housekeeping`]: dead-node cleanup, client bookkeeping, `STATUS=`.
-//! - [`worker`]: a background thread that stops when asked.
 
-pub mod housekeeping;
 pub mod ipc;
 pub mod outbox;
 pub mod tracer;
-pub mod worker;

@@ -34,12 +34,12 @@
 //! If the ring is full (the writer starved for many periods) the loop drops
 //! the message and counts it; it never waits.
 
-use crate::control::handoff::{self, Consumer, Producer};
-use crate::control::planner::Doorbell;
+pub use crate::config::WriterWake;
 use crate::io::ipc::{IpcError, OutPorts, OutServices};
-pub use crate::process::config::WriterWake;
-use crate::realtime::clock::{Clock, MonotonicClock, Nanos, monotonic_now};
-use crate::realtime::runtime::Shared;
+use crate::sys::clock::{Clock, MonotonicClock, Nanos, monotonic_now};
+use crate::sys::doorbell::Doorbell;
+use crate::sys::handoff::{self, Consumer, Producer};
+use crate::sys::shared::Shared;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::update_connections::UpdateConnections;
 use iceoryx2::prelude::*;
@@ -117,7 +117,7 @@ impl Outbox {
 
 /// Handle of the writer thread: `join` (or drop) publishes everything
 /// still queued, then stops it.
-pub type Writer = crate::io::worker::StoppableThread;
+pub type Writer = crate::sys::worker::StoppableThread;
 
 /// How the writer thread runs.
 #[derive(Debug, Clone)]
@@ -132,7 +132,7 @@ pub struct WriterSettings {
     /// busy-wait (`[rt] spin_us`) when they may share a CPU, so the
     /// writer's timer fires when the loop's does, not in the middle of its
     /// spin (where the interrupt would make the loop late); 0 on disjoint
-    /// CPUs ([`DaemonConfig::writer_lead_ns`](crate::process::config::DaemonConfig::writer_lead_ns)).
+    /// CPUs ([`DaemonConfig::writer_lead_ns`](crate::config::DaemonConfig::writer_lead_ns)).
     pub spin: Nanos,
     /// CPUs to pin the writer to (empty: any).
     pub cpus: Vec<u32>,
@@ -165,11 +165,11 @@ pub fn spawn(
     let handle = std::thread::Builder::new()
         .name("gaitd-writer".into())
         .spawn(move || {
-            if let Err(e) = crate::process::rt::pin_current_thread(&cpus) {
+            if let Err(e) = crate::sys::rt::pin_current_thread(&cpus) {
                 tracing::warn!(?cpus, error = %e, "cannot pin the writer thread");
             }
             if wake == WriterWake::Timer {
-                crate::process::rt::precise_timers();
+                crate::sys::rt::precise_timers();
             }
             let ports = match services.ports(&names) {
                 Ok(p) => {

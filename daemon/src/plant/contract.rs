@@ -13,23 +13,16 @@
 //! - a measurement came twice: one with a sequence number already taken.
 //!
 //! Each is counted since start; a run of `plant.max_misses_in_row` ticks in
-//! a row that each missed in some way is a fault (`PlantTiming`), reported
+//! a row (default: [`DEFAULT_MAX_MISSES_IN_ROW`]) that each missed in some
+//! way is a fault (`PlantTiming`), reported
 //! through the plant link like a lost plant. Counting starts with the
 //! plant's first measurement (a plant that has not started misses
 //! nothing). Plain counters, no allocation: it runs on the loop thread.
+//!
+//! [`DEFAULT_MAX_MISSES_IN_ROW`]: crate::config::plant::DEFAULT_MAX_MISSES_IN_ROW
 
 use super::PlantSample;
 use shm_schema::Timing;
-
-/// Default of `plant.max_misses_in_row` (with the default `plant.max_missed`;
-/// unset, it is the larger of this and twice `max_missed`): 20 ticks.
-/// libfranka stops its robot after 20 consecutive lost packets; here a run
-/// needs twice `plant.max_missed` (10) ticks that each missed something —
-/// blind ticks alone are already a lost plant at 10 — so it catches a plant
-/// or a loop that keeps getting its commands late or repeated while
-/// measurements still arrive: 20 ms at 1 kHz, 10 mm of fingertip motion at
-/// 0.5 m/s.
-pub const DEFAULT_MAX_MISSES_IN_ROW: u32 = 20;
 
 /// The counters and the run of misses (module docs).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

@@ -18,8 +18,8 @@
 
 use super::PlantSample;
 use super::wire::{self, finger_commands, object_command};
-use crate::process::config::PlantSection;
-use crate::realtime::clock::Nanos;
+use crate::config::PlantSection;
+use crate::sys::clock::Nanos;
 use gait::executor::FaultKind;
 use gait::planner::Setpoint;
 use gait::sim::Measurement;

@@ -17,7 +17,7 @@ pub mod external;
 pub mod ports;
 pub mod wire;
 
-use crate::realtime::clock::Nanos;
+use crate::sys::clock::Nanos;
 use gait::sim::KinematicHand;
 use shm_schema::PlantMeasurement;
 

@@ -8,7 +8,7 @@
 
 use super::PlantSample;
 use crate::io::ipc::PlantInPorts;
-use crate::realtime::clock::Nanos;
+use crate::sys::clock::Nanos;
 use std::time::Duration;
 
 /// The loop's plant input.

@@ -5,8 +5,8 @@
 //! as `rt.writer_priority` filled in — and a comment on each `[ipc]`
 //! location key saying where its value came from.
 
+use crate::config::DaemonConfig;
 use crate::io::ipc::{Origin, ResolvedIpc};
-use crate::process::config::DaemonConfig;
 
 /// The configuration in effect for `cfg` (loaded from `path`) with its
 /// IPC resolved as `ipc`.

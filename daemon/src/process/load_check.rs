@@ -9,7 +9,7 @@ use gait::config::LoadConfig;
 use gait::grasp::grip::GripModel;
 use nalgebra::Vector3;
 
-use crate::process::config::DaemonConfig;
+use crate::config::DaemonConfig;
 
 /// The load the paper's start grasp (where the embedded hand and
 /// `gaitctl plant sim` start) must hold, at rest.

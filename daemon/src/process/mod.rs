@@ -1,22 +1,18 @@
-//! The process around the loop (SPEC §7.1): configuration, real-time
-//! set-up, systemd notification, signals and logging.
+//! The process around the loop (SPEC §7.1): the start-up that builds and
+//! wires every other part of the daemon, `--check-config`, signals, logging
+//! and housekeeping.
 //!
-//! - [`config`]: the TOML file, every key validated by name.
-//! - [`plant_config`]: `[plant]`, which hand the daemon controls.
+//! - [`startup`]: the start-up steps in their order, and the shut-down.
 //! - [`check`]: what `--check-config` prints: the configuration in effect.
 //! - [`load_check`]: whether the start grasp can hold the load.
-//! - [`rt`]: real-time set-up: SCHED_FIFO, affinity, memory locking.
-//! - [`sd_notify`]: systemd notification (`READY=1`, `WATCHDOG=1`, `STATUS=`).
+//! - [`housekeeping`]: dead-node cleanup, client bookkeeping, `STATUS=`,
+//!   rate-limited warnings for what the loop counted.
 //! - [`signals`]: SIGTERM/SIGINT handling.
 //! - [`logging`]: tracing set-up: human or JSON logs.
-//! - [`startup`]: the start-up steps in their order, and the shut-down.
 
 pub mod check;
-pub mod config;
+pub mod housekeeping;
 pub mod load_check;
 pub mod logging;
-pub mod plant_config;
-pub mod rt;
-pub mod sd_notify;
 pub mod signals;
 pub mod startup;

@@ -21,18 +21,21 @@
 //!    housekeeping threads, the loop's ports, the planner, the services,
 //!    the node.
 
+use crate::config::DaemonConfig;
 use crate::control::gait_controller::{GaitController, GaitPlanner};
-use crate::control::planner::{self, Doorbell, PlannerThread};
-use crate::io::housekeeping::{self, Housekeeping, HousekeepingSetup};
+use crate::control::planner::{self, PlannerThread};
 use crate::io::ipc::{self, IpcError};
 use crate::io::outbox::{self, Outbox, Writer, WriterSettings};
 use crate::io::tracer::{self, TraceError, TraceSettings, TraceWriter};
 use crate::plant::external::ExternalPlant;
 use crate::plant::ports::PlantInput;
-use crate::process::config::DaemonConfig;
-use crate::process::{rt, sd_notify, signals};
-use crate::realtime::clock::MonotonicClock;
-use crate::realtime::runtime::{Runtime, Shared};
+use crate::process::housekeeping::{self, Housekeeping, HousekeepingSetup};
+use crate::process::signals;
+use crate::realtime::runtime::Runtime;
+use crate::sys::clock::MonotonicClock;
+use crate::sys::doorbell::Doorbell;
+use crate::sys::shared::Shared;
+use crate::sys::{rt, sd_notify};
 use iceoryx2::config::Config;
 use iceoryx2::node::Node;
 use iceoryx2::port::subscriber::Subscriber;

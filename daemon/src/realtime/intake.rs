@@ -214,8 +214,8 @@ impl Intake {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::control::events::TickEvents;
     use crate::hold::HoldController;
-    use crate::realtime::events::TickEvents;
     use gait::HandConfig;
     use shm_schema::{EventKind, GoalFrame, LimitKind, LimitOrder};
 

@@ -1,19 +1,19 @@
-//! The real-time loop thread (SPEC §6.1, §7.2): injected time, absolute
-//! deadlines, the tick's phases, command intake, events and timing
-//! statistics. Nothing here allocates, blocks or logs once running.
+//! The real-time loop thread (SPEC §6.1, §7.2): absolute deadlines, the
+//! tick's phases, lockstep pacing, command intake and timing statistics.
+//! The loop drives a [`Controller`](crate::control::controller::Controller),
+//! reads an external plant's input and hands its output to the writer
+//! thread. Nothing here allocates, blocks or logs once running.
 //!
-//! - [`clock`]: injected time: the monotonic clock and a mock clock tests step.
 //! - [`ticker`]: absolute-deadline wake-ups; missed periods counted, never burst.
 //! - [`runtime`]: the loop and its phases, shutdown.
+//! - [`lockstep`]: lockstep pacing: a plant's measurements pace the loop.
 //! - [`intake`]: commands in: validation, duplicate ids, answers.
-//! - [`events`]: events out: the per-tick queue of wire events.
 //! - [`stats`]: loop timing: compute time, jitter, overruns.
 //! - [`histogram`]: fixed-size latency histograms.
 
-pub mod clock;
-pub mod events;
 pub mod histogram;
 pub mod intake;
+pub mod lockstep;
 pub mod runtime;
 pub mod stats;
 pub mod ticker;

@@ -9,6 +9,9 @@
 //!    feed the systemd watchdog;
 //! 4. **stats** — record the compute time.
 //!
+//! With a lockstep plant the ticks follow its measurements instead of the
+//! clock ([`lockstep`](super::lockstep)).
+//!
 //! Contract: after construction nothing here allocates, frees, blocks or
 //! logs (proven by `tests/loop_allocations.rs` with a counting allocator,
 //! real iceoryx2 ports and the mock clock). The loop's only iceoryx2 call
@@ -24,22 +27,24 @@
 //! `daemon_state = Stopped` → return; the caller then joins the writer,
 //! which publishes them, and drops the ports.
 
+use crate::config::DaemonConfig;
 use crate::control::controller::{
     ControlOutput, Controller, FingerOutput, GoalReport, TickContext,
 };
 use crate::control::convert::fill_status;
+use crate::control::events::TickEvents;
 use crate::io::ipc::Ipc;
 use crate::io::outbox::{Outbound, Outbox};
 use crate::plant::PlantSample;
 use crate::plant::contract::ContractWatch;
 use crate::plant::ports::PlantInput;
-use crate::process::config::DaemonConfig;
-use crate::process::sd_notify;
-use crate::realtime::clock::{Clock, Nanos};
-use crate::realtime::events::TickEvents;
 use crate::realtime::intake::Intake;
+use crate::realtime::lockstep::{Lockstep, Pass};
 use crate::realtime::stats::LoopStats;
 use crate::realtime::ticker::{Ticker, Wake};
+use crate::sys::clock::{Clock, Nanos};
+use crate::sys::sd_notify;
+use crate::sys::shared::Shared;
 use gait::HandState;
 use iceoryx2::port::subscriber::Subscriber;
 use nalgebra::Vector3;
@@ -48,36 +53,7 @@ use shm_schema::{
     Status,
 };
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
-
-/// Counters shared between the loop and housekeeping (atomics only).
-#[derive(Debug, Default)]
-pub struct Shared {
-    /// Ticks run (loop writes).
-    pub ticks: AtomicU64,
-    /// Missed periods (loop writes).
-    pub overruns: AtomicU64,
-    /// Failed iceoryx2 sends/receives/notifications (loop and writer).
-    pub ipc_errors: AtomicU64,
-    /// Messages the loop dropped because the writer's ring was full.
-    pub outbox_dropped: AtomicU64,
-    /// Events lost because more than `EVENTS_PER_TICK` happened in a tick.
-    pub events_dropped: AtomicU64,
-    /// Client nodes alive (housekeeping writes).
-    pub clients: AtomicU32,
-    /// The loop's next deadline \[ns\] (loop writes; the writer thread sleeps
-    /// until it). 0 before the first tick.
-    pub next_deadline: AtomicU64,
-    /// Deadline of the last tick whose output is queued (loop writes).
-    pub done_deadline: AtomicU64,
-    /// Messages the loop queued for the writer so far (loop writes, once
-    /// per tick).
-    pub queued: AtomicU64,
-    /// Messages the writer took from the ring so far (writer writes).
-    pub published: AtomicU64,
-    /// Dead nodes cleaned up since start (housekeeping writes).
-    pub cleaned: AtomicU64,
-}
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The loop's settings, from the config.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -154,49 +130,14 @@ pub struct Runtime<C: Controller, K: Clock> {
     shared: Arc<Shared>,
     /// An external plant's input (`[plant] kind = "shm"`).
     plant: Option<PlantInput>,
-    /// Lockstep: the plant paces the loop; how long to wait for it.
-    lockstep: Option<Nanos>,
-    /// Lockstep: how long commands wait for the plant's first measurement
-    /// before the loop answers them itself (`plant.connect_timeout_ms`).
-    connect_timeout: Nanos,
+    /// Lockstep: the plant paces the loop ([`lockstep`](super::lockstep)).
+    lockstep: Option<Lockstep>,
     /// Time of the last tick (`Wake::now`: in lockstep the plant's).
     last_time: Nanos,
-    /// Sequence number of the last plant measurement a tick ran on.
-    plant_seq: u64,
     /// The timing contract with an external plant (counted from its first
     /// measurement).
     contract: ContractWatch,
-    /// Lockstep: when the plant last made progress, the next heartbeat,
-    /// whether its timeout was reported.
-    pace: LockstepPace,
 }
-
-/// The lockstep loop's state between passes.
-#[derive(Debug, Clone, Copy, Default)]
-struct LockstepPace {
-    /// When the lockstep loop started (wall clock).
-    started: Nanos,
-    last_progress: Nanos,
-    next_beat: Nanos,
-    timed_out: bool,
-    /// A measurement held while the controller waits for a plan
-    /// ([`Controller::awaits_plan`]).
-    held: Option<Held>,
-}
-
-/// A lockstep measurement held for a plan.
-#[derive(Debug, Clone, Copy)]
-struct Held {
-    sample: PlantSample,
-    /// When it was first held (wall clock).
-    since: Nanos,
-    /// Passes that waited on it.
-    passes: u64,
-}
-
-/// How long a lockstep tick is held for a plan before it runs without it
-/// (the plan then arrives at a later tick, as in real time) \[ns\].
-const LOCKSTEP_PLAN_WAIT: Nanos = 10_000_000_000;
 
 impl ControlOutput {
     /// A still hand at `hand`, before the controller's first tick.
@@ -254,15 +195,15 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             watchdog: None,
             shared,
             plant: None,
-            lockstep: cfg
-                .plant
-                .lockstep()
-                .then(|| u64::from(cfg.plant.lockstep_timeout_ms) * 1_000_000),
-            connect_timeout: u64::from(cfg.plant.connect_timeout_ms) * 1_000_000,
+            lockstep: cfg.plant.lockstep().then(|| {
+                Lockstep::new(
+                    u64::from(cfg.plant.lockstep_timeout_ms) * 1_000_000,
+                    u64::from(cfg.plant.connect_timeout_ms) * 1_000_000,
+                    settings.period,
+                )
+            }),
             last_time: 0,
-            plant_seq: 0,
             contract: ContractWatch::new(cfg.plant.misses_in_row_limit()),
-            pace: LockstepPace::default(),
         }
     }
 
@@ -371,38 +312,30 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         }
     }
 
-    /// The lockstep loop (PLANT-GUIDE.md): a tick runs only on a new plant
-    /// measurement, with now = its plant time. While none comes the loop
-    /// waits (at most a period at a time, so the stop flag and a heartbeat
-    /// status — the last one, published again — keep going); after
-    /// `plant.lockstep_timeout_ms` without one, one tick runs to fault
-    /// (`PlantLost`) and the wait goes on. Commands are handled on the
-    /// plant's ticks; while the plant is absent (lost, or no first
-    /// measurement within `plant.connect_timeout_ms`) the loop answers them
-    /// itself every period, at the last plant time and tick: time stays
-    /// the plant's.
+    /// The lockstep loop ([`lockstep`](super::lockstep)): passes of
+    /// [`Runtime::lockstep_once`] until `stop` is set.
     fn run_lockstep(&mut self, stop: &AtomicBool) {
         let now = self.clock.now();
-        self.pace = LockstepPace {
-            started: now,
-            last_progress: now,
-            next_beat: now + self.settings.period,
-            timed_out: false,
-            held: None,
-        };
+        if let Some(l) = self.lockstep.as_mut() {
+            l.start(now);
+        }
         while !stop.load(Ordering::Acquire) {
             self.lockstep_once();
         }
     }
 
-    /// One pass of the lockstep loop ([`Runtime::run`]): waits at most a
-    /// period for the plant, then runs a tick on a new measurement (or on
-    /// the timeout, once, to fault), or publishes a heartbeat. While the
-    /// controller awaits a plan ([`Controller::awaits_plan`]) the new
-    /// measurement is held and the loop beats instead, for at most 10 s
-    /// (then the tick runs without the plan). Returns whether a tick ran.
+    /// One pass of the lockstep loop ([`lockstep`](super::lockstep)):
+    /// waits at most a period for the plant, then runs a tick on a new
+    /// measurement (or on the timeout, once, to fault), or publishes a
+    /// heartbeat. While the controller awaits a plan
+    /// ([`Controller::awaits_plan`]) the new measurement is held and the
+    /// loop beats instead, for at most [`PLAN_WAIT`](super::lockstep::PLAN_WAIT)
+    /// (then the tick runs without the plan). Returns whether a tick ran
+    /// (never without lockstep).
     pub fn lockstep_once(&mut self) -> bool {
-        let timeout = self.lockstep.unwrap_or(u64::MAX);
+        if self.lockstep.is_none() {
+            return false;
+        }
         let period = self.settings.period;
         if let Some(p) = self.plant.as_mut() {
             p.wait(std::time::Duration::from_nanos(period));
@@ -413,81 +346,45 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             .as_mut()
             .map(|p| p.drain(now))
             .unwrap_or_default();
-        if let Some(m) = sample.newest.filter(|m| m.seq != self.plant_seq) {
-            self.plant_seq = m.seq;
-            self.pace.last_progress = now;
-            self.pace.timed_out = false;
-            self.pace.held = Some(match self.pace.held {
-                // (A plant that sent again meanwhile: its newest counts.)
-                Some(h) => Held {
-                    sample: PlantSample {
-                        received: h.sample.received.saturating_add(sample.received),
-                        ..sample
-                    },
-                    ..h
-                },
-                None => Held {
-                    sample,
-                    since: now,
-                    passes: 0,
-                },
-            });
-        }
-        if let Some(held) = self.pace.held.as_mut() {
-            let waited = now.saturating_sub(held.since);
-            if self.controller.awaits_plan() && waited < LOCKSTEP_PLAN_WAIT {
-                // Waiting for the planner, not for the plant.
-                held.passes += 1;
-                self.pace.last_progress = now;
-                if now >= self.pace.next_beat {
-                    self.pace.next_beat = now + period;
-                    self.heartbeat(now);
-                }
-                return false;
-            }
-            let held = *held;
-            self.pace.held = None;
-            if held.passes > 0 {
-                self.stats.record_plan_wait(waited);
-            }
-            // The plant's clock is the daemon's clock.
-            let t = held
-                .sample
-                .newest
-                .map_or(self.status.time_ns + period, |m| m.time_ns);
-            self.step_with(t, &held.sample);
-            self.pace.next_beat = self.clock.now() + period;
-            true
-        } else if self.plant_seq != 0
-            && !self.pace.timed_out
-            && now.saturating_sub(self.pace.last_progress) > timeout
-        {
-            self.pace.timed_out = true;
-            let lost = PlantSample {
-                timed_out: true,
-                ..PlantSample::default()
-            };
-            let t = self.last_time + period;
-            self.step_with(t, &lost);
-            self.pace.next_beat = now + period;
-            true
-        } else {
-            if now >= self.pace.next_beat {
-                self.pace.next_beat = now + period;
-                let absent = if self.plant_seq == 0 {
-                    now.saturating_sub(self.pace.started) > self.connect_timeout
-                } else {
-                    self.pace.timed_out
-                };
-                if absent {
+        let awaits_plan = self.controller.awaits_plan();
+        let Some(pace) = self.lockstep.as_mut() else {
+            return false;
+        };
+        match pace.pass(now, sample, awaits_plan) {
+            Pass::Wait => false,
+            Pass::Beat { answer } => {
+                if answer {
                     // No plant to tick with: commands are answered at the
                     // last plant time (the controller is in its fault).
                     self.drain_commands(self.last_time);
                     self.publish_events(self.last_time);
                 }
                 self.heartbeat(now);
+                false
             }
-            false
+            Pass::Tick { sample, plan_wait } => {
+                if let Some(waited) = plan_wait {
+                    self.stats.record_plan_wait(waited);
+                }
+                // The plant's clock is the daemon's clock.
+                let t = sample
+                    .newest
+                    .map_or(self.status.time_ns + period, |m| m.time_ns);
+                self.step_with(t, &sample);
+                let end = self.clock.now();
+                if let Some(l) = self.lockstep.as_mut() {
+                    l.ticked(end);
+                }
+                true
+            }
+            Pass::Lost => {
+                let lost = PlantSample {
+                    timed_out: true,
+                    ..PlantSample::default()
+                };
+                self.step_with(self.last_time + period, &lost);
+                true
+            }
         }
     }
 

@@ -3,8 +3,8 @@
 //! [`Timing`] block. Percentiles are recomputed every
 //! [`TIMING_REFRESH_TICKS`] ticks (a bucket scan), the rest every tick.
 
-use crate::realtime::clock::Nanos;
 use crate::realtime::histogram::Histogram;
+use crate::sys::clock::Nanos;
 use shm_schema::Timing;
 use shm_schema::status::{JITTER_BUCKETS, TIMING_REFRESH_TICKS, jitter_bucket};
 

@@ -7,7 +7,7 @@
 //! runs once for the latest passed deadline and reports the skipped ones as
 //! missed: it never runs a burst of ticks to catch up.
 
-use crate::realtime::clock::{Clock, Nanos};
+use crate::sys::clock::{Clock, Nanos};
 
 /// One wake-up of the loop.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -120,7 +120,7 @@ impl Ticker {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::realtime::clock::MockClock;
+    use crate::sys::clock::MockClock;
     use rand::{Rng, SeedableRng};
 
     #[test]

@@ -99,7 +99,7 @@ impl Controller for HoldController {
 mod tests {
     use super::*;
     use gaitd::control::controller::{ClientTarget, Goal};
-    use gaitd::realtime::events::TickEvents;
+    use gaitd::control::events::TickEvents;
     use nalgebra::UnitQuaternion;
 
     #[test]

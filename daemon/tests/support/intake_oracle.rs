@@ -13,11 +13,11 @@
 #![allow(dead_code)]
 
 use gait::config::LimitsConfig;
+use gaitd::config::DaemonConfig;
 use gaitd::control::controller::{
     ClientTarget, ControlCommand, ControlOutput, Controller, TickContext,
 };
-use gaitd::process::config::DaemonConfig;
-use gaitd::realtime::events::TickEvents;
+use gaitd::control::events::TickEvents;
 use gaitd::realtime::intake::Intake;
 use shm_schema::{Answer, Command, CommandKind, GoalFrame, ReasonCode, Verdict};
 use std::collections::VecDeque;

@@ -6,10 +6,10 @@
 
 #![allow(dead_code)]
 
+use gaitd::config::DaemonConfig;
 use gaitd::io::ipc::{self, Ipc};
 use gaitd::io::outbox;
-use gaitd::process::config::DaemonConfig;
-use gaitd::realtime::runtime::Shared;
+use gaitd::sys::shared::Shared;
 use iceoryx2::port::listener::Listener;
 use iceoryx2::port::publisher::Publisher;
 use iceoryx2::port::subscriber::Subscriber;
@@ -254,9 +254,9 @@ pub fn let_writer_catch_up(shared: &Shared) {
 pub struct GaitLoop {
     pub rt: gaitd::realtime::runtime::Runtime<
         gaitd::control::gait_controller::GaitController,
-        gaitd::realtime::clock::MockClock,
+        gaitd::sys::clock::MockClock,
     >,
-    pub clock: gaitd::realtime::clock::MockClock,
+    pub clock: gaitd::sys::clock::MockClock,
     pub client: TestClient,
     pub shared: Arc<Shared>,
     writer: outbox::Writer,
@@ -319,7 +319,7 @@ where
         }
     };
     setup(&mut controller);
-    let clock = gaitd::realtime::clock::MockClock::new(0);
+    let clock = gaitd::sys::clock::MockClock::new(0);
     let mut rt = gaitd::realtime::runtime::Runtime::new(
         commands,
         outbox,

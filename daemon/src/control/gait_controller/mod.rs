@@ -29,7 +29,7 @@ use crate::control::planner::{BackgroundPlanner, PlannerLink, Wanted};
 use crate::io::tracer::{PlanNote, PlanNotes, TraceRecorder};
 use crate::plant::external::ExternalPlant;
 use crate::plant::{Hand, PlantSample};
-use crate::realtime::clock::Nanos;
+use crate::sys::clock::Nanos;
 use codes::reason_code;
 use gait::executor::TickReport;
 use gait::executor::feedback::NOT_A_FINGER;

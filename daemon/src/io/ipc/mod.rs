@@ -20,7 +20,7 @@ mod resolve;
 
 pub use resolve::{IpcOrigins, Origin, ResolvedIpc, resolve, resolve_explained};
 
-use crate::process::config::DaemonConfig;
+use crate::config::DaemonConfig;
 use iceoryx2::config::Config;
 use iceoryx2::node::NodeBuilder;
 use iceoryx2::port::listener::Listener;

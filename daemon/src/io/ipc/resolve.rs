@@ -4,7 +4,7 @@
 //! from for `gaitd --check-config`.
 
 use super::IpcError;
-use crate::process::config::IpcSection;
+use crate::config::IpcSection;
 use iceoryx2::config::Config;
 use iceoryx2::prelude::*;
 use shm_schema::ipc::{

@@ -40,7 +40,7 @@ pub use gait::trace::Sample;
 pub use recorder::TraceRecorder;
 pub use writer::TraceSink;
 
-use crate::control::handoff;
+use crate::sys::handoff;
 use gait::HandConfig;
 use gait::executor::GoalTarget;
 pub use plan_notes::{PlanNote, PlanNotes};
@@ -128,7 +128,7 @@ pub struct TraceSettings {
 
 /// Handle of the trace thread: `join` (or drop) writes everything still
 /// queued (an unfinished trace is closed as incomplete), then stops it.
-pub type TraceWriter = crate::io::worker::StoppableThread;
+pub type TraceWriter = crate::sys::worker::StoppableThread;
 
 /// Starts the `gaitd-trace` thread with a ring of `capacity` samples.
 pub fn spawn(
@@ -153,7 +153,7 @@ pub fn spawn(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::control::handoff::Consumer;
+    use crate::sys::handoff::Consumer;
     use gait::HandState;
     use std::path::Path;
     use std::sync::atomic::Ordering;

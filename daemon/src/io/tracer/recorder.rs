@@ -4,7 +4,7 @@
 //! a trace is never left open by a full ring.
 
 use super::{TraceCounters, TraceMsg};
-use crate::control::handoff::Producer;
+use crate::sys::handoff::Producer;
 use gait::executor::GoalTarget;
 use gait::trace::Sample;
 use shm_schema::{GoalState, ReasonCode};

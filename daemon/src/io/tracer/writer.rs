@@ -5,7 +5,7 @@
 
 use super::format::{HeaderFacts, header_extra, part_path, trace_path};
 use super::{TraceCounters, TraceMsg, TraceSettings, retention};
-use crate::control::handoff::Consumer;
+use crate::sys::handoff::Consumer;
 use gait::executor::GoalTarget;
 use shm_schema::{GoalState, ReasonCode};
 use std::fs::File;
@@ -26,7 +26,7 @@ pub(super) fn run(
     mut rx: Consumer<TraceMsg>,
     stop: &AtomicBool,
 ) {
-    if let Err(e) = crate::process::rt::pin_current_thread(&settings.cpus) {
+    if let Err(e) = crate::sys::rt::pin_current_thread(&settings.cpus) {
         tracing::warn!(cpus = ?settings.cpus, error = %e, "cannot pin the trace thread");
     }
     let mut sink = TraceSink::new(settings, counters);

@@ -14,10 +14,10 @@
 //!
 //! It has its own iceoryx2 node (ports are not shared across threads).
 
+use super::logging::RateLimit;
 use crate::io::ipc::{Ipc, create_node, status_subscriber};
-use crate::process::logging::RateLimit;
-use crate::process::sd_notify;
-use crate::realtime::runtime::Shared;
+use crate::sys::sd_notify;
+use crate::sys::shared::Shared;
 use iceoryx2::config::Config;
 use iceoryx2::identifiers::UniqueNodeId;
 use iceoryx2::node::NodeView;
@@ -54,7 +54,7 @@ pub struct HousekeepingSetup {
 }
 
 /// Handle of the running thread (stops it on `join` or drop).
-pub type Housekeeping = crate::io::worker::StoppableThread;
+pub type Housekeeping = crate::sys::worker::StoppableThread;
 
 /// Starts the thread `gaitd-housekeeping`.
 pub fn spawn(setup: HousekeepingSetup) -> std::io::Result<Housekeeping> {
@@ -67,7 +67,7 @@ pub fn spawn(setup: HousekeepingSetup) -> std::io::Result<Housekeeping> {
 }
 
 fn run(s: HousekeepingSetup, stop: &AtomicBool) {
-    if let Err(e) = crate::process::rt::pin_current_thread(&s.cpus) {
+    if let Err(e) = crate::sys::rt::pin_current_thread(&s.cpus) {
         warn!(cpus = ?s.cpus, error = %e, "cannot pin housekeeping thread");
     }
     let node = match create_node(HOUSEKEEPING_NODE_NAME, &s.config) {
@@ -235,10 +235,7 @@ impl LoadWatch {
             self.armed = false;
             if st.load_margin < 0.0 {
                 let which = "the grasp the hand holds";
-                warn!(
-                    "{}",
-                    crate::process::load_check::warning(which, st.load_grip, load)
-                );
+                warn!("{}", super::load_check::warning(which, st.load_grip, load));
             }
         }
     }

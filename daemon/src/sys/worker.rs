@@ -29,7 +29,7 @@ impl StoppableThread {
         match &self.handle {
             // SAFETY: the handle is live (not joined, not detached).
             Some(h) => unsafe {
-                crate::process::rt::set_thread_fifo_priority(h.as_pthread_t(), priority)
+                crate::sys::rt::set_thread_fifo_priority(h.as_pthread_t(), priority)
             },
             None => Err(std::io::Error::other("thread already stopped")),
         }

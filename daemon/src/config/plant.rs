@@ -1,7 +1,7 @@
 //! `[plant]`: which hand the daemon controls (SPEC §6.2, shm_schema's
 //! `PLANT-GUIDE.md`).
 
-use super::config::{KeyError, int_range as range};
+use super::{KeyError, int_range as range};
 use serde::{Deserialize, Serialize};
 
 /// Where the hand is.
@@ -54,7 +54,7 @@ pub struct PlantSection {
     pub lockstep_timeout_ms: u32,
     /// Ticks in a row that each missed the timing contract before the
     /// fault `PlantTiming`; 0: never. Unset: the larger of
-    /// [`DEFAULT_MAX_MISSES_IN_ROW`](crate::plant::contract::DEFAULT_MAX_MISSES_IN_ROW)
+    /// [`DEFAULT_MAX_MISSES_IN_ROW`]
     /// and twice `max_missed` (a tolerance raised for blind ticks is not
     /// undercut by this one), see [`PlantSection::misses_in_row_limit`].
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -68,6 +68,16 @@ pub struct PlantSection {
 /// times `feedback.finger_tolerance` — so it gives up earlier. One or two
 /// late packets (scheduling on a loaded host) never fault.
 pub const DEFAULT_MAX_MISSED: u32 = 10;
+
+/// Default of `plant.max_misses_in_row` (with the default `plant.max_missed`;
+/// unset, it is the larger of this and twice `max_missed`): 20 ticks.
+/// libfranka stops its robot after 20 consecutive lost packets; here a run
+/// needs twice `plant.max_missed` (10) ticks that each missed something —
+/// blind ticks alone are already a lost plant at 10 — so it catches a plant
+/// or a loop that keeps getting its commands late or repeated while
+/// measurements still arrive: 20 ms at 1 kHz, 10 mm of fingertip motion at
+/// 0.5 m/s.
+pub const DEFAULT_MAX_MISSES_IN_ROW: u32 = 20;
 
 impl Default for PlantSection {
     fn default() -> Self {
@@ -132,10 +142,8 @@ impl PlantSection {
     /// The run of timing-contract misses that faults (`PlantTiming`): the
     /// key, or the larger of 20 and twice `max_missed`.
     pub fn misses_in_row_limit(&self) -> u32 {
-        self.max_misses_in_row.unwrap_or(
-            crate::plant::contract::DEFAULT_MAX_MISSES_IN_ROW
-                .max(self.max_missed.saturating_mul(2)),
-        )
+        self.max_misses_in_row
+            .unwrap_or(DEFAULT_MAX_MISSES_IN_ROW.max(self.max_missed.saturating_mul(2)))
     }
 
     /// Whether the hand is outside the daemon.
@@ -152,7 +160,7 @@ impl PlantSection {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::process::config::DaemonConfig;
+    use crate::config::DaemonConfig;
 
     fn load(text: &str) -> Result<DaemonConfig, String> {
         DaemonConfig::from_toml(text, "x.toml").map_err(|e| e.to_string())

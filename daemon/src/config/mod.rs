@@ -1,10 +1,16 @@
 //! Daemon configuration file (SPEC.md §7.1): TOML with the model sections of
-//! [`gait::HandConfig`] (`[model]`, `[load]`, `[limits]`) plus `[control]`.
-//! Every key is validated at start; errors name the key.
+//! [`gait::HandConfig`] (`[model]`, `[load]`, `[limits]`, `[planner]`,
+//! `[feedback]`) and the daemon's own `[control]`, `[daemon]`, `[ipc]`,
+//! `[rt]` and `[plant]` (in [`plant`]: which hand the daemon controls).
+//! Every key is validated at start; errors name the key. Plain settings:
+//! every part of the daemon reads them, and this module uses none of
+//! those parts.
 
-pub use super::plant_config::{PlantKind, PlantSection, PlantTiming};
+pub mod plant;
+
 use gait::config::{FeedbackConfig, LimitsConfig, LoadConfig, ModelConfig, PlannerConfig};
 use gait::{ConfigError, HandConfig};
+pub use plant::{PlantKind, PlantSection, PlantTiming};
 use serde::{Deserialize, Serialize};
 
 /// Default path of the service's configuration file.

@@ -14,7 +14,8 @@
 //!   capsules ([`crate::capsule`]).
 //!
 //! The description holds `Vec`s (it is built once); [`crate::Chain`] is
-//! its fixed-size, per-tick form.
+//! its fixed-size, per-tick form. The walk through the URDF tree is in
+//! the private `urdf_chain` submodule.
 
 use nalgebra::{Unit, Vector3};
 use urdf_rs::Robot;
@@ -23,7 +24,10 @@ use crate::capsule::LinkCapsule;
 use crate::error::DescriptionError;
 use crate::frame::Frame;
 use crate::section::HandSection;
-use crate::urdf_chain::{Tree, finger};
+
+mod urdf_chain;
+
+use urdf_chain::{Tree, finger};
 
 /// A joint's limits as the URDF gives them (SPEC §14.1).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,6 +1,8 @@
-//! Fixed-capacity queue of the events produced during one tick; published
-//! and cleared by the loop's postprocess phase. Never allocates after
-//! construction; overflow is counted, not hidden.
+//! Fixed-capacity queue of the events produced during one tick: the
+//! controller pushes them through its
+//! [`TickContext`](super::controller::TickContext), the loop's postprocess
+//! phase publishes and clears them. Never allocates after construction;
+//! overflow is counted, not hidden.
 
 use shm_schema::{Event, EventKind, FaultCode, GoalState, NO_FINGER, ReasonCode};
 

@@ -1,4 +1,4 @@
-//! From the URDF tree to one finger's chain (used by [`crate::description`]).
+//! From the URDF tree to one finger's chain (used by [`super`]).
 //!
 //! Walks from the tip link up to the base link (the joints between them,
 //! fixed ones folded into the next revolute joint's origin), from the base
@@ -12,10 +12,11 @@ use nalgebra::{Unit, Vector3};
 use urdf_rs::{Geometry, JointType, Robot};
 
 use crate::capsule::{Capsule, LinkCapsule};
-use crate::description::{Body, FingerDescription, JointDescription, JointLimits};
 use crate::error::DescriptionError;
 use crate::frame::Frame;
 use crate::section::FingerSection;
+
+use super::{Body, FingerDescription, JointDescription, JointLimits};
 
 /// The URDF's tree by name.
 pub(crate) struct Tree<'a> {
