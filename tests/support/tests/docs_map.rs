@@ -24,6 +24,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use test_support::repo::root;
+
 /// The map pages at the repository's root.
 const MAPS: [&str; 2] = ["ARCHITECTURE.md", "TESTING.md"];
 /// The design pages.
@@ -32,18 +34,6 @@ const DESIGN: &str = "docs/design";
 const DESIGN_INDEX: &str = "docs/design/README.md";
 /// Files a citation or an item may be in.
 const TEXT: [&str; 8] = ["rs", "md", "py", "toml", "service", "sh", "yml", "json"];
-
-fn root() -> PathBuf {
-    // At run time first: with a target directory shared between checkouts
-    // the compile-time value may be another checkout's.
-    let crate_dir = std::env::var_os("CARGO_MANIFEST_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")));
-    crate_dir
-        .join("../..")
-        .canonicalize()
-        .expect("the repository root (tests/support/../..)")
-}
 
 /// Directories never walked: build output, VCS data, local environments,
 /// the Python tools' caches.

@@ -20,7 +20,9 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
+
+use test_support::repo::root;
 
 /// Crates (source directories) whose module graph must be acyclic.
 const ACYCLIC: [&str; 6] = [
@@ -50,18 +52,6 @@ const KNOWN_CYCLES: [(&str, &[&str]); 2] = [
     ),
     ("client/src", &["error", "remote"]),
 ];
-
-fn root() -> PathBuf {
-    // At run time first: with a target directory shared between checkouts
-    // the compile-time value may be another checkout's.
-    let crate_dir = std::env::var_os("CARGO_MANIFEST_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")));
-    crate_dir
-        .join("../..")
-        .canonicalize()
-        .expect("the repository root (tests/support/../..)")
-}
 
 /// Every `.rs` file under `dir`, as its module path (`["planner",
 /// "search"]` for `planner/search/mod.rs`), with its text. The crate root
