@@ -8,7 +8,7 @@ PLANT-GUIDE.md gives the daemon's, runs the example plant
 separate process, and plays the daemon's part by hand: it checks the
 plant's numbering, echo and timing, and sends it good, bad and stale
 commands. Prints one JSON object ``{"checks": {name: {"ok", "detail"}}}``
-(``tests/tests/python_plant.rs`` asserts every check).
+(``tests/tests/python_plant_protocol.rs`` asserts every check).
 
 Usage: plant_protocol.py --dir D --prefix P --root R --file-prefix F [--mutate NAME]
 
