@@ -208,7 +208,7 @@ code_enum! {
         DuplicateGoalId = 12,
         /// A limit override exceeds the configured limit.
         LimitAboveConfigured = 13,
-        /// The planner cannot take the goal now (its request queue is full, or this controller has no planner).
+        /// The planner could not take the goal (its request queue was full): the accepted goal is Aborted with this reason.
         PlannerUnavailable = 14,
         /// The controller is in a fault; send Reset first.
         Faulted = 15,
@@ -360,11 +360,11 @@ code_enum! {
         StuckFinger = 7,
         /// A NaN or infinite value appeared in the state.
         NonFiniteState = 8,
-        /// No fresh measurement from the plant for more than `plant.max_missed` ticks (it stopped, stalled or vanished).
+        /// No fresh measurement from the plant for more than `plant.max_missed` ticks (real time: or none that arrived within `plant.stale_after_ms`; lockstep: none within `plant.lockstep_timeout_ms`), or one that echoes a command more than `plant.max_missed` behind: it stopped, stalled or vanished.
         PlantLost = 9,
         /// The plant sent an invalid measurement: a bad code, a missing required field, a non-finite number or a non-unit quaternion.
         PlantInvalid = 10,
-        /// The plant's measurements went backwards or echoed another daemon session.
+        /// The plant's measurements went backwards (`seq` 0 or below the last, `time_ns` not after the last), echoed another daemon session, or echoed a command never sent.
         PlantSequence = 11,
         /// The plant reports a fault of its own (the event's `count` holds its `PlantFault` code).
         PlantFault = 12,
@@ -392,7 +392,7 @@ code_enum! {
         Substitution = 5,
         /// A finger rewind gait completed (paper §2.1): one or both fingers of the grasping pair were moved back into their workspace with the third finger's help (`finger` = that helper, free again; `count` = the relocated fingers as bits, bit k for finger k). Its substitutions were reported before it.
         Rewind = 6,
-        /// A fault was detected (`fault`).
+        /// A fault was detected (`fault`; `finger` is none, also for `StuckFinger`; with `PlantFault`, `count` = the plant's `PlantFault` code).
         Fault = 7,
         /// The fault was cleared by a reset.
         FaultCleared = 8,

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """A complete gaitd plant: an exact kinematic hand.
 
-The fingertips are exactly where they are commanded, and the object turns
-with the grasp: while at least two fingers grasp it, it takes the commanded
-orientation. Run it against a daemon with ``[plant] kind = "shm"``:
+The fingertips are exactly where they are commanded; the object turns only
+as the grasping fingertips roll it (it never copies the commanded one, which
+would hide every tracking error). Run it against a daemon with ``[plant] kind = "shm"``:
 
     python kinematic_hand.py --config gaitd.toml [--timing lockstep|realtime]
 """
@@ -11,23 +11,24 @@ orientation. Run it against a daemon with ``[plant] kind = "shm"``:
 import argparse
 import math
 
-from gaitd import config, hand
+from gaitd import config, hand, quat
 from gaitd.plant import Plant
-from gaitd.schema import PlantFingerMode
 from gaitd.setpoint import FingerMeasured, Measured
 
 
 class KinematicHand(Plant):
     simulated = True  # no hardware: the plant's clock is simulated time
+    object_q = quat.IDENTITY  # where the start grasp holds the object
 
     def initial_setpoint(self):
         return hand.paper_start(self.config.model, grips=(1.0, 1.0, 1.0))
 
     def apply(self, setpoint):
         self.setpoint = setpoint
-        grasping = sum(f.mode == PlantFingerMode.Grasping for f in setpoint.fingers)
-        if grasping >= 2 or not hasattr(self, "object_q"):
-            self.object_q = setpoint.object_q
+
+    def step(self, dt):
+        w = hand.object_rate(self.config.model, self.setpoint)  # rolling without slipping
+        self.object_q = quat.normalize(quat.mul(quat.from_rotvec([c * dt for c in w]), self.object_q))
 
     def measure(self):
         m = self.config.model

@@ -131,7 +131,10 @@ class GoalStatus(Payload):
         ("state", u32),
         # ReasonCode: reason (terminal states)
         ("reason", u32),
-        # rad: angle still to rotate
+        # rad: rotation still to make: while the plan runs (also braking to a stop), the plan's remaining path length,
+        # the sum of its rotation angles left (a full turn counts 2π; more than the angle to the goal when the plan
+        # detours); before it runs: an AxisAngle goal's angle (absolute value), else the angle from the commanded
+        # orientation to the target; 0 without an active goal
         ("remaining_angle", f64),
         # s: estimated time to completion, -1 = unknown
         ("eta", f64),
@@ -165,11 +168,12 @@ class FingerStatus(Payload):
         ("commanded_tip_orientation", f64 * 4),
         # unit vector: contact on the fingertip m, fingertip frame (0 if no contact)
         ("tip_contact", f64 * 3),
-        # rad: roll τ about the pole axis
+        # rad: commanded roll τ about the pole axis Q_f e_z (τ̇ = ω_f · Q_f e_z, 0 in the start grasp)
         ("roll", f64),
         # rad: angle to the workspace cone boundary, > 0 inside
         ("workspace_margin", f64),
-        # N: intended normal force, 0 if none
+        # N: intended normal force (the plant command's `grip_force`): this finger's share of the current load (weight,
+        # acceleration torque) plus the squeeze that holds every disturbance; 0 if it carries nothing
         ("commanded_normal_force", f64),
         # m: measured fingertip centre, hand frame (mask bit TIPS)
         ("measured_tip_position", f64 * 3),
@@ -231,8 +235,8 @@ class Status(Payload):
     _fields_ = [
         # tick: tick counter since start
         ("tick", u64),
-        # ns: time of this tick: CLOCK_MONOTONIC wake-up; in lockstep the plant's time (one clock per run; 0 before the
-        # plant's first measurement)
+        # ns: time of this tick: real time, its CLOCK_MONOTONIC wake-up; lockstep, the plant's `time_ns` of the
+        # measurement it ran on (one clock per run; 0 before the plant's first measurement)
         ("time_ns", u64),
         # ns: CLOCK_MONOTONIC time just before publishing
         ("publish_time_ns", u64),
@@ -248,7 +252,9 @@ class Status(Payload):
         ("grasp", u32),
         # rad: force-closure margin, 0 when unknown
         ("grasp_margin", f64),
-        # N: largest normal force the grasp needs to hold the load (F*, SPEC §1.3 I1'); +inf when none does
+        # N: largest normal force a carrying finger needs, at the commanded squeeze, over every load scenario: weight,
+        # acceleration torque and any disturbance of the configured size (F*, SPEC §1.3 I1'); no finger's
+        # `commanded_normal_force` exceeds it; +inf when no grip holds the load
         ("load_grip", f64),
         # N: load.max_grip − load_grip; negative when the grasp cannot hold the load
         ("load_margin", f64),
@@ -263,7 +269,8 @@ class Status(Payload):
         ("object_error", f64),
         # tick: tick the measurement was read at, 0 = none yet
         ("measured_tick", u64),
-        # bits: valid measured fields: 1 OBJECT, 2 TIPS, 4 CONTACTS, 8 FORCES
+        # bits: valid measured fields: 1 OBJECT, 2 TIPS, 4 CONTACTS, 8 FORCES (a plant that reports normal forces); 0
+        # before the first measurement; the embedded hand: 7
         ("measured_mask", u32),
         # commands: commands sent after the one the measurement answers: the errors compare with the setpoint of tick
         # measured_tick − 1 − measured_age
@@ -300,7 +307,7 @@ class Event(Payload):
         ("instance", u64),
         # EventKind: what happened
         ("kind", u32),
-        # index: finger 0-2, 0xFFFFFFFF = none
+        # index: finger 0-2, 0xFFFFFFFF = none (EventKind says which kinds name one; Fault never does)
         ("finger", u32),
         # GoalState: new goal state (transitions)
         ("state", u32),
@@ -315,9 +322,9 @@ class Event(Payload):
         # padding, 0
         ("reserved", u32),
         # Overrun: missed periods; ClientsCleaned: nodes; Drift, NearLimit: replans so far; Substitution: finger that
-        # took over, as a bit; Rewind: relocated fingers as bits
+        # took over, as a bit; Rewind: relocated fingers as bits; Fault `PlantFault`: the plant's `PlantFault` code
         ("count", u64),
-        # GoalTransition: remaining angle [rad]
+        # GoalTransition: `GoalStatus.remaining_angle` as last reported [rad] (0 for Rejected)
         ("value", f64),
     ]
 
@@ -333,7 +340,7 @@ class PlantFingerCommand(Payload):
         ("reserved", u32),
         # m: fingertip centre, hand frame
         ("position", f64 * 3),
-        # [w,x,y,z]: fingertip orientation, fingertip → hand
+        # [w,x,y,z]: fingertip orientation Q_f, fingertip → hand; pole axis Q_f e_z
         ("orientation", f64 * 4),
         # m/s: linear velocity, hand frame
         ("velocity", f64 * 3),
@@ -341,7 +348,7 @@ class PlantFingerCommand(Payload):
         ("angular_velocity", f64 * 3),
         # m/s²: linear acceleration feed-forward, hand frame
         ("acceleration", f64 * 3),
-        # rad: commanded roll τ about the pole axis
+        # rad: commanded roll τ about the pole axis (τ̇ = ω_f · Q_f e_z, 0 in the start grasp)
         ("roll", f64),
         # N: intended normal force, 0 when not grasping
         ("grip_force", f64),
@@ -363,11 +370,13 @@ class PlantCommand(Payload):
         ("target_time_ns", u64),
         # ns: control period
         ("period_ns", u64),
-        # bits: 1 ENABLE, 2 HOLD (safe hold: still, grasp kept), 4 LOCKSTEP
+        # bits: 1 ENABLE (without it: move nothing, still echo the command), 2 HOLD (safe hold: still, grasp kept), 4
+        # LOCKSTEP
         ("flags", u32),
         # padding, 0
         ("reserved", u32),
-        # [w,x,y,z]: object orientation setpoint, object → hand
+        # [w,x,y,z]: object orientation setpoint, object → hand: what the controller wants, never to be copied into a
+        # measurement
         ("object_q", f64 * 4),
         # rad/s: object angular velocity setpoint, hand frame
         ("object_omega", f64 * 3),
@@ -393,7 +402,7 @@ class PlantFingerMeasurement(Payload):
         ("velocity", f64 * 3),
         # rad/s: angular velocity, hand frame
         ("angular_velocity", f64 * 3),
-        # rad: roll τ about the pole axis
+        # rad: roll τ about the pole axis, as the command's
         ("roll", f64),
         # N: normal force at the contact
         ("normal_force", f64),
@@ -407,11 +416,11 @@ class PlantMeasurement(Payload):
     _fields_ = [
         # session of the last command applied, 0 = none yet
         ("session", u64),
-        # measurement sequence number, from 1, +1 each
+        # measurement sequence number, from 1, +1 each (the daemon takes any increase)
         ("seq", u64),
         # seq of the last command applied, 0 = none
         ("applied", u64),
-        # ns: sample time, plant clock
+        # ns: sample time, plant clock: later than the last within a plant run
         ("time_ns", u64),
         # bits: valid fields: 1 object_q, 2 object_omega, 4 object_center, 8 tip pose, 16 tip velocity, 32 contact, 64
         # normal_force, 128 roll (required: 1, 8, 32, 128)
@@ -551,7 +560,7 @@ class ReasonCode(enum.IntEnum):
     DuplicateGoalId = 12
     #: A limit override exceeds the configured limit.
     LimitAboveConfigured = 13
-    #: The planner cannot take the goal now (its request queue is full, or this controller has no planner).
+    #: The planner could not take the goal (its request queue was full): the accepted goal is Aborted with this reason.
     PlannerUnavailable = 14
     #: The controller is in a fault; send Reset first.
     Faulted = 15
@@ -670,12 +679,15 @@ class FaultCode(enum.IntEnum):
     StuckFinger = 7
     #: A NaN or infinite value appeared in the state.
     NonFiniteState = 8
-    #: No fresh measurement from the plant for more than `plant.max_missed` ticks (it stopped, stalled or vanished).
+    #: No fresh measurement from the plant for more than `plant.max_missed` ticks (real time: or none that arrived
+    #: within `plant.stale_after_ms`; lockstep: none within `plant.lockstep_timeout_ms`), or one that echoes a command
+    #: more than `plant.max_missed` behind: it stopped, stalled or vanished.
     PlantLost = 9
     #: The plant sent an invalid measurement: a bad code, a missing required field, a non-finite number or a non-unit
     #: quaternion.
     PlantInvalid = 10
-    #: The plant's measurements went backwards or echoed another daemon session.
+    #: The plant's measurements went backwards (`seq` 0 or below the last, `time_ns` not after the last), echoed another
+    #: daemon session, or echoed a command never sent.
     PlantSequence = 11
     #: The plant reports a fault of its own (the event's `count` holds its `PlantFault` code).
     PlantFault = 12
@@ -706,7 +718,8 @@ class EventKind(enum.IntEnum):
     #: workspace with the third finger's help (`finger` = that helper, free again; `count` = the relocated fingers as
     #: bits, bit k for finger k). Its substitutions were reported before it.
     Rewind = 6
-    #: A fault was detected (`fault`).
+    #: A fault was detected (`fault`; `finger` is none, also for `StuckFinger`; with `PlantFault`, `count` = the plant's
+    #: `PlantFault` code).
     Fault = 7
     #: The fault was cleared by a reset.
     FaultCleared = 8

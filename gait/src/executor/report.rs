@@ -17,7 +17,9 @@ pub struct TickReport {
     pub step_kind: Option<StepKind>,
     /// Active or last goal: id, state, reason.
     pub goal: Option<(u64, GoalStage, Reason)>,
-    /// Angle between the object and the goal \[rad\].
+    /// Rotation still to make \[rad\]: while the plan runs, its remaining
+    /// path length (the rotation angles of its steps left); before, the
+    /// angle to the goal.
     pub remaining_angle: f64,
     /// Gaits (Place/Lift steps) done and planned for the goal.
     pub gaits: (u32, u32),

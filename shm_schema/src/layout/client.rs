@@ -109,7 +109,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     Status,
                     time_ns,
                     "ns",
-                    "time of this tick: CLOCK_MONOTONIC wake-up; in lockstep the plant's time (one clock per run; 0 before the plant's first measurement)"
+                    "time of this tick: real time, its CLOCK_MONOTONIC wake-up; lockstep, the plant's `time_ns` of the measurement it ran on (one clock per run; 0 before the plant's first measurement)"
                 ),
                 f!(
                     Status,
@@ -142,7 +142,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     Status,
                     load_grip,
                     "N",
-                    "largest normal force the grasp needs to hold the load (F*, SPEC §1.3 I1'); +inf when none does"
+                    "largest normal force a carrying finger needs, at the commanded squeeze, over every load scenario: weight, acceleration torque and any disturbance of the configured size (F*, SPEC §1.3 I1'); no finger's `commanded_normal_force` exceeds it; +inf when no grip holds the load"
                 ),
                 f!(
                     Status,
@@ -184,7 +184,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     Status,
                     measured_mask,
                     "bits",
-                    "valid measured fields: 1 OBJECT, 2 TIPS, 4 CONTACTS, 8 FORCES"
+                    "valid measured fields: 1 OBJECT, 2 TIPS, 4 CONTACTS, 8 FORCES (a plant that reports normal forces); 0 before the first measurement; the embedded hand: 7"
                 ),
                 f!(
                     Status,
@@ -208,7 +208,12 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                 f!(GoalStatus, client_id, "", "its client"),
                 f!(GoalStatus, state, "GoalState", "goal state"),
                 f!(GoalStatus, reason, "ReasonCode", "reason (terminal states)"),
-                f!(GoalStatus, remaining_angle, "rad", "angle still to rotate"),
+                f!(
+                    GoalStatus,
+                    remaining_angle,
+                    "rad",
+                    "rotation still to make: while the plan runs (also braking to a stop), the plan's remaining path length, the sum of its rotation angles left (a full turn counts 2π; more than the angle to the goal when the plan detours); before it runs: an AxisAngle goal's angle (absolute value), else the angle from the commanded orientation to the target; 0 without an active goal"
+                ),
                 f!(
                     GoalStatus,
                     eta,
@@ -266,7 +271,12 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     "unit vector",
                     "contact on the fingertip m, fingertip frame (0 if no contact)"
                 ),
-                f!(FingerStatus, roll, "rad", "roll τ about the pole axis"),
+                f!(
+                    FingerStatus,
+                    roll,
+                    "rad",
+                    "commanded roll τ about the pole axis Q_f e_z (τ̇ = ω_f · Q_f e_z, 0 in the start grasp)"
+                ),
                 f!(
                     FingerStatus,
                     workspace_margin,
@@ -277,7 +287,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     FingerStatus,
                     commanded_normal_force,
                     "N",
-                    "intended normal force, 0 if none"
+                    "intended normal force (the plant command's `grip_force`): this finger's share of the current load (weight, acceleration torque) plus the squeeze that holds every disturbance; 0 if it carries nothing"
                 ),
                 f!(
                     FingerStatus,
@@ -394,7 +404,12 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                 ),
                 f!(Event, instance, "", "daemon instance id"),
                 f!(Event, kind, "EventKind", "what happened"),
-                f!(Event, finger, "index", "finger 0-2, 0xFFFFFFFF = none"),
+                f!(
+                    Event,
+                    finger,
+                    "index",
+                    "finger 0-2, 0xFFFFFFFF = none (EventKind says which kinds name one; Fault never does)"
+                ),
                 f!(Event, state, "GoalState", "new goal state (transitions)"),
                 f!(Event, reason, "ReasonCode", "reason"),
                 f!(Event, goal_id, "", "goal concerned, 0 = none"),
@@ -411,9 +426,15 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     count,
                     "",
                     "Overrun: missed periods; ClientsCleaned: nodes; Drift, NearLimit: replans so far; \
-                     Substitution: finger that took over, as a bit; Rewind: relocated fingers as bits"
+                     Substitution: finger that took over, as a bit; Rewind: relocated fingers as bits; \
+                     Fault `PlantFault`: the plant's `PlantFault` code"
                 ),
-                f!(Event, value, "", "GoalTransition: remaining angle [rad]"),
+                f!(
+                    Event,
+                    value,
+                    "",
+                    "GoalTransition: `GoalStatus.remaining_angle` as last reported [rad] (0 for Rejected)"
+                ),
             ],
         ),
     ]

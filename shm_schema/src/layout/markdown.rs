@@ -25,6 +25,11 @@ pub fn layout_markdown() -> String {
          readers must refuse unknown codes. iceoryx2 {ICEORYX2_VERSION} compares the type name,\n\
          size and alignment when a service is opened: a C or Python mirror must use the\n\
          same type names. Quaternions are `[w, x, y, z]` Hamilton, unit norm.\n\n\
+         Frames: the hand frame has its origin at the object centre. A fingertip's orientation\n\
+         Q_f maps fingertip → hand; its pole axis a_f = Q_f e_z is the centre of the hemisphere\n\
+         that may touch, and its roll τ about a_f is the integral of τ̇ = ω_f · a_f (ω_f its\n\
+         angular velocity, hand frame), 0 in the start grasp: [PLANT-GUIDE.md](PLANT-GUIDE.md),\n\
+         \"The start grasp and the fingertip frame\".\n\n\
          ## Services (prefix `{DEFAULT_PREFIX}`, configurable)\n\n\
          | service | pattern | payload | notes |\n|---|---|---|---|\n\
          | `{}` | publish-subscribe | `Command` | client → daemon, one publisher per client |\n\
@@ -51,8 +56,16 @@ pub fn layout_markdown() -> String {
     let _ = writeln!(
         s,
         "Notification ids on `{}`: {} = status published, {} = event published, \
-         {} = answer sent, {} = daemon node found dead.\n",
-        names.notify, EVENT_ID_STATUS, EVENT_ID_EVENT, EVENT_ID_ANSWER, EVENT_ID_DAEMON_DEAD
+         {} = answer sent, {} = daemon node found dead.\n\
+         These four are every id the daemon sends; the service is created with {} as its\n\
+         largest id (`EVENT_ID_MAX`, an opener must not ask for more), so 5 to {} stay unused.\n",
+        names.notify,
+        EVENT_ID_STATUS,
+        EVENT_ID_EVENT,
+        EVENT_ID_ANSWER,
+        EVENT_ID_DAEMON_DEAD,
+        EVENT_ID_MAX,
+        EVENT_ID_MAX
     );
     s.push_str(
         "## Schema versions\n\n\

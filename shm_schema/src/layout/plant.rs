@@ -40,14 +40,14 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     PlantCommand,
                     flags,
                     "bits",
-                    "1 ENABLE, 2 HOLD (safe hold: still, grasp kept), 4 LOCKSTEP"
+                    "1 ENABLE (without it: move nothing, still echo the command), 2 HOLD (safe hold: still, grasp kept), 4 LOCKSTEP"
                 ),
                 f!(PlantCommand, reserved, "", "padding, 0"),
                 f!(
                     PlantCommand,
                     object_q,
                     "[w,x,y,z]",
-                    "object orientation setpoint, object → hand"
+                    "object orientation setpoint, object → hand: what the controller wants, never to be copied into a measurement"
                 ),
                 f!(
                     PlantCommand,
@@ -83,7 +83,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     PlantFingerCommand,
                     orientation,
                     "[w,x,y,z]",
-                    "fingertip orientation, fingertip → hand"
+                    "fingertip orientation Q_f, fingertip → hand; pole axis Q_f e_z"
                 ),
                 f!(
                     PlantFingerCommand,
@@ -107,7 +107,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     PlantFingerCommand,
                     roll,
                     "rad",
-                    "commanded roll τ about the pole axis"
+                    "commanded roll τ about the pole axis (τ̇ = ω_f · Q_f e_z, 0 in the start grasp)"
                 ),
                 f!(
                     PlantFingerCommand,
@@ -130,7 +130,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     PlantMeasurement,
                     seq,
                     "",
-                    "measurement sequence number, from 1, +1 each"
+                    "measurement sequence number, from 1, +1 each (the daemon takes any increase)"
                 ),
                 f!(
                     PlantMeasurement,
@@ -138,7 +138,12 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     "",
                     "seq of the last command applied, 0 = none"
                 ),
-                f!(PlantMeasurement, time_ns, "ns", "sample time, plant clock"),
+                f!(
+                    PlantMeasurement,
+                    time_ns,
+                    "ns",
+                    "sample time, plant clock: later than the last within a plant run"
+                ),
                 f!(
                     PlantMeasurement,
                     valid,
@@ -223,7 +228,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     PlantFingerMeasurement,
                     roll,
                     "rad",
-                    "roll τ about the pole axis"
+                    "roll τ about the pole axis, as the command's"
                 ),
                 f!(
                     PlantFingerMeasurement,
