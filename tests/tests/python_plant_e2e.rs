@@ -7,9 +7,7 @@
 //! - the ≤ 50-line example plant (`client/python/examples/kinematic_hand.py`)
 //!   to a goal.
 //!
-//! Ignored until the daemon has `[plant] kind = "shm"`: the lead switches
-//! them on by removing the `#[ignore]`. Wall-clock figures are printed,
-//! never asserted.
+//! Wall-clock figures are printed, never asserted.
 
 mod python_support;
 
