@@ -1,5 +1,15 @@
-//! `gaitctl`: command line for gaitd (SPEC §8). One module per subcommand;
-//! add a new one by adding a variant to [`Cmd`] and a module with a `run`.
+//! `gaitctl`: command line for gaitd (SPEC §8).
+//!
+//! Against a running daemon, local or remote (`--remote`, through
+//! gaitd-bridge): status, live view, goals, cancel/hold/reset, events and
+//! benchmarks, all through the `gaitd_client` library. Without one: offline
+//! planning and execution on the embedded kinematic hand (the `gait`
+//! crate), trace export and plots (resvg), and plants for a daemon with
+//! `[plant] kind = "shm"`. The planning and plotting dependencies are this
+//! crate's alone: the client library does not carry them.
+//!
+//! One module per subcommand; add a new one by adding a variant to [`Cmd`]
+//! and a module with a `run`.
 
 mod bench;
 mod common;
