@@ -18,11 +18,14 @@
 //!   goal → answer through gaitd-bridge, beside bare Zenoh.
 
 mod latency;
+mod load;
+mod noise;
 mod plant;
 mod reference;
 #[cfg(feature = "remote")]
 mod remote;
 mod report;
+mod soak;
 mod tick;
 
 pub use reference::{PongArgs, pong};
@@ -184,7 +187,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let mut c = conn.connect()?;
     if let Some(seconds) = a.soak {
         let warmup = a.warmup.unwrap_or((seconds / 10.0).min(120.0));
-        return crate::soak::run(
+        return soak::run(
             &mut c,
             seconds,
             Duration::from_secs_f64(a.sample_every.max(0.1)),
@@ -223,13 +226,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let mut window = latency::status_window(&mut c, a.statuses, first, timeout)?;
     let load = if a.load_seconds > 0.0 {
         let (readers, writers) = (a.load_readers, a.load_writers);
-        Some(crate::load::run(
-            conn,
-            &mut c,
-            a.load_seconds,
-            readers,
-            writers,
-        )?)
+        Some(load::run(conn, &mut c, a.load_seconds, readers, writers)?)
     } else {
         None
     };
@@ -253,7 +250,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
             "bench_cpu": a.cpu,
             "peer_cpu": a.peer_cpu,
         }),
-        daemon: (pid, pid.and_then(crate::soak::rss_kb)),
+        daemon: (pid, pid.and_then(soak::rss_kb)),
         goals,
         motion,
         moving_us,

@@ -66,7 +66,7 @@ pub fn reference_loop(r: Reference, period_us: u64, work_us: Option<f64>) -> ser
         return json!(null);
     }
     let work = work_us.unwrap_or(5.0);
-    match crate::noise::reference_loop(
+    match super::noise::reference_loop(
         r.periods,
         Duration::from_micros(period_us),
         Duration::from_secs_f64(work * 1e-6),

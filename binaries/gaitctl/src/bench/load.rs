@@ -118,7 +118,7 @@ fn window_json(
     json!({
         "ticks": last.tick - first.tick,
         "missed_periods": last.timing.overruns - first.timing.overruns,
-        "tick_compute_us_of_seen_ticks": crate::bench::summary(&mut compute),
+        "tick_compute_us_of_seen_ticks": super::summary(&mut compute),
         "jitter_histogram": hist,
         "clients": last.clients,
         "load": extra,

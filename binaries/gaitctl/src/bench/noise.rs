@@ -6,7 +6,7 @@
 //! hypervisor stealing the CPU, caches cooled by the sleep — is the
 //! platform's, and the daemon's tick cannot be expected to beat it.
 
-use crate::bench::summary;
+use super::summary;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
@@ -53,7 +53,7 @@ pub fn reference_loop(
     let handle = std::thread::Builder::new()
         .name("gaitctl-noise".into())
         .spawn(move || {
-            let _ = crate::bench::pin(cpu);
+            let _ = super::pin(cpu);
             let fifo = set_fifo(priority);
             let mut buf = vec![0u64; LINES * 8];
             let units = calibrate(&mut buf, work);
