@@ -51,7 +51,7 @@ fn plant_gone(timing: &str, extra: &str) {
         assert!(t0.elapsed() < Duration::from_secs(20), "never rotating");
     }
     plant.kill();
-    // As the client did: 0.5 s later, while a lockstep daemon still
+    // As a client would: 0.5 s later, while a lockstep daemon still
     // waits for the plant (plant.lockstep_timeout_ms, 1 s).
     std::thread::sleep(Duration::from_millis(500));
     let reset = c.reset(T).expect("a reset is answered");

@@ -1,4 +1,4 @@
-//! An external plant (SPEC §6.2, the issue "Hands outside the daemon"): the
+//! An external plant (SPEC §6.2): the
 //! executor waits for it, starts from what it measures, and takes the
 //! faults the plant's link detects (lost, lying, out of sequence, its own
 //! fault) through the one fault policy.

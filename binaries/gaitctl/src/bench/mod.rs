@@ -1,5 +1,5 @@
-//! `gaitctl bench`: latency benchmarks against a running daemon (SPEC §11,
-//! issue item 6). Figures are printed as a table and as JSON; nothing is
+//! `gaitctl bench`: latency benchmarks against a running daemon (SPEC §11).
+//! Figures are printed as a table and as JSON; nothing is
 //! asserted (these machines are shared and noisy).
 //!
 //! In the order they run, by what they measure:
