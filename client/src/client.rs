@@ -577,7 +577,7 @@ impl Client {
         timeout: Duration,
     ) -> Result<crate::remote::RawReply> {
         match &self.conn {
-            Transport::Remote(r) => r.send_raw(name, payload, schema, timeout),
+            Transport::Remote(r) => Ok(r.send_raw(name, payload, schema, timeout)?),
             Transport::Local(_) => Err(Error::Invalid("send_raw needs a remote connection")),
         }
     }

@@ -30,6 +30,9 @@ pub enum RemoteError {
         /// What is wrong.
         why: String,
     },
+    /// The key prefix cannot be used in keys.
+    #[error("key prefix `{0}`: non-empty chunks of [A-Za-z0-9._-] separated by /")]
+    BadPrefix(String),
     /// The identity cannot be used in keys.
     #[error(
         "identity `{0}` cannot be used: 1-64 characters of [A-Za-z0-9._-] \

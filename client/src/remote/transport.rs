@@ -12,9 +12,11 @@
 //! and its liveliness token when the bridge is back.
 
 use super::RemoteError;
+
+/// What the transport's calls return: a remote failure, never a local one.
+type Result<T> = std::result::Result<T, RemoteError>;
 use super::protocol::{self as proto, Refusal};
 use super::tls::{self, Endpoint};
-use crate::error::{Error, Result};
 use crate::remote_options::RemoteOptions;
 use shm_schema::{Answer, Event, Status};
 use std::collections::VecDeque;
@@ -313,9 +315,7 @@ impl Beat {
                     std::thread::sleep(Duration::from_millis(20).min(period));
                 }
             })
-            .map_err(|e| {
-                Error::Remote(RemoteError::Zenoh(format!("starting the beat thread: {e}")))
-            })?;
+            .map_err(|e| RemoteError::Zenoh(format!("starting the beat thread: {e}")))?;
         Ok(Self {
             stop,
             thread: Some(thread),
@@ -352,8 +352,8 @@ pub fn zenoh_text(e: impl std::fmt::Display) -> String {
     }
 }
 
-fn zerr(e: impl std::fmt::Display) -> Error {
-    Error::Remote(RemoteError::Zenoh(zenoh_text(e)))
+fn zerr(e: impl std::fmt::Display) -> RemoteError {
+    RemoteError::Zenoh(zenoh_text(e))
 }
 
 /// Waits until `addr` accepts a TCP connection or `deadline` passes.
@@ -375,17 +375,17 @@ fn wait_reachable(ep: &Endpoint, deadline: Instant) -> Result<()> {
                 last
             }
             Err(e) => {
-                return Err(Error::Remote(RemoteError::Unreachable {
+                return Err(RemoteError::Unreachable {
                     endpoint: ep.locator.clone(),
                     why: format!("cannot resolve: {e}"),
-                }));
+                });
             }
         };
         if Instant::now() >= deadline {
-            return Err(Error::Remote(RemoteError::Unreachable {
+            return Err(RemoteError::Unreachable {
                 endpoint: ep.locator.clone(),
                 why,
-            }));
+            });
         }
         std::thread::sleep(Duration::from_millis(100));
     }
@@ -405,12 +405,10 @@ impl RemoteConnection {
         let cn = tls::check_files(&opts.tls)?;
         let identity = opts.identity.clone().unwrap_or(cn);
         if !proto::identity_valid(&identity) {
-            return Err(Error::Remote(RemoteError::BadIdentity(identity)));
+            return Err(RemoteError::BadIdentity(identity));
         }
         if !proto::prefix_valid(prefix) {
-            return Err(Error::Settings(format!(
-                "key prefix `{prefix}`: non-empty chunks of [A-Za-z0-9._-] separated by /"
-            )));
+            return Err(RemoteError::BadPrefix(prefix.to_owned()));
         }
         // A TCP connect tells an absent bridge from a refused certificate;
         // a QUIC endpoint has no such probe (Zenoh retries until the deadline).
@@ -422,11 +420,11 @@ impl RemoteConnection {
         let config = tls::client_config(&ep, opts, left.max(Duration::from_millis(500)))?;
         let session = zenoh::open(config).wait().map_err(|e| {
             let (endpoint, why) = (ep.locator.clone(), zenoh_text(e));
-            Error::Remote(if tcp {
+            if tcp {
                 RemoteError::Handshake { endpoint, why }
             } else {
                 RemoteError::NoSession { endpoint, why }
-            })
+            }
         })?;
         let inbox = Arc::new(Inbox::default());
 
@@ -640,7 +638,7 @@ impl RemoteConnection {
             Ok(Some(r)) => match decode_reply(&r) {
                 ReplyOutcome::Answer(a) => Ok(RawReply::Answer(a)),
                 ReplyOutcome::Refused(r) => Ok(RawReply::Refused(r)),
-                ReplyOutcome::Bad(why) => Err(Error::Remote(RemoteError::BadReply(why))),
+                ReplyOutcome::Bad(why) => Err(RemoteError::BadReply(why)),
                 ReplyOutcome::NoReply => Ok(RawReply::NoReply),
             },
             // Ok(None): deadline; Err: the query ended without replies.
