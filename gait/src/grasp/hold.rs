@@ -77,7 +77,10 @@ use nalgebra::{Matrix6, SMatrix, Vector3, Vector6};
 
 use crate::HandConfig;
 
+mod pair_terms;
 mod spin;
+
+use pair_terms::{LoadPart, PairContact};
 
 /// Circumradius over inradius of the regular icosahedron:
 /// 3√(10 + 2√5) / (√3 (3 + √5)).
@@ -406,10 +409,7 @@ impl HoldModel {
             for (c, frame) in frames.iter().enumerate() {
                 let [b, x, y] = p.contact[c];
                 b_max = b_max.max(b);
-                match frame.least(self.mu, b, x, y, p.torsion, self.min_grip) {
-                    Some(f) => squeeze = squeeze.max(f),
-                    None => return false,
-                }
+                squeeze = squeeze.max(frame.least(b, x, y, p.torsion, self.min_grip));
             }
             let peak = a_sq * squeeze + b_max;
             !(peak > self.max_grip || peak.is_nan())
@@ -653,99 +653,6 @@ impl HoldModel {
             out.normal[i] = out.force[i].dot(&-n[i]).max(0.0);
         }
         out
-    }
-}
-
-/// One contact of a soft pair in its own frame (normal `nn`, tangents
-/// `t1`, `t2`), with the squeeze's share: direction `dir` along the chord,
-/// whose normal part is `a` and tangential part `aa` (see
-/// [`HoldModel::pair_holds`]).
-#[derive(Debug, Clone, Copy)]
-struct PairContact {
-    nn: Vector3<f64>,
-    t1: Vector3<f64>,
-    t2: Vector3<f64>,
-    a: f64,
-    /// The tangential part of the squeeze direction in (t1, t2).
-    aa: [f64; 2],
-    /// |aa|² − μ² a², the quadratic's leading coefficient.
-    qa: f64,
-}
-
-impl PairContact {
-    fn new(dir: &Vector3<f64>, nn: &Vector3<f64>, mu: f64) -> Self {
-        let helper = if nn.x.abs() < 0.9 {
-            Vector3::x()
-        } else {
-            Vector3::y()
-        };
-        let t1 = nn.cross(&helper).normalize();
-        let t2 = nn.cross(&t1);
-        let a = dir.dot(&-nn);
-        let aa = dir + nn * a;
-        let aa = [aa.dot(&t1), aa.dot(&t2)];
-        Self {
-            nn: *nn,
-            t1,
-            t2,
-            a,
-            aa,
-            qa: aa[0] * aa[0] + aa[1] * aa[1] - mu * mu * a * a,
-        }
-    }
-
-    /// [`HoldModel::least`] for this contact (friction `mu`, the one it
-    /// was made with) with the load part's normal `b`, tangential (x, y)
-    /// and torsion term `s`.
-    fn least(&self, mu: f64, b: f64, x: f64, y: f64, s: f64, floor: f64) -> Option<f64> {
-        let mu2 = mu * mu;
-        let qa = self.qa;
-        if self.a <= 0.0 || qa >= 0.0 {
-            return None;
-        }
-        let qb = 2.0 * (self.aa[0] * x + self.aa[1] * y - mu2 * self.a * b);
-        let qc = x * x + y * y + s * s - mu2 * b * b;
-        let mut f = ((floor - b) / self.a).max(0.0);
-        let disc = qb * qb - 4.0 * qa * qc;
-        if disc > 0.0 {
-            f = f.max((-qb - disc.sqrt()) / (2.0 * qa));
-        }
-        Some(f)
-    }
-}
-
-/// The load part of one load term at a soft pair: per contact its normal
-/// component b = g·(−n) and tangential components (x, y), and the scaled
-/// torsion. Linear in the load, so terms add.
-#[derive(Debug, Clone, Copy)]
-struct LoadPart {
-    contact: [[f64; 3]; 2],
-    torsion: f64,
-}
-
-impl LoadPart {
-    const ZERO: Self = Self {
-        contact: [[0.0; 3]; 2],
-        torsion: 0.0,
-    };
-
-    fn new(frames: &[PairContact; 2], g: &[Vector3<f64>; 2], torsion: f64) -> Self {
-        Self {
-            contact: core::array::from_fn(|c| {
-                let f = &frames[c];
-                [g[c].dot(&-f.nn), g[c].dot(&f.t1), g[c].dot(&f.t2)]
-            }),
-            torsion,
-        }
-    }
-
-    fn plus(&self, o: &Self) -> Self {
-        Self {
-            contact: core::array::from_fn(|c| {
-                core::array::from_fn(|k| self.contact[c][k] + o.contact[c][k])
-            }),
-            torsion: self.torsion + o.torsion,
-        }
     }
 }
 
