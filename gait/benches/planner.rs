@@ -22,7 +22,9 @@
 //!   held, and the largest F* of the checked plans.
 //!
 //! `GAIT_STARTS=paper,random` runs only those starts; `GAIT_GRAVITY=on`
-//! only one load.
+//! only one load; `GAIT_DUMP=1` also prints a line per goal (CPU time,
+//! the search's effort, execution time, gaits, route or refusal), to find
+//! what the slowest goals have in common.
 
 #[path = "../tests/planning/mod.rs"]
 mod planning;
@@ -129,6 +131,7 @@ fn run(from: From, n: usize, gravity: bool) {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     let mut f = Figures::default();
     let mut at = paper;
+    let dump = std::env::var_os("GAIT_DUMP").is_some();
     for i in 0..n {
         let start = match from {
             From::Paper => paper,
@@ -145,6 +148,16 @@ fn run(from: From, n: usize, gravity: bool) {
         let r = planner.plan(&start, &goal);
         f.wall.push(t0.elapsed().as_secs_f64() * 1e3);
         f.cpu.push(thread_cpu_ms() - c0);
+        if dump {
+            let cpu = f.cpu.last().copied().unwrap_or(f64::NAN);
+            match &r {
+                Ok(p) => println!(
+                    "goal {i}: {cpu:.1} ms, {:?}, {:.2} s, {} gaits, {}",
+                    p.summary.effort, p.summary.duration, p.summary.gaits, p.route
+                ),
+                Err(e) => println!("goal {i}: {cpu:.1} ms, refused {e:?}"),
+            }
+        }
         match r {
             Ok(p) => {
                 let bound = timing.rotate(p.summary.goal_angle);

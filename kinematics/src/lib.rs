@@ -32,7 +32,9 @@
 //!   [`ik_dls`]: damped least squares for any chain (§14.3).
 //! - [`patch`]: the tip patch; [`capsule`]: link capsules and clearances;
 //!   [`torque`]: the torque box $\tau = J_v^\top f + g(q)$ (§14.1).
-//! - [`rolling`]: the rolling law of a 3-joint finger (§14.2).
+//! - [`rolling`]: the rolling law of a 3-joint finger (§14.2); [`mod@carry`]:
+//!   a grasp carried by the object's turn under it, how far it can go
+//!   within the limits, and the axis a pair turns about without spin.
 //! - [`workspace`]: the normals a finger can grasp at (§14.1), and the
 //!   gap between two fingers.
 //!
@@ -51,6 +53,7 @@
 //! ```
 
 pub mod capsule;
+pub mod carry;
 pub mod chain;
 pub mod description;
 pub mod error;
@@ -64,6 +67,9 @@ pub mod torque;
 pub mod workspace;
 
 pub use capsule::{Capsule, LinkCapsule};
+pub use carry::{
+    Bound, GraspLimits, Range, carry, carry_pair, carry_pair_range, carry_range, no_spin_axis,
+};
 pub use chain::{CapsuleSet, Chain, ChainState, MAX_CAPSULES};
 pub use description::{
     Body, FingerDescription, Friction, HandDescription, JointDescription, JointLimits, Object,
@@ -75,4 +81,4 @@ pub use ik_dls::{DlsParams, DlsResult};
 pub use patch::TipPatch;
 pub use rolling::{RollingRates, rolling_rates};
 pub use torque::{gravity_torques, joint_torques, max_force_scale};
-pub use workspace::{Margins, Reach, Workspace, finger_gap, reach, sphere_grid};
+pub use workspace::{FingerGap, Margins, Reach, Workspace, finger_gap, reach, sphere_grid};

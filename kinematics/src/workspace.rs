@@ -120,41 +120,75 @@ pub fn object_clearance(chain: &Chain<3>, s: &ChainState<3>, object: &Object) ->
 }
 
 /// The smallest gap between two fingers at their configurations \[m\]:
-/// every link capsule and the tip sphere of one against those of the
-/// other. Capsule pairs that already overlap with both fingers at q = 0
-/// are left out: the description's capsules enclose its parts
-/// conservatively, and parts that overlap in the zero pose (TriFingerPro:
-/// the three upper links, whose capsules' caps meet above the arena's
-/// centre while the links turn only about their own axes) are parts built
-/// not to collide.
+/// [`FingerGap::gap`] with the pairs left out computed for this call (a
+/// caller asking often keeps a [`FingerGap`]).
 pub fn finger_gap(a: (&Chain<3>, &ChainState<3>), b: (&Chain<3>, &ChainState<3>)) -> f64 {
-    let parts = |chain: &Chain<3>, s: &ChainState<3>| {
-        let caps = chain.capsules(s);
-        let tip = Capsule {
-            a: s.tip_centre(),
-            b: s.tip_centre(),
-            radius: chain.tip_radius,
-        };
-        let mut all = [Capsule::POINT; MAX_CAPSULES + 1];
-        let n = caps.as_slice().len();
-        all[..n].copy_from_slice(caps.as_slice());
-        all[n] = tip;
-        (all, n + 1)
+    FingerGap::new(a.0, b.0).gap(a, b)
+}
+
+/// The parts of a finger that can touch another: its link capsules and its
+/// tip sphere (a capsule of zero length), hand frame.
+fn parts(chain: &Chain<3>, s: &ChainState<3>) -> ([Capsule; MAX_CAPSULES + 1], usize) {
+    let caps = chain.capsules(s);
+    let tip = Capsule {
+        a: s.tip_centre(),
+        b: s.tip_centre(),
+        radius: chain.tip_radius,
     };
-    let (now_a, len_a) = parts(a.0, a.1);
-    let (now_b, len_b) = parts(b.0, b.1);
-    let (zero_a, _) = parts(a.0, &a.0.forward(&Vector3::zeros()));
-    let (zero_b, _) = parts(b.0, &b.0.forward(&Vector3::zeros()));
-    let mut gap = f64::INFINITY;
-    for i in 0..len_a {
-        for j in 0..len_b {
-            if zero_a[i].capsule_gap(&zero_b[j]) < 0.0 {
-                continue;
+    let mut all = [Capsule::POINT; MAX_CAPSULES + 1];
+    let n = caps.as_slice().len();
+    all[..n].copy_from_slice(caps.as_slice());
+    all[n] = tip;
+    (all, n + 1)
+}
+
+/// The gap between two given fingers: every link capsule and the tip
+/// sphere of one against those of the other. Capsule pairs that already
+/// overlap with both fingers at q = 0 are left out: the description's
+/// capsules enclose its parts conservatively, and parts that overlap in
+/// the zero pose (TriFingerPro: the three upper links, whose capsules'
+/// caps meet above the arena's centre while the links turn only about
+/// their own axes) are parts built not to collide. Which pairs those are
+/// depends only on the two chains, so it is found once here.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FingerGap {
+    /// Bit j of entry i: part i of the first finger and part j of the
+    /// second are compared.
+    compared: [u32; MAX_CAPSULES + 1],
+}
+
+impl FingerGap {
+    /// The pairs to compare between fingers `a` and `b`.
+    pub fn new(a: &Chain<3>, b: &Chain<3>) -> Self {
+        let (zero_a, len_a) = parts(a, &a.forward(&Vector3::zeros()));
+        let (zero_b, len_b) = parts(b, &b.forward(&Vector3::zeros()));
+        let mut compared = [0; MAX_CAPSULES + 1];
+        for (i, row) in compared.iter_mut().enumerate().take(len_a) {
+            for (j, other) in zero_b.iter().enumerate().take(len_b) {
+                if zero_a[i].capsule_gap(other) >= 0.0 {
+                    *row |= 1 << j;
+                }
             }
-            gap = gap.min(now_a[i].capsule_gap(&now_b[j]));
         }
+        Self { compared }
     }
-    gap
+
+    /// The smallest gap \[m\] between the two fingers (the chains given
+    /// to [`FingerGap::new`], in that order) at their configurations (+∞
+    /// when no pair is compared).
+    pub fn gap(&self, a: (&Chain<3>, &ChainState<3>), b: (&Chain<3>, &ChainState<3>)) -> f64 {
+        let (now_a, len_a) = parts(a.0, a.1);
+        let (now_b, len_b) = parts(b.0, b.1);
+        let mut gap = f64::INFINITY;
+        for (i, part) in now_a.iter().enumerate().take(len_a) {
+            for (j, other) in now_b.iter().enumerate().take(len_b) {
+                if self.compared[i] & (1 << j) != 0 {
+                    gap = gap.min(part.capsule_gap(other));
+                }
+            }
+        }
+        gap
+    }
 }
 
 /// A finger's workspace tabulated over a grid of normals.
