@@ -49,12 +49,14 @@ pub mod grip;
 pub mod hold;
 pub mod planar;
 mod socp;
+pub mod torque_box;
 
 pub use conic::{ClosureMargin, ConicSolver, closure_margin};
 pub use contact::{Contact, ContactFrame, ContactKind, Friction, grasp_rank};
 pub use forces::{ContactForce, ForceSolution, GraspForceSolver, Load, LoadSolution, LoadSolver};
 pub use hold::{Accel, Hold, HoldModel, Loads};
 pub use socp::MAX_ITERATIONS;
+pub use torque_box::{FingerStatics, TorqueBoxSolution, TorqueBoxSolver};
 
 /// Why a grasp computation gave no answer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]

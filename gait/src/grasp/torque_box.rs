@@ -1,0 +1,379 @@
+//! Holding a load with chain fingers whose motors are torque-limited (SPEC
+//! §14.1 "Forces", §1.3 I1'): the torque box replaces the fixed grip limit.
+//!
+//! A chain finger pushes the object with the force F at its contact point
+//! p = c − r n and, through a soft contact, the torsional moment M about
+//! the normal; its motors supply
+//!
+//! ```text
+//! τ = J_pᵀ F + J_ωᵀ M + g,     |τ_j| ≤ τ_max,j   (every joint j)
+//! ```
+//!
+//! with J_p = J_v + r \[n\]ₓ J_ω the Jacobian of the contact point, J_ω the
+//! tip's angular Jacobian and g the torques that hold the links against
+//! their own weight (zero where the hand compensates it). The grasp holds a
+//! set of loads (the weight, the acceleration's torque, every disturbance
+//! vertex: [`super::hold::Loads`]' scenarios) when each has contact forces
+//! in the friction cones that balance it within every finger's box. As in
+//! [`super::forces::LoadSolver`] each scenario's forces are free (I1' asks
+//! only that forces exist); the SOCP finds the least torque use
+//!
+//! ```text
+//! minimise  u
+//! s.t.  G f_s = (−E_s, T_s / R)                                   every s
+//!       ‖(f_1, f_2 [, s μ/μ_t])‖ ≤ μ f_n,  f_n ≥ floor         each contact, each s
+//!       −u τ_max,j ≤ (J_pᵀ F_i,s + J_ωᵀ M_i,s + g_i)_j ≤ u τ_max,j   each finger, joint, s
+//! ```
+//!
+//! (G, f and the torsion variable as in [`super::contact`]: F = −n f_n +
+//! t₁ f₁ + t₂ f₂, M = −n (μ_t/μ) s.) The grasp holds exactly when u* ≤ 1;
+//! 1/u* is how many times over. Builds a fresh problem per call
+//! (allocates): for planning and checking, not for the tick.
+
+use clarabel::solver::{
+    DefaultSolver, IPSolver, NonnegativeConeT, SecondOrderConeT, SolverStatus, SupportedConeT,
+    ZeroConeT,
+};
+use nalgebra::{Matrix3, Vector3, Vector6};
+
+use super::GraspError;
+use super::contact::{Contact, ContactFrame, ContactKind, Friction, grasp_columns};
+use super::socp;
+
+/// One finger's statics at its grasp (three joints).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FingerStatics {
+    /// J_pᵀ: joint torques per unit force at the contact point (hand
+    /// frame) \[N·m/N\].
+    pub force_to_torque: Matrix3<f64>,
+    /// J_ωᵀ: joint torques per unit moment on the object \[N·m/N·m\].
+    pub moment_to_torque: Matrix3<f64>,
+    /// g: the torques holding the links against their weight \[N·m\].
+    pub bias: Vector3<f64>,
+    /// τ_max per joint \[N·m\] (> 0).
+    pub limit: Vector3<f64>,
+}
+
+/// The answer of [`TorqueBoxSolver::solve`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct TorqueBoxSolution {
+    /// u*: the least largest |τ_j| / τ_max,j over fingers, joints and
+    /// scenarios (the grasp holds when ≤ 1).
+    pub utilisation: f64,
+    /// Per scenario, per contact: the force F on the object at the
+    /// contact \[N\] and the torsional moment M \[N·m\] of the optimum.
+    pub forces: Vec<Vec<(Vector3<f64>, Vector3<f64>)>>,
+    /// Interior-point iterations.
+    pub iterations: u32,
+}
+
+/// The least torque use of a grasp of chain fingers (module docs).
+#[derive(Debug, Clone, Copy)]
+pub struct TorqueBoxSolver {
+    friction: Friction,
+}
+
+/// Iteration cap: these problems converge in about 10–25 iterations.
+const MAX_ITER: u32 = 200;
+
+impl TorqueBoxSolver {
+    /// A solver for `friction` (μ, μ_t, R).
+    pub fn new(friction: Friction) -> Self {
+        Self { friction }
+    }
+
+    /// u* for `contacts` pressed by `fingers` (one each) against the loads
+    /// `scenarios` (force E the contacts must balance \[N\], torque T they
+    /// must supply \[N·m\]), every normal force at least `floor` \[N\].
+    /// [`GraspError::Infeasible`] when some load cannot be balanced in the
+    /// friction cones at all.
+    pub fn solve(
+        &self,
+        contacts: &[Contact],
+        fingers: &[FingerStatics],
+        scenarios: &[(Vector3<f64>, Vector3<f64>)],
+        floor: f64,
+    ) -> Result<TorqueBoxSolution, GraspError> {
+        if contacts.is_empty() || scenarios.is_empty() {
+            return Err(GraspError::NoContacts);
+        }
+        if fingers.len() != contacts.len() {
+            return Err(GraspError::OutputLength);
+        }
+        let fr = self.friction;
+        let finite3 = |m: &Matrix3<f64>| m.iter().all(|v| v.is_finite());
+        let ok = fr.is_valid()
+            && floor.is_finite()
+            && floor >= 0.0
+            && contacts
+                .iter()
+                .all(|c| c.normal.iter().all(|v| v.is_finite()) && c.normal.norm() > 1e-12)
+            && fingers.iter().all(|f| {
+                finite3(&f.force_to_torque)
+                    && finite3(&f.moment_to_torque)
+                    && f.bias.iter().all(|v| v.is_finite())
+                    && f.limit.iter().all(|v| v.is_finite() && *v > 0.0)
+            })
+            && scenarios
+                .iter()
+                .all(|(e, t)| e.iter().chain(t.iter()).all(|v| v.is_finite()));
+        if !ok {
+            return Err(GraspError::BadInput);
+        }
+        let k = contacts.len();
+        let ns = scenarios.len();
+        let d: usize = contacts.iter().map(|c| c.kind.dim()).sum();
+        let n = ns * d + 1;
+        let u_col = n - 1;
+        let cols: Vec<[Vector6<f64>; 4]> = contacts.iter().map(|c| grasp_columns(c, &fr)).collect();
+        // Per contact, per variable: the joint torques it makes.
+        let torque_cols: Vec<[Vector3<f64>; 4]> = contacts
+            .iter()
+            .zip(fingers)
+            .map(|(c, f)| {
+                let frame = ContactFrame::new(&c.normal);
+                let torsion = match c.kind {
+                    ContactKind::Hard => Vector3::zeros(),
+                    ContactKind::Soft => f.moment_to_torque * (-frame.n * (fr.mu_torsion / fr.mu)),
+                };
+                [
+                    f.force_to_torque * -frame.n,
+                    f.force_to_torque * frame.t1,
+                    f.force_to_torque * frame.t2,
+                    torsion,
+                ]
+            })
+            .collect();
+        // Rows: equilibrium 6·ns, cones ns·d, floors ns·k, torques 2·3·ns·k.
+        let eq_rows = 6 * ns;
+        let cone_rows = ns * d;
+        let floor_rows = ns * k;
+        let rows = eq_rows + cone_rows + floor_rows + 6 * ns * k;
+        let mut triplets: Vec<(usize, usize, f64)> = Vec::new();
+        let mut b = vec![0.0; rows];
+        let inv_r = 1.0 / fr.object_radius;
+        let torque_row = |s: usize, i: usize, j: usize, side: usize| {
+            eq_rows + cone_rows + floor_rows + ((s * k + i) * 3 + j) * 2 + side
+        };
+        for (s, (e, t)) in scenarios.iter().enumerate() {
+            let rhs = [-e.x, -e.y, -e.z, t.x * inv_r, t.y * inv_r, t.z * inv_r];
+            b[6 * s..6 * s + 6].copy_from_slice(&rhs);
+            let mut off = 0;
+            for (i, c) in contacts.iter().enumerate() {
+                for (v, column) in cols[i].iter().enumerate().take(c.kind.dim()) {
+                    let col = s * d + off + v;
+                    for (r, &x) in column.iter().enumerate() {
+                        if x != 0.0 {
+                            triplets.push((6 * s + r, col, x));
+                        }
+                    }
+                    let top = if v == 0 { -fr.mu } else { -1.0 };
+                    triplets.push((eq_rows + s * d + off + v, col, top));
+                    if v == 0 {
+                        let fl = eq_rows + cone_rows + s * k + i;
+                        triplets.push((fl, col, -1.0));
+                        b[fl] = -floor;
+                    }
+                    for (j, &a) in torque_cols[i][v].iter().enumerate() {
+                        // a·x − u τ_max ≤ −g  and  −a·x − u τ_max ≤ g
+                        triplets.push((torque_row(s, i, j, 0), col, a));
+                        triplets.push((torque_row(s, i, j, 1), col, -a));
+                    }
+                }
+                for j in 0..3 {
+                    let (g, lim) = (fingers[i].bias[j], fingers[i].limit[j]);
+                    triplets.push((torque_row(s, i, j, 0), u_col, -lim));
+                    triplets.push((torque_row(s, i, j, 1), u_col, -lim));
+                    b[torque_row(s, i, j, 0)] = -g;
+                    b[torque_row(s, i, j, 1)] = g;
+                }
+                off += c.kind.dim();
+            }
+        }
+        triplets.sort_by_key(|&(r, c, _)| (c, r));
+        let mut colptr = vec![0usize; n + 1];
+        let mut rowval = Vec::with_capacity(triplets.len());
+        let mut nzval = Vec::with_capacity(triplets.len());
+        for &(r, c, v) in &triplets {
+            colptr[c + 1] += 1;
+            rowval.push(r);
+            nzval.push(v);
+        }
+        for c in 0..n {
+            colptr[c + 1] += colptr[c];
+        }
+        let a = clarabel::algebra::CscMatrix::new(rows, n, colptr, rowval, nzval);
+        let mut q = vec![0.0; n];
+        q[u_col] = 1.0;
+        let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(eq_rows)];
+        for _ in 0..ns {
+            cones.extend(contacts.iter().map(|c| SecondOrderConeT(c.kind.dim())));
+        }
+        cones.push(NonnegativeConeT(floor_rows + 6 * ns * k));
+        let settings = clarabel::solver::DefaultSettingsBuilder::default()
+            .verbose(false)
+            .max_iter(MAX_ITER)
+            .max_threads(1)
+            .build()
+            .map_err(|_| GraspError::SolverSetup)?;
+        let mut solver = DefaultSolver::new(&socp::zero_p(n), &q, &a, &b, &cones, settings)
+            .map_err(|_| GraspError::SolverSetup)?;
+        solver.solve();
+        let sol = &solver.solution;
+        match sol.status {
+            SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
+                return Err(GraspError::Infeasible);
+            }
+            s if !(socp::solved(s) && sol.x.iter().all(|v| v.is_finite())) => {
+                return Err(GraspError::SolverFailed {
+                    iterations: sol.iterations,
+                });
+            }
+            _ => {}
+        }
+        let x = &sol.x;
+        let forces = (0..ns)
+            .map(|s| {
+                let mut off = s * d;
+                contacts
+                    .iter()
+                    .map(|c| {
+                        let f = ContactFrame::new(&c.normal);
+                        let force = -f.n * x[off] + f.t1 * x[off + 1] + f.t2 * x[off + 2];
+                        let moment = match c.kind {
+                            ContactKind::Hard => Vector3::zeros(),
+                            ContactKind::Soft => -f.n * (x[off + 3] * fr.mu_torsion / fr.mu),
+                        };
+                        off += c.kind.dim();
+                        (force, moment)
+                    })
+                    .collect()
+            })
+            .collect();
+        Ok(TorqueBoxSolution {
+            utilisation: x[u_col],
+            forces,
+            iterations: sol.iterations,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Fingers whose joints feel the contact force's hand-frame components
+    /// one to one (J_p = I), no moment, no link weight, τ_max = 1.
+    fn direct() -> FingerStatics {
+        FingerStatics {
+            force_to_torque: Matrix3::identity(),
+            moment_to_torque: Matrix3::zeros(),
+            bias: Vector3::zeros(),
+            limit: Vector3::repeat(1.0),
+        }
+    }
+
+    fn friction(mu: f64) -> Friction {
+        Friction {
+            mu,
+            mu_torsion: 1e-3 * mu,
+            object_radius: 0.05,
+        }
+    }
+
+    /// Two soft contacts at ±x hold a weight w along −z: each carries w/2
+    /// up by friction and presses f_n ≥ w/(2μ); with τ = F the largest
+    /// torque is max(f_n, w/2), least at f_n = w/(2μ): u* = (w/2)·max(1, 1/μ).
+    #[test]
+    fn an_antipodal_pair_under_its_weight() {
+        let contacts = [Contact::soft(Vector3::x()), Contact::soft(-Vector3::x())];
+        let fingers = [direct(); 2];
+        let w = 0.8;
+        let load = [(Vector3::new(0.0, 0.0, -w), Vector3::zeros())];
+        for mu in [0.4, 0.8, 1.5, 3.0] {
+            let s = TorqueBoxSolver::new(friction(mu))
+                .solve(&contacts, &fingers, &load, 0.0)
+                .unwrap();
+            let want = 0.5 * w * (1.0f64 / mu).max(1.0);
+            assert!(
+                (s.utilisation - want).abs() < 1e-6,
+                "μ {mu}: u* {} want {want}",
+                s.utilisation
+            );
+        }
+    }
+
+    /// The box is per joint: a finger whose joints feel the force twice as
+    /// much needs twice the share, and one whose links' weight already
+    /// uses a joint's torque needs that much more.
+    #[test]
+    fn the_share_follows_the_jacobian_and_the_links_weight() {
+        let contacts = [Contact::soft(Vector3::x()), Contact::soft(-Vector3::x())];
+        let load = [(Vector3::new(0.0, 0.0, -0.8), Vector3::zeros())];
+        let solver = TorqueBoxSolver::new(friction(1.5));
+        let base = solver
+            .solve(&contacts, &[direct(); 2], &load, 0.0)
+            .unwrap()
+            .utilisation;
+        let mut stiff = direct();
+        stiff.force_to_torque *= 2.0;
+        let doubled = solver
+            .solve(&contacts, &[stiff; 2], &load, 0.0)
+            .unwrap()
+            .utilisation;
+        assert!(
+            (doubled - 2.0 * base).abs() < 1e-6,
+            "{doubled} vs 2 × {base}"
+        );
+        let mut heavy = direct();
+        heavy.bias = Vector3::new(0.0, 0.0, 0.3);
+        let loaded = solver
+            .solve(&contacts, &[heavy; 2], &load, 0.0)
+            .unwrap()
+            .utilisation;
+        // The weight pushes each contact's z torque to w/2 + 0.3.
+        assert!((loaded - (0.4 + 0.3)).abs() < 1e-6, "{loaded}");
+    }
+
+    /// A torque about the pair's own axis is held by torsion alone: each
+    /// soft contact twists with T/2, which its finger's joints feel
+    /// through J_ωᵀ (here one to one, the force barely felt).
+    #[test]
+    fn torsion_loads_the_motors() {
+        let contacts = [Contact::soft(Vector3::x()), Contact::soft(-Vector3::x())];
+        let finger = FingerStatics {
+            force_to_torque: Matrix3::identity() * 1e-4,
+            moment_to_torque: Matrix3::identity(),
+            ..direct()
+        };
+        let t = 0.002;
+        let load = [(Vector3::zeros(), Vector3::new(t, 0.0, 0.0))];
+        let s = TorqueBoxSolver::new(friction(1.0))
+            .solve(&contacts, &[finger; 2], &load, 0.0)
+            .unwrap();
+        assert!(
+            (s.utilisation - t / 2.0).abs() < 1e-7,
+            "u* {} want {}",
+            s.utilisation,
+            t / 2.0
+        );
+    }
+
+    #[test]
+    fn a_load_no_cone_can_balance_is_infeasible() {
+        // Two contacts both on +x cannot push the object towards −x.
+        let contacts = [
+            Contact::soft(Vector3::x()),
+            Contact::soft(Vector3::new(1.0, 0.1, 0.0).normalize()),
+        ];
+        let load = [(Vector3::new(-1.0, 0.0, 0.0), Vector3::zeros())];
+        let r = TorqueBoxSolver::new(friction(0.3)).solve(&contacts, &[direct(); 2], &load, 0.0);
+        assert_eq!(r.unwrap_err(), GraspError::Infeasible);
+        let r = TorqueBoxSolver::new(friction(0.3)).solve(&contacts, &[direct()], &load, 0.0);
+        assert_eq!(r.unwrap_err(), GraspError::OutputLength);
+        let mut bad = direct();
+        bad.limit.x = 0.0;
+        let r = TorqueBoxSolver::new(friction(0.3)).solve(&contacts, &[bad, direct()], &load, 0.0);
+        assert_eq!(r.unwrap_err(), GraspError::BadInput);
+    }
+}
