@@ -37,6 +37,8 @@
 //!   within the limits, and the axis a pair turns about without spin.
 //! - [`workspace`]: the normals a finger can grasp at (§14.1), and the
 //!   gap between two fingers.
+//! - [`transfer`]: a free finger's way from one contact to another, clear
+//!   of the object and of the other fingers (§14.3).
 //!
 //! ```
 //! use kinematics::{Chain, ClosedFormIk, HandDescription};
@@ -64,6 +66,7 @@ pub mod patch;
 pub mod rolling;
 pub mod section;
 pub mod torque;
+pub mod transfer;
 pub mod workspace;
 
 pub use capsule::{Capsule, LinkCapsule};
@@ -81,4 +84,5 @@ pub use ik_dls::{DlsParams, DlsResult};
 pub use patch::TipPatch;
 pub use rolling::{RollingRates, rolling_rates};
 pub use torque::{gravity_torques, joint_torques, max_force_scale};
+pub use transfer::{Obstacle, Transfer, TransferError, TransferLimits, transfer};
 pub use workspace::{FingerGap, Margins, Reach, Workspace, finger_gap, reach, sphere_grid};
