@@ -37,7 +37,7 @@
 //!   within the limits, and the axis a pair turns about without spin.
 //! - [`workspace`]: the normals a finger can grasp at (§14.1), and the
 //!   gap between two fingers.
-//! - [`transfer`]: a free finger's way from one contact to another, clear
+//! - [`mod@transfer`]: a free finger's way from one contact to another, clear
 //!   of the object and of the other fingers (§14.3).
 //!
 //! ```

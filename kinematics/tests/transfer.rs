@@ -62,13 +62,7 @@ fn moves(limits: &TransferLimits) {
     while cases < 60 {
         let q: [Vector3<f64>; 3] =
             std::array::from_fn(|k| ws[k].reached[rng.random_range(0..ws[k].reached.len())].1.q);
-        let s = q.map(|q| chains[0].forward(&q));
-        let s = [
-            chains[0].forward(&q[0]),
-            chains[1].forward(&q[1]),
-            chains[2].forward(&q[2]),
-        ];
-        let _ = s[0];
+        let s: [_; 3] = std::array::from_fn(|k| chains[k].forward(&q[k]));
         let gap = |a: usize, b: usize| finger_gap((&chains[a], &s[a]), (&chains[b], &s[b]));
         if gap(0, 1) < limits.finger_gap
             || gap(0, 2) < limits.finger_gap
