@@ -362,7 +362,7 @@ code_enum! {
         NonFiniteState = 8,
         /// No fresh measurement from the plant for more than `plant.max_missed` ticks (real time: or none that arrived within `plant.stale_after_ms`; lockstep: none within `plant.lockstep_timeout_ms`), or one that echoes a command more than `plant.max_missed` behind: it stopped, stalled or vanished.
         PlantLost = 9,
-        /// The plant sent an invalid measurement: a bad code, a missing required field, a non-finite number or a non-unit quaternion.
+        /// The plant sent an invalid measurement: a bad code, a missing required field, a non-finite number (in any field it flags valid, velocities included) or a non-unit quaternion.
         PlantInvalid = 10,
         /// The plant's measurements went backwards (`seq` 0 or below the last, `time_ns` not after the last), echoed another daemon session, or echoed a command never sent.
         PlantSequence = 11,
@@ -392,7 +392,7 @@ code_enum! {
         Substitution = 5,
         /// A finger rewind gait completed (paper §2.1): one or both fingers of the grasping pair were moved back into their workspace with the third finger's help (`finger` = that helper, free again; `count` = the relocated fingers as bits, bit k for finger k). Its substitutions were reported before it.
         Rewind = 6,
-        /// A fault was detected (`fault`; `finger` is none, also for `StuckFinger`; with `PlantFault`, `count` = the plant's `PlantFault` code).
+        /// A fault was detected (`fault`; `finger` = the finger whose state caused it, none when the cause is not one finger's: CLIENT-GUIDE.md lists which faults name one; with `PlantFault`, `count` = the plant's `PlantFault` code).
         Fault = 7,
         /// The fault was cleared by a reset.
         FaultCleared = 8,

@@ -222,20 +222,26 @@ fn a_killed_plant_is_a_fault_and_a_restarted_one_resumes_after_reset() {
 }
 
 /// A plant that lies, stalls, loses a contact or faults: each is a fault
-/// with its reason,
-/// the hand goes to safe hold, and the daemon keeps running.
+/// with its reason, naming the finger when the cause is one finger's (a
+/// bad number of fingertip 1 or 2, contact 0 lost, fingertip 2 off its
+/// setpoint), none otherwise; the hand goes to safe hold, and the daemon
+/// keeps running. Flagged velocities are checked like every other number.
 #[test]
 fn lying_stalling_and_faulting_plants_are_faults_with_their_reasons() {
+    use shm_schema::NO_FINGER;
     let cases = [
-        ("nan", FaultCode::PlantInvalid),
-        ("non-unit", FaultCode::PlantInvalid),
-        ("backwards", FaultCode::PlantSequence),
-        ("session", FaultCode::PlantSequence),
-        ("contact", FaultCode::ContactLost),
-        ("fault", FaultCode::PlantFault),
-        ("stall", FaultCode::PlantLost),
+        ("nan", FaultCode::PlantInvalid, 1),
+        ("non-unit", FaultCode::PlantInvalid, NO_FINGER),
+        ("nan-omega", FaultCode::PlantInvalid, NO_FINGER),
+        ("inf-tip-velocity", FaultCode::PlantInvalid, 2),
+        ("backwards", FaultCode::PlantSequence, NO_FINGER),
+        ("session", FaultCode::PlantSequence, NO_FINGER),
+        ("contact", FaultCode::ContactLost, 0),
+        ("stuck", FaultCode::StuckFinger, 2),
+        ("fault", FaultCode::PlantFault, NO_FINGER),
+        ("stall", FaultCode::PlantLost, NO_FINGER),
     ];
-    for (lie, want) in cases {
+    for (lie, want, finger) in cases {
         let d = daemon(
             &format!("lie-{lie}"),
             "lockstep",
@@ -264,6 +270,8 @@ fn lying_stalling_and_faulting_plants_are_faults_with_their_reasons() {
             .find(|e| e.kind() == Ok(gaitd_client::EventKind::Fault))
             .expect("a fault event");
         assert_eq!(e.fault, want.code(), "{lie}");
+        assert_eq!(e.finger, finger, "{lie}: the fault's finger");
+        assert_eq!(e.check(), Ok(()), "{lie}");
         if lie == "fault" {
             assert_eq!(
                 e.count,

@@ -181,7 +181,12 @@ pub fn event_line(e: &Event) -> String {
                 e.goal_id
             );
         }
-        Ok(EventKind::Fault) => s += &format!(" {}", code(e.fault(), e.fault)),
+        Ok(EventKind::Fault) => {
+            s += &format!(" {}", code(e.fault(), e.fault));
+            if e.finger < 3 {
+                s += &format!(" ({})", finger_name(e.finger));
+            }
+        }
         Ok(EventKind::Overrun) => s += &format!(" {} periods missed", e.count),
         Ok(EventKind::ClientsCleaned) => s += &format!(" {} dead nodes", e.count),
         Ok(EventKind::Hold) => s += &format!(" by client {:x}", e.client_id),
@@ -359,5 +364,31 @@ pub fn stop_on_signal(flag: &'static std::sync::atomic::AtomicBool) {
     unsafe {
         libc::signal(libc::SIGINT, on_signal as *const () as libc::sighandler_t);
         libc::signal(libc::SIGTERM, on_signal as *const () as libc::sighandler_t);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gaitd_client::shm_schema::{FaultCode, NO_FINGER};
+
+    #[test]
+    fn a_fault_line_names_its_finger_if_it_has_one() {
+        let mut e = Event::new(EventKind::Fault);
+        e.fault = FaultCode::StuckFinger.code();
+        e.finger = 2;
+        assert!(
+            event_line(&e).ends_with("StuckFinger (f3)"),
+            "{}",
+            event_line(&e)
+        );
+        assert_eq!(event_json(&e)["finger"], 2);
+        e.finger = NO_FINGER;
+        assert!(
+            event_line(&e).ends_with("StuckFinger"),
+            "{}",
+            event_line(&e)
+        );
+        assert!(event_json(&e)["finger"].is_null());
     }
 }

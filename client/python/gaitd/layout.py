@@ -307,7 +307,7 @@ class Event(Payload):
         ("instance", u64),
         # EventKind: what happened
         ("kind", u32),
-        # index: finger 0-2, 0xFFFFFFFF = none (EventKind says which kinds name one; Fault never does)
+        # index: finger 0-2, 0xFFFFFFFF = none (EventKind says which kinds name one)
         ("finger", u32),
         # GoalState: new goal state (transitions)
         ("state", u32),
@@ -683,8 +683,8 @@ class FaultCode(enum.IntEnum):
     #: within `plant.stale_after_ms`; lockstep: none within `plant.lockstep_timeout_ms`), or one that echoes a command
     #: more than `plant.max_missed` behind: it stopped, stalled or vanished.
     PlantLost = 9
-    #: The plant sent an invalid measurement: a bad code, a missing required field, a non-finite number or a non-unit
-    #: quaternion.
+    #: The plant sent an invalid measurement: a bad code, a missing required field, a non-finite number (in any field it
+    #: flags valid, velocities included) or a non-unit quaternion.
     PlantInvalid = 10
     #: The plant's measurements went backwards (`seq` 0 or below the last, `time_ns` not after the last), echoed another
     #: daemon session, or echoed a command never sent.
@@ -718,8 +718,9 @@ class EventKind(enum.IntEnum):
     #: workspace with the third finger's help (`finger` = that helper, free again; `count` = the relocated fingers as
     #: bits, bit k for finger k). Its substitutions were reported before it.
     Rewind = 6
-    #: A fault was detected (`fault`; `finger` is none, also for `StuckFinger`; with `PlantFault`, `count` = the plant's
-    #: `PlantFault` code).
+    #: A fault was detected (`fault`; `finger` = the finger whose state caused it, none when the cause is not one
+    #: finger's: CLIENT-GUIDE.md lists which faults name one; with `PlantFault`, `count` = the plant's `PlantFault`
+    #: code).
     Fault = 7
     #: The fault was cleared by a reset.
     FaultCleared = 8

@@ -130,16 +130,14 @@ impl TickEvents {
         ));
     }
 
-    /// A fault was detected.
-    pub fn fault(&mut self, fault: FaultCode) {
-        self.fault_with(fault, 0);
-    }
-
-    /// A fault with a kind-specific `count` (`PlantFault`: the plant's own
-    /// `PlantFault` code).
-    pub fn fault_with(&mut self, fault: FaultCode, count: u64) {
+    /// A fault was detected; `finger` is the one finger whose state caused
+    /// it (a stuck fingertip, a lost contact), or 255 when the cause is not
+    /// one finger's (the object, the grasp, the plant link), and `count` is
+    /// kind-specific (`PlantFault`: the plant's own `PlantFault` code).
+    pub fn fault(&mut self, fault: FaultCode, finger: u8, count: u64) {
         let mut e = Event::new(EventKind::Fault);
         e.fault = fault.code();
+        e.finger = wire_finger(finger);
         e.count = count;
         self.push(e);
     }
@@ -217,5 +215,22 @@ mod tests {
         assert_eq!((q.as_slice()[3].finger, q.as_slice()[3].count), (0, 0b100));
         q.clear();
         assert!(q.as_slice().is_empty());
+    }
+
+    /// A fault names its finger when it has one, none otherwise.
+    #[test]
+    fn a_fault_names_its_finger() {
+        let mut q = TickEvents::new();
+        q.fault(FaultCode::StuckFinger, 2, 0);
+        q.fault(FaultCode::PlantFault, 255, 3);
+        let [stuck, plant] = q.as_slice() else {
+            panic!("{:?}", q.as_slice());
+        };
+        assert_eq!(
+            (stuck.fault, stuck.finger),
+            (FaultCode::StuckFinger.code(), 2)
+        );
+        assert_eq!((plant.finger, plant.count), (NO_FINGER, 3));
+        assert!(q.as_slice().iter().all(|e| e.check().is_ok()));
     }
 }

@@ -33,8 +33,31 @@ pub struct Read {
     pub measurement: Option<Measurement>,
     /// Whether it arrived this tick.
     pub fresh: bool,
-    /// A fault to report, with the plant's own fault code for `PlantFault`.
-    pub fault: Option<(FaultKind, PlantFault)>,
+    /// A fault to report.
+    pub fault: Option<LinkFault>,
+}
+
+/// A fault of the plant link.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LinkFault {
+    /// What.
+    pub kind: FaultKind,
+    /// The plant's own fault code (with `PlantFault`; else `None`).
+    pub code: PlantFault,
+    /// The finger whose measured field is invalid (with `PlantInvalid`,
+    /// when the bad field is one fingertip's).
+    pub finger: Option<u8>,
+}
+
+impl LinkFault {
+    /// A fault of `kind` with no plant code, about no finger.
+    pub fn of(kind: FaultKind) -> Self {
+        Self {
+            kind,
+            code: PlantFault::None,
+            finger: None,
+        }
+    }
 }
 
 /// The external plant's link state (module docs).
@@ -134,12 +157,12 @@ impl ExternalPlant {
                 self.held = None;
                 if !self.lost && fault.is_none() {
                     self.lost = true;
-                    fault = Some((FaultKind::PlantLost, PlantFault::None));
+                    fault = Some(LinkFault::of(FaultKind::PlantLost));
                 }
             }
         }
         if sample.contract_broken && fault.is_none() {
-            fault = Some((FaultKind::PlantTiming, PlantFault::None));
+            fault = Some(LinkFault::of(FaultKind::PlantTiming));
         }
         if fault.is_some() {
             self.faulted = true;
@@ -153,8 +176,8 @@ impl ExternalPlant {
 
     /// Takes `raw` if it is a new, valid measurement: `Ok(true)` when taken,
     /// `Ok(false)` when it repeats the last one, the fault otherwise.
-    fn take(&mut self, raw: &PlantMeasurement, at: Nanos) -> Result<bool, (FaultKind, PlantFault)> {
-        let lie = |k| Err((k, PlantFault::None));
+    fn take(&mut self, raw: &PlantMeasurement, at: Nanos) -> Result<bool, LinkFault> {
+        let lie = |k| Err(LinkFault::of(k));
         if raw.seq == 0 {
             return lie(FaultKind::PlantSequence);
         }
@@ -183,19 +206,24 @@ impl ExternalPlant {
         self.last_arrival = at;
         if raw.state & plant_state::FAULT != 0 {
             let code = raw.fault().unwrap_or(PlantFault::Other);
-            return Err((FaultKind::PlantFault, code));
+            return Err(LinkFault {
+                code,
+                ..LinkFault::of(FaultKind::PlantFault)
+            });
         }
         let age = if ours {
             u32::try_from(self.sent - raw.applied).unwrap_or(u32::MAX)
         } else {
             0
         };
-        let m =
-            wire::measurement(raw, age).map_err(|_| (FaultKind::PlantInvalid, PlantFault::None))?;
+        let m = wire::measurement(raw, age).map_err(|e| LinkFault {
+            finger: e.finger(),
+            ..LinkFault::of(FaultKind::PlantInvalid)
+        })?;
         if age > self.max_missed {
             // It reflects a command older than the tolerance: the plant
             // lags too far behind to be controlled.
-            return Err((FaultKind::PlantLost, PlantFault::None));
+            return lie(FaultKind::PlantLost);
         }
         self.echoed = ours;
         self.held = Some(m);
@@ -310,7 +338,7 @@ mod tests {
             assert_eq!(r.measurement.unwrap().age, 1 + k as u32);
         }
         let r = l.read(&PlantSample::default(), 30);
-        assert_eq!(r.fault, Some((FaultKind::PlantLost, PlantFault::None)));
+        assert_eq!(r.fault, Some(LinkFault::of(FaultKind::PlantLost)));
         assert!(r.measurement.is_none());
         assert_eq!(l.read(&PlantSample::default(), 31).fault, None);
         // It comes back: fresh again.
@@ -327,27 +355,33 @@ mod tests {
         let lie = |l: &mut ExternalPlant, m: PlantMeasurement| l.read(&sample(m, 3), 3).fault;
         // Backwards.
         assert_eq!(
-            lie(&mut l.clone(), raw(4, 1, SESSION)).map(|f| f.0),
+            lie(&mut l.clone(), raw(4, 1, SESSION)).map(|f| f.kind),
             Some(FaultKind::PlantSequence)
         );
         // Echoes a command never sent.
         assert_eq!(
-            lie(&mut l.clone(), raw(6, 9, SESSION)).map(|f| f.0),
+            lie(&mut l.clone(), raw(6, 9, SESSION)).map(|f| f.kind),
             Some(FaultKind::PlantSequence)
         );
         // Time not moving on.
         let mut m = raw(6, 1, SESSION);
         m.time_ns = 1;
         assert_eq!(
-            lie(&mut l.clone(), m).map(|f| f.0),
+            lie(&mut l.clone(), m).map(|f| f.kind),
             Some(FaultKind::PlantSequence)
         );
-        // Non-finite.
+        // Non-finite, in finger 2's field or the object's.
         let mut m = raw(6, 1, SESSION);
-        m.fingers[0].position[0] = f64::NAN;
+        m.fingers[2].position[0] = f64::NAN;
         assert_eq!(
-            lie(&mut l.clone(), m).map(|f| f.0),
-            Some(FaultKind::PlantInvalid)
+            lie(&mut l.clone(), m).map(|f| (f.kind, f.finger)),
+            Some((FaultKind::PlantInvalid, Some(2)))
+        );
+        let mut m = raw(6, 1, SESSION);
+        m.object_q[0] = f64::NAN;
+        assert_eq!(
+            lie(&mut l.clone(), m).map(|f| (f.kind, f.finger)),
+            Some((FaultKind::PlantInvalid, None))
         );
         // Its own fault.
         let mut m = raw(6, 1, SESSION);
@@ -355,12 +389,15 @@ mod tests {
         m.fault = PlantFault::EmergencyStop.code();
         assert_eq!(
             lie(&mut l.clone(), m),
-            Some((FaultKind::PlantFault, PlantFault::EmergencyStop))
+            Some(LinkFault {
+                code: PlantFault::EmergencyStop,
+                ..LinkFault::of(FaultKind::PlantFault)
+            })
         );
         // Once our session was echoed, another one is a lie.
         l.read(&sample(raw(6, 1, SESSION), 4), 4);
         assert_eq!(
-            lie(&mut l.clone(), raw(7, 1, 0xbad)).map(|f| f.0),
+            lie(&mut l.clone(), raw(7, 1, 0xbad)).map(|f| f.kind),
             Some(FaultKind::PlantSequence)
         );
     }
@@ -376,7 +413,7 @@ mod tests {
         let mut bad = raw(6, 1, SESSION);
         bad.object_q = [0.9, 0.0, 0.0, 0.0];
         let r = l.read(&sample(bad, 2), 2);
-        assert_eq!(r.fault.map(|f| f.0), Some(FaultKind::PlantInvalid));
+        assert_eq!(r.fault.map(|f| f.kind), Some(FaultKind::PlantInvalid));
         assert!(!r.fresh);
         assert_eq!(
             r.measurement.unwrap().object.w,
@@ -419,7 +456,7 @@ mod tests {
         assert_eq!(
             l.read(&PlantSample::default(), 21_000_000)
                 .fault
-                .map(|f| f.0),
+                .map(|f| f.kind),
             Some(FaultKind::PlantLost)
         );
     }

@@ -1,6 +1,8 @@
 //! Plant payloads ↔ maths types: a [`PlantMeasurement`] becomes a
 //! [`Measurement`] only if it carries every required field with finite
-//! numbers and unit quaternions; the setpoint becomes a [`PlantCommand`].
+//! numbers and unit quaternions, and every optional field it flags valid
+//! with finite numbers (velocities too, though the controller does not use
+//! them); the setpoint becomes a [`PlantCommand`].
 
 use gait::planner::Setpoint;
 use gait::sim::{MeasuredFinger, Measurement};
@@ -13,7 +15,8 @@ use shm_schema::{
 /// renormalised): a plant's rounding, not a bug (as for goals, LAYOUT.md).
 pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-3;
 
-/// Why a measurement is unusable.
+/// Why a measurement is unusable. A bad number or quaternion names the
+/// finger whose field holds it (`None`: an object field).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 pub enum BadMeasurement {
     /// A code or bit field is not one the schema defines.
@@ -23,27 +26,55 @@ pub enum BadMeasurement {
     #[error("a required field is missing (valid bits {0:#x})")]
     Missing(u32),
     /// A number is NaN or infinite.
-    #[error("a non-finite number")]
-    NonFinite,
+    #[error("a non-finite number (finger {finger:?})")]
+    NonFinite {
+        /// The finger whose field it is, if any.
+        finger: Option<u8>,
+    },
     /// A quaternion's norm is not within tolerance of 1.
-    #[error("a quaternion that is not of unit norm")]
-    NonUnit,
+    #[error("a quaternion that is not of unit norm (finger {finger:?})")]
+    NonUnit {
+        /// The finger whose orientation it is, if any.
+        finger: Option<u8>,
+    },
+}
+
+impl BadMeasurement {
+    const NON_FINITE: Self = Self::NonFinite { finger: None };
+
+    /// The finger whose field is bad, if one is.
+    pub fn finger(self) -> Option<u8> {
+        match self {
+            Self::NonFinite { finger } | Self::NonUnit { finger } => finger,
+            Self::Codes | Self::Missing(_) => None,
+        }
+    }
+
+    /// The same fault, in a field of finger `k`.
+    fn of_finger(self, k: usize) -> Self {
+        let finger = u8::try_from(k).ok();
+        match self {
+            Self::NonFinite { .. } => Self::NonFinite { finger },
+            Self::NonUnit { .. } => Self::NonUnit { finger },
+            other => other,
+        }
+    }
 }
 
 fn quat(q: [f64; 4]) -> Result<UnitQuaternion<f64>, BadMeasurement> {
     if q.iter().any(|x| !x.is_finite()) {
-        return Err(BadMeasurement::NonFinite);
+        return Err(BadMeasurement::NON_FINITE);
     }
     let q = Quaternion::new(q[0], q[1], q[2], q[3]);
     if (q.norm() - 1.0).abs() > QUATERNION_NORM_TOLERANCE {
-        return Err(BadMeasurement::NonUnit);
+        return Err(BadMeasurement::NonUnit { finger: None });
     }
     Ok(UnitQuaternion::new_normalize(q))
 }
 
 fn vec3(v: [f64; 3]) -> Result<Vector3<f64>, BadMeasurement> {
     if v.iter().any(|x| !x.is_finite()) {
-        return Err(BadMeasurement::NonFinite);
+        return Err(BadMeasurement::NON_FINITE);
     }
     Ok(Vector3::from(v))
 }
@@ -52,7 +83,7 @@ fn finite(x: f64) -> Result<f64, BadMeasurement> {
     if x.is_finite() {
         Ok(x)
     } else {
-        Err(BadMeasurement::NonFinite)
+        Err(BadMeasurement::NON_FINITE)
     }
 }
 
@@ -65,6 +96,7 @@ pub fn measurement(m: &PlantMeasurement, age: u32) -> Result<Measurement, BadMea
         return Err(BadMeasurement::Missing(m.valid));
     }
     let forces = m.valid & measurement_valid::FORCE != 0;
+    let tip_velocity = m.valid & measurement_valid::TIP_VELOCITY != 0;
     let mut fingers = [MeasuredFinger {
         center: Vector3::zeros(),
         orientation: UnitQuaternion::identity(),
@@ -72,18 +104,28 @@ pub fn measurement(m: &PlantMeasurement, age: u32) -> Result<Measurement, BadMea
         normal_force: None,
         roll: None,
     }; 3];
-    for (out, f) in fingers.iter_mut().zip(&m.fingers) {
-        *out = MeasuredFinger {
-            center: vec3(f.position)?,
-            orientation: quat(f.orientation)?,
-            contact: f.contact == 1,
-            normal_force: if forces {
-                Some(finite(f.normal_force)?)
-            } else {
-                None
-            },
-            roll: Some(finite(f.roll)?),
+    for (k, (out, f)) in fingers.iter_mut().zip(&m.fingers).enumerate() {
+        let convert = || -> Result<MeasuredFinger, BadMeasurement> {
+            if tip_velocity {
+                vec3(f.velocity)?;
+                vec3(f.angular_velocity)?;
+            }
+            Ok(MeasuredFinger {
+                center: vec3(f.position)?,
+                orientation: quat(f.orientation)?,
+                contact: f.contact == 1,
+                normal_force: if forces {
+                    Some(finite(f.normal_force)?)
+                } else {
+                    None
+                },
+                roll: Some(finite(f.roll)?),
+            })
         };
+        *out = convert().map_err(|e| e.of_finger(k))?;
+    }
+    if m.valid & measurement_valid::OBJECT_VELOCITY != 0 {
+        vec3(m.object_omega)?;
     }
     Ok(Measurement {
         object: quat(m.object_q)?,
@@ -179,7 +221,7 @@ mod tests {
         let m = measurement(&w, 0).unwrap();
         assert_eq!(m.center, Some(Vector3::new(0.0003, -0.0001, -0.0012)));
         w.object_center[1] = f64::NAN;
-        assert_eq!(measurement(&w, 0), Err(BadMeasurement::NonFinite));
+        assert_eq!(measurement(&w, 0), Err(BadMeasurement::NON_FINITE));
         // Not flagged: a NaN there is not read.
         w.valid &= !measurement_valid::OBJECT_CENTER;
         assert_eq!(measurement(&w, 0).unwrap().center, None);
@@ -188,26 +230,56 @@ mod tests {
     #[test]
     fn every_lie_is_named() {
         type Lie = fn(&mut PlantMeasurement);
-        let cases: [(&str, Lie, BadMeasurement); 6] = [
+        let (object, f0, f1, f2) = (None, Some(0), Some(1), Some(2));
+        let cases: [(&str, Lie, BadMeasurement); 10] = [
             (
                 "NaN",
                 |m| m.fingers[1].position[2] = f64::NAN,
-                BadMeasurement::NonFinite,
+                BadMeasurement::NonFinite { finger: f1 },
             ),
             (
                 "infinite force",
                 |m| m.fingers[2].normal_force = f64::INFINITY,
-                BadMeasurement::NonFinite,
+                BadMeasurement::NonFinite { finger: f2 },
+            ),
+            (
+                "NaN object velocity",
+                |m| {
+                    m.valid |= measurement_valid::OBJECT_VELOCITY;
+                    m.object_omega[2] = f64::NAN;
+                },
+                BadMeasurement::NonFinite { finger: object },
+            ),
+            (
+                "infinite tip velocity",
+                |m| {
+                    m.valid |= measurement_valid::TIP_VELOCITY;
+                    m.fingers[0].velocity[1] = f64::NEG_INFINITY;
+                },
+                BadMeasurement::NonFinite { finger: f0 },
+            ),
+            (
+                "NaN tip angular velocity",
+                |m| {
+                    m.valid |= measurement_valid::TIP_VELOCITY;
+                    m.fingers[2].angular_velocity[0] = f64::NAN;
+                },
+                BadMeasurement::NonFinite { finger: f2 },
             ),
             (
                 "non-unit object",
                 |m| m.object_q = [0.9, 0.0, 0.0, 0.0],
-                BadMeasurement::NonUnit,
+                BadMeasurement::NonUnit { finger: object },
             ),
             (
                 "zero tip",
                 |m| m.fingers[0].orientation = [0.0; 4],
-                BadMeasurement::NonUnit,
+                BadMeasurement::NonUnit { finger: f0 },
+            ),
+            (
+                "NaN tip orientation",
+                |m| m.fingers[1].orientation[3] = f64::NAN,
+                BadMeasurement::NonFinite { finger: f1 },
             ),
             (
                 "no roll",
@@ -225,6 +297,17 @@ mod tests {
             lie(&mut m);
             assert_eq!(measurement(&m, 0), Err(want), "{what}");
         }
+        // Velocities not flagged valid are not read, so not checked (as
+        // every optional field); flagged and finite, they pass.
+        let mut m = good();
+        m.object_omega = [f64::NAN; 3];
+        m.fingers[1].velocity = [f64::INFINITY; 3];
+        assert!(measurement(&m, 0).is_ok());
+        let mut m = good();
+        m.valid |= measurement_valid::OBJECT_VELOCITY | measurement_valid::TIP_VELOCITY;
+        m.object_omega = [0.1, -0.2, 0.3];
+        m.fingers[1].angular_velocity = [1.0, 2.0, 3.0];
+        assert!(measurement(&m, 0).is_ok());
         // Slightly off unit: renormalised.
         let mut m = good();
         m.object_q = [1.0005, 0.0, 0.0, 0.0];

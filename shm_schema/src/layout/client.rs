@@ -408,7 +408,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     Event,
                     finger,
                     "index",
-                    "finger 0-2, 0xFFFFFFFF = none (EventKind says which kinds name one; Fault never does)"
+                    "finger 0-2, 0xFFFFFFFF = none (EventKind says which kinds name one)"
                 ),
                 f!(Event, state, "GoalState", "new goal state (transitions)"),
                 f!(Event, reason, "ReasonCode", "reason"),

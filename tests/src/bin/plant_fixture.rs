@@ -7,7 +7,11 @@
 //! `plant_fixture --prefix P --root R --file-prefix F --lie KIND [--after N]`
 //! KIND: none, nan, non-unit, backwards, session, contact, fault, stall,
 //! exit, start-invalid, deaf (for 5 steps it steps on each answer without
-//! applying it: the plant repeats its last command).
+//! applying it: the plant repeats its last command), stuck (finger 2 is
+//! reported 1 mm out along its contact normal: off its setpoint by twice
+//! `feedback.finger_tolerance`, yet not slipping over the object),
+//! nan-omega (a NaN `object_omega`, flagged valid), inf-tip-velocity (an
+//! infinite `angular_velocity` of finger 2, flagged valid).
 
 use gaitd_client::ConnectOptions;
 use gaitd_client::plant::PlantHost;
@@ -151,6 +155,17 @@ fn main() {
             match lie.as_str() {
                 "nan" => out.fingers[1].position[0] = f64::NAN,
                 "non-unit" => out.object_q = [0.5, 0.0, 0.0, 0.0],
+                "stuck" => {
+                    out.fingers[2].position = out.fingers[2].position.map(|x| x * 0.601 / 0.6)
+                }
+                "nan-omega" => {
+                    out.valid |= measurement_valid::OBJECT_VELOCITY;
+                    out.object_omega[1] = f64::NAN;
+                }
+                "inf-tip-velocity" => {
+                    out.valid |= measurement_valid::TIP_VELOCITY;
+                    out.fingers[2].angular_velocity[0] = f64::INFINITY;
+                }
                 "backwards" => out.seq = seq.saturating_sub(50).max(1),
                 "session" => out.session ^= 0xbad,
                 // A grasping finger reports no contact (it slipped off).

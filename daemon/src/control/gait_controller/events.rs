@@ -1,7 +1,8 @@
 //! The executor's events → wire events (SPEC §7.3): goal transitions with
 //! the client's ids and the wire reason, gait events (place, lift, roll),
-//! substitutions and rewinds recognised in the finished steps, faults,
-//! drifts and invariants near their limit.
+//! substitutions and rewinds recognised in the finished steps, faults
+//! (with the finger that caused them, if one did), drifts and invariants
+//! near their limit.
 
 use super::GaitController;
 use super::codes::{fault_code, goal_reason, goal_state, reason_finger};
@@ -61,13 +62,13 @@ impl GaitController {
                         ctx.events.rewind(helper, relocated, goal, client);
                     }
                 }
-                ExecutorEvent::Fault { kind, .. } => {
+                ExecutorEvent::Fault { kind, finger } => {
                     self.gaits.reset();
                     let count = match kind {
                         FaultKind::PlantFault => u64::from(self.plant_fault.code()),
                         _ => 0,
                     };
-                    ctx.events.fault_with(fault_code(kind), count);
+                    ctx.events.fault(fault_code(kind), finger, count);
                 }
                 ExecutorEvent::FaultCleared => ctx
                     .events

@@ -278,10 +278,11 @@ impl GaitController {
             Hand::Embedded(h) => (h.read(), true),
             Hand::External(x) => {
                 let r = x.read(sample, now);
-                if let Some((kind, code)) = r.fault {
-                    self.plant_fault = code;
-                    self.exec.plant_fault(kind, NOT_A_FINGER);
-                    if kind == FaultKind::PlantLost {
+                if let Some(f) = r.fault {
+                    self.plant_fault = f.code;
+                    self.exec
+                        .plant_fault(f.kind, f.finger.unwrap_or(NOT_A_FINGER));
+                    if f.kind == FaultKind::PlantLost {
                         self.plant_enabled = false;
                     }
                 }
