@@ -2,6 +2,9 @@
 //!
 //! The search ([`super::search`]) knows a grasp only as which fingers
 //! touch the object and where: unit contact normals n in the hand frame.
+//! Whatever depends on a finger's own body (how two contacts sit apart,
+//! which load a pair holds) is asked with the finger named ([`At`]): a
+//! chain finger's posture, and so its reach and its torques, are its own.
 //! Everything else — where a finger can touch, how the fingers move when
 //! the object turns, how far they can carry it, which forces the contacts
 //! can give, what collides, how long a motion takes, and what a finger can
@@ -149,6 +152,9 @@ pub enum RegraspFor {
     Unstick,
 }
 
+/// Finger k touching the object at the unit normal n (hand frame).
+pub type At<'a> = (usize, &'a Vector3<f64>);
+
 /// The hand as the planner sees it (module docs). Implementations are
 /// pure and deterministic.
 pub trait HandModel {
@@ -168,8 +174,9 @@ pub trait HandModel {
     /// Whether two contacts of a two-finger grasp are force-closure with
     /// the planning margin.
     fn good_pair(&self, a: &Vector3<f64>, b: &Vector3<f64>) -> bool;
-    /// Whether two contacts are far enough apart for their fingers.
-    fn apart(&self, a: &Vector3<f64>, b: &Vector3<f64>) -> bool;
+    /// Whether two fingers touching at these contacts are clear of each
+    /// other.
+    fn apart(&self, a: At<'_>, b: At<'_>) -> bool;
     /// Whether three contacts are force-closure as hard contacts.
     fn fc_triple(&self, c: &[Vector3<f64>; 3]) -> bool;
 
@@ -213,17 +220,11 @@ pub trait HandModel {
         z: usize,
         f: &mut dyn FnMut(usize) -> bool,
     );
-    /// Whether the soft pair at `a`, `b` holds the load: at rest (`None`)
-    /// or turning about the axis.
-    fn pair_holds(&self, a: &Vector3<f64>, b: &Vector3<f64>, axis: Option<&Vector3<f64>>) -> bool;
+    /// Whether the soft pair of fingers at `a`, `b` holds the load: at
+    /// rest (`None`) or turning about the axis.
+    fn pair_holds(&self, a: At<'_>, b: At<'_>, axis: Option<&Vector3<f64>>) -> bool;
     /// How far (≤ `limit`) the pair can turn about `axis` and still hold.
-    fn pair_hold_range(
-        &self,
-        a: &Vector3<f64>,
-        b: &Vector3<f64>,
-        axis: &Vector3<f64>,
-        limit: f64,
-    ) -> f64;
+    fn pair_hold_range(&self, a: At<'_>, b: At<'_>, axis: &Vector3<f64>, limit: f64) -> f64;
     /// Whether the grasp of `hand` holds the load at rest.
     fn holds_at_rest(&self, hand: &HandState) -> bool;
     /// Whether the grasp of `hand` holds the load at every sample of a

@@ -23,7 +23,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use super::budget::Stop;
 use super::candidates::Candidates;
 use super::geometry::{BOUNDARY_EPS, Geometry, cone_exit, fresh_range, roll_exit, rotation};
-use super::hand_model::{Action, HandModel, Offer, RegraspFor};
+use super::hand_model::{Action, At, HandModel, Offer, RegraspFor};
 use super::load::{self, LoadViolation, PairLoad};
 use super::plan::{GreatCircleRoll, Motion, Step, StepKind};
 use super::timing::DurationModel;
@@ -214,7 +214,8 @@ impl HandModel for Fingertips {
         self.geom.is_good_pair(a, b)
     }
 
-    fn apart(&self, a: &Vector3<f64>, b: &Vector3<f64>) -> bool {
+    // Free fingertips: only the spheres can meet, and they are alike.
+    fn apart(&self, (_, a): At<'_>, (_, b): At<'_>) -> bool {
         a.dot(b) <= self.geom.cos_sep_contact - BOUNDARY_EPS
     }
 
@@ -297,14 +298,15 @@ impl HandModel for Fingertips {
         }
     }
 
-    fn pair_holds(&self, a: &Vector3<f64>, b: &Vector3<f64>, axis: Option<&Vector3<f64>>) -> bool {
+    // Every fingertip pushes up to `load.max_grip` in any direction.
+    fn pair_holds(&self, (_, a): At<'_>, (_, b): At<'_>, axis: Option<&Vector3<f64>>) -> bool {
         self.load.holds(a, b, axis)
     }
 
     fn pair_hold_range(
         &self,
-        a: &Vector3<f64>,
-        b: &Vector3<f64>,
+        (_, a): At<'_>,
+        (_, b): At<'_>,
         axis: &Vector3<f64>,
         limit: f64,
     ) -> f64 {

@@ -9,7 +9,7 @@ use super::super::alternatives::{
 };
 use super::super::geometry::angle_between;
 use super::super::goal::Remaining;
-use super::super::hand_model::{Action, HandModel, RegraspFor, Turn};
+use super::super::hand_model::{Action, At, HandModel, RegraspFor, Turn};
 use super::Search;
 use super::node::{Deferred, Edge, Last, NONE, Node};
 use crate::state::HandState;
@@ -55,18 +55,16 @@ impl<H: HandModel> Search<'_, '_, H> {
     /// [`HandModel::pair_hold_range`], remembered for the search (the kept
     /// finger of a substitution is asked about again with every candidate
     /// at the next node).
-    fn hold_range(
-        &self,
-        a: &Vector3<f64>,
-        b: &Vector3<f64>,
-        axis: &Vector3<f64>,
-        limit: f64,
-    ) -> f64 {
-        let key = [a.x, a.y, a.z, b.x, b.y, b.z, axis.x, axis.y, axis.z, limit].map(f64::to_bits);
+    fn hold_range(&self, a: At<'_>, b: At<'_>, axis: &Vector3<f64>, limit: f64) -> f64 {
+        let ((fa, a), (fb, b)) = (a, b);
+        let key = [
+            fa as f64, a.x, a.y, a.z, fb as f64, b.x, b.y, b.z, axis.x, axis.y, axis.z, limit,
+        ]
+        .map(f64::to_bits);
         if let Some(&r) = self.holds_memo.borrow().get(&key) {
             return r;
         }
-        let r = self.hand.pair_hold_range(a, b, axis, limit);
+        let r = self.hand.pair_hold_range((fa, a), (fb, b), axis, limit);
         self.holds_memo.borrow_mut().insert(key, r);
         r
     }
@@ -82,7 +80,7 @@ impl<H: HandModel> Search<'_, '_, H> {
         range: f64,
     ) -> f64 {
         let (a, b) = contacts(hand, pair);
-        let held = self.hold_range(&a, &b, axis, limit);
+        let held = self.hold_range((pair[0], &a), (pair[1], &b), axis, limit);
         if held < limit { held } else { range }
     }
 
@@ -343,7 +341,9 @@ impl<H: HandModel> Search<'_, '_, H> {
         for (x, cx) in [(pair[0], &ca), (pair[1], &cb)] {
             h.resting_partners(x, cx, z, &mut |i| {
                 let c = &cand[i];
-                found = h.apart(c, &ca) && h.apart(c, &cb) && h.good_pair(c, cx);
+                found = h.apart((z, c), (pair[0], &ca))
+                    && h.apart((z, c), (pair[1], &cb))
+                    && h.good_pair(c, cx);
                 !found
             });
             if found {
@@ -420,7 +420,7 @@ impl<H: HandModel> Search<'_, '_, H> {
             let back = h.candidates(lose);
             h.partners(z, lose, i)
                 .iter()
-                .any(|&j| h.apart(&back[j as usize], c_keep))
+                .any(|&j| h.apart((lose, &back[j as usize]), (keep, c_keep)))
         };
         // (score without the load's limit, candidate, range, travel)
         let mut list: Vec<(f64, usize, f64, f64)> = Vec::with_capacity(64);
@@ -430,9 +430,9 @@ impl<H: HandModel> Search<'_, '_, H> {
             // The new pair must hold the load at rest where the contact
             // really is (SPEC §1.3 I1').
             if h.good_pair(c, c_keep)
-                && h.apart(c, c_keep)
-                && h.apart(c, c_lose)
-                && h.pair_holds(c_keep, c, None)
+                && h.apart((z, c), (keep, c_keep))
+                && h.apart((z, c), (lose, c_lose))
+                && h.pair_holds((keep, c_keep), (z, c), None)
             {
                 let d = from.dot(c);
                 // A turn beyond what is left is worth nothing.
@@ -461,7 +461,7 @@ impl<H: HandModel> Search<'_, '_, H> {
             }
             // The pair's turn ends where it stops holding the load.
             let range = if load {
-                self.hold_range(c_keep, &cand[i], &fresh.axis, range)
+                self.hold_range((keep, c_keep), (z, &cand[i]), &fresh.axis, range)
             } else {
                 range
             };
@@ -531,7 +531,7 @@ impl<H: HandModel> Search<'_, '_, H> {
         let mut top = [(f64::INFINITY, usize::MAX); MAX_BRANCHING];
         let mut n_top = 0;
         for (i, c) in h.candidates(z).iter().enumerate() {
-            if !(h.apart(c, &ca) && h.apart(c, &cb)) {
+            if !(h.apart((z, c), (pair[0], &ca)) && h.apart((z, c), (pair[1], &cb))) {
                 continue;
             }
             let tilt = [ca, cb]
@@ -583,7 +583,10 @@ impl<H: HandModel> Search<'_, '_, H> {
                 let mut t = ESCAPE_STEP;
                 while t <= range {
                     let q = super::super::geometry::rotation(&axis, t);
-                    if self.hand.pair_holds(&(q * cz), &(q * cx), None) {
+                    if self
+                        .hand
+                        .pair_holds((placed, &(q * cz)), (x, &(q * cx)), None)
+                    {
                         self.turn(idx, node, axis, t, Turn::Tilt, true);
                         break;
                     }
@@ -652,7 +655,9 @@ impl<H: HandModel> Search<'_, '_, H> {
             }
             let mut hand = node.hand;
             self.hand.lift(&mut hand, lose);
-            if !(self.hand.pair_holds(&ci, &cj, Some(&node.rem.axis))
+            if !(self
+                .hand
+                .pair_holds((i, &ci), (j, &cj), Some(&node.rem.axis))
                 || self.hand.holds_at_rest(&hand))
             {
                 continue;

@@ -174,7 +174,7 @@ struct Search<'a, 'e, H: HandModel> {
     pairs: bool,
     /// Pair hold ranges asked so far (by the exact bits of the question).
     holds_memo: std::cell::RefCell<
-        std::collections::HashMap<[u64; 10], f64, BuildHasherDefault<KeyHasher>>,
+        std::collections::HashMap<[u64; 12], f64, BuildHasherDefault<KeyHasher>>,
     >,
 }
 
@@ -352,7 +352,11 @@ impl<H: HandModel> Search<'_, '_, H> {
         );
         let roomy = probe_axes().iter().any(|e| {
             let r = self.hand.carry_range(&node.hand, &pair, e).min(ROOMY);
-            r >= ROOMY && self.hand.pair_hold_range(&a, &b, e, r) >= ROOMY
+            r >= ROOMY
+                && self
+                    .hand
+                    .pair_hold_range((pair[0], &a), (pair[1], &b), e, r)
+                    >= ROOMY
         });
         if roomy { 0.0 } else { CRAMPED_COST }
     }
