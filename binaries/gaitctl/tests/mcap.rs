@@ -294,3 +294,25 @@ fn a_damaged_recording_is_one_clear_error() {
         assert!(!err.contains("panicked"), "{what}: {err}");
     }
 }
+
+#[test]
+fn a_bad_trace_leaves_no_recording() {
+    let d = fixture();
+    let text = String::from_utf8(read(&d.join("t.jsonl"))).unwrap();
+    let mut lines: Vec<&str> = text.lines().take(3).collect();
+    lines.push("{\"t\": oops}");
+    let (bad, out) = (d.join("bad.jsonl"), d.join("bad-out.mcap"));
+    std::fs::write(&bad, lines.join("\n")).unwrap();
+    let o = gaitctl(&[
+        "trace",
+        "mcap",
+        bad.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "one line:\n{err}");
+    assert!(err.contains("line 4"), "{err}");
+    assert!(!out.exists(), "a partial recording was left");
+}

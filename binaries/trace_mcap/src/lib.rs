@@ -273,3 +273,56 @@ pub fn read(mcap: &[u8]) -> Result<Lines, Error> {
     let header = header.ok_or(Error::NoHeader)?;
     Ok(Lines { header, samples })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const HEADER: &str = r#"{"format":"gait-trajectory/1","object_radius":0.5,"fingertip_radius":0.1,"mu":0.4,"dt":0.001}"#;
+    const TIP: &str = r#"{"p":[0.6,0,0],"q":[1,0,0,0],"contact":true}"#;
+
+    fn convert(text: &str) -> Result<Written, Error> {
+        write(text.as_bytes(), std::io::Cursor::new(Vec::new()))
+    }
+
+    fn sample(t: &str) -> String {
+        format!(r#"{{"t":{t},"object_q":[1,0,0,0],"fingers":[{TIP},{TIP},{TIP}]}}"#)
+    }
+
+    #[test]
+    fn bad_traces_are_typed_errors() {
+        assert!(matches!(convert(""), Err(Error::Empty)));
+        assert!(matches!(
+            convert("{\"format\":\"x\"}\n"),
+            Err(Error::NotATrace)
+        ));
+        assert!(matches!(convert("{\n"), Err(Error::Json { line: 1, .. })));
+        assert!(matches!(
+            convert(&format!("{HEADER}\n")),
+            Err(Error::NoSamples)
+        ));
+        let neg = format!("{HEADER}\n{}\n{}\n", sample("0.001"), sample("-1"));
+        assert!(matches!(
+            convert(&neg),
+            Err(Error::Field { line: 3, what: "t" })
+        ));
+        let no_fingers = format!("{HEADER}\n{{\"t\":0.001,\"object_q\":[1,0,0,0]}}\n");
+        assert!(matches!(
+            convert(&no_fingers),
+            Err(Error::Field {
+                line: 2,
+                what: "fingers"
+            })
+        ));
+        let good = format!("{HEADER}\n{}\n{}\n", sample("0.001"), sample("0.002"));
+        let w = convert(&good).expect("a trace");
+        assert_eq!((w.samples, w.start_ns, w.end_ns), (2, 1_000_000, 2_000_000));
+    }
+
+    #[test]
+    fn what_is_not_an_mcap_recording_is_an_error() {
+        assert!(!is_mcap(b"{\"format\""));
+        assert!(matches!(read(b"{\"format\":1}"), Err(Error::Mcap(_))));
+        assert!(matches!(read(&mcap::MAGIC[..6]), Err(Error::Mcap(_))));
+    }
+}
