@@ -35,7 +35,9 @@ fn ok(out: Output) -> Output {
 fn fixture() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
-        let d = std::env::temp_dir().join(format!("gaitctl-mcap-{}", std::process::id()));
+        // In the target directory, remade by each run: nothing left in /tmp.
+        let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gaitctl-mcap");
+        let _ = std::fs::remove_dir_all(&d);
         std::fs::create_dir_all(&d).unwrap();
         let (jsonl, mcap) = (d.join("t.jsonl"), d.join("t.mcap"));
         ok(gaitctl(&[
