@@ -4,7 +4,8 @@
 //! gaitd-bridge): status, live view, goals, cancel/hold/reset, events and
 //! benchmarks, all through the `gaitd_client` library. Without one: offline
 //! planning and execution on the embedded kinematic hand (the `gait`
-//! crate), trace export and plots (resvg), and plants for a daemon with
+//! crate), trace export (JSON lines, MCAP through `trace_mcap`) and plots
+//! (resvg), and plants for a daemon with
 //! `[plant] kind = "shm"`. The planning and plotting dependencies are this
 //! crate's alone: the client library does not carry them.
 //!
@@ -23,6 +24,7 @@ mod plot;
 mod progress;
 mod reorient;
 mod status;
+mod trace;
 mod tracefile;
 mod watch;
 
@@ -64,9 +66,12 @@ enum Cmd {
     /// Plan and execute offline (no daemon) on the embedded kinematic hand;
     /// export a gait-trajectory/1 trace.
     Plan(plan::Args),
-    /// Draw a trace: contact paths on the sphere, rotation, force closure,
-    /// finger states (SVG or PNG).
+    /// Draw a trace (JSON lines or its MCAP recording): contact paths on
+    /// the sphere, rotation, force closure, finger states (SVG or PNG).
     Plot(plot::Args),
+    /// Convert a trace: `trace mcap TRACE -o FILE.mcap` writes an MCAP
+    /// recording (Foxglove, ROS 2 tools, Rerun).
+    Trace(trace::Args),
     /// Run a plant out of process for a daemon with `[plant] kind = "shm"`:
     /// `sim` (the kinematic hand) or `mujoco` (the MuJoCo physics hand).
     Plant(plant::Args),
@@ -89,6 +94,7 @@ fn main() -> ExitCode {
         Cmd::Demo(a) => return offline_exit(demo::run(&cli.conn, &a)),
         Cmd::Plan(a) => return offline_exit(plan::run(&a)),
         Cmd::Plot(a) => return offline_exit(plot::run(&a)),
+        Cmd::Trace(a) => return offline_exit(trace::run(&a)),
         Cmd::Plant(a) => return plant::main(&cli.conn, &a),
         Cmd::Pong(a) => bench::pong(&a),
     };

@@ -10,7 +10,30 @@ use gait::executor::{GoalStage, GoalTarget};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use super::offline::{GoalRun, OfflineRun, load_config};
-use super::tracefile;
+use super::{trace, tracefile};
+
+/// Where the trace goes: the JSON-lines file and, for the MCAP recording,
+/// a copy in memory (the recording's writer needs the header's model and
+/// converts the whole trace at the end).
+struct Sinks {
+    file: Option<BufWriter<std::fs::File>>,
+    copy: Option<Vec<u8>>,
+}
+
+impl Write for Sinks {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if let Some(f) = self.file.as_mut() {
+            f.write_all(buf)?;
+        }
+        if let Some(c) = self.copy.as_mut() {
+            c.extend_from_slice(buf);
+        }
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.as_mut().map_or(Ok(()), Write::flush)
+    }
+}
 
 /// Built-in scenarios.
 #[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -57,6 +80,9 @@ pub struct Args {
     /// Write the trace (gait-trajectory/1, JSON lines) here.
     #[arg(long, short = 'o', value_name = "FILE")]
     out: Option<PathBuf>,
+    /// Write the trace as an MCAP recording here too (as `gaitctl trace mcap`).
+    #[arg(long, value_name = "FILE.mcap")]
+    mcap: Option<PathBuf>,
     /// gaitd configuration file for the model (default: built-in defaults).
     #[arg(long, value_name = "FILE")]
     config: Option<PathBuf>,
@@ -185,7 +211,7 @@ pub fn run(a: &Args) -> Result<ExitCode, String> {
     let goals = goals(a, &start.object)?;
     let dt = 1.0 / a.rate;
     let mut run = OfflineRun::new(&cfg, start, dt)?;
-    let mut writer = match &a.out {
+    let file = match &a.out {
         Some(p) => {
             Some(BufWriter::new(std::fs::File::create(p).map_err(|e| {
                 format!("cannot create {}: {e}", p.display())
@@ -193,6 +219,10 @@ pub fn run(a: &Args) -> Result<ExitCode, String> {
         }
         None => None,
     };
+    let mut writer = (a.out.is_some() || a.mcap.is_some()).then(|| Sinks {
+        file,
+        copy: a.mcap.as_ref().map(|_| Vec::new()),
+    });
     if let Some(w) = writer.as_mut() {
         let labels: Vec<String> = goals.iter().map(|(l, _)| format!("{l:?}")).collect();
         let extra = format!(
@@ -228,13 +258,13 @@ pub fn run(a: &Args) -> Result<ExitCode, String> {
     }
     if let Some(mut w) = writer {
         w.flush().map_err(|e| e.to_string())?;
-        println!(
-            "trace: {}",
-            a.out
-                .as_ref()
-                .map(|p| p.display().to_string())
-                .unwrap_or_default()
-        );
+        if let Some(p) = &a.out {
+            println!("trace: {}", p.display());
+        }
+        if let (Some(p), Some(copy)) = (&a.mcap, &w.copy) {
+            trace::write_mcap(&copy[..], p)?;
+            println!("MCAP recording: {}", p.display());
+        }
     }
     Ok(if ok {
         ExitCode::SUCCESS

@@ -1,7 +1,8 @@
-//! `gaitctl plot TRACE -o FILE.svg|.png`: the contact paths on the sphere in
-//! the style of the paper's Fig. 3/4 (hand frame from above and from the
-//! side, and on the object itself), and over time the object's rotation
-//! angle, the force-closure margin and each finger's state.
+//! `gaitctl plot TRACE -o FILE.svg|.png` (TRACE: JSON lines or MCAP): the
+//! contact paths on the sphere in the style of the paper's Fig. 3/4 (hand
+//! frame from above and from the side, and on the object itself), and over
+//! time the object's rotation angle, the force-closure margin and each
+//! finger's state.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -14,7 +15,8 @@ use super::tracefile::{self, Trace};
 /// Arguments of `gaitctl plot`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// The trace (gait-trajectory/1).
+    /// The trace (gait-trajectory/1): JSON lines, or their MCAP recording
+    /// (`gaitctl trace mcap`), told apart by the file's first bytes.
     trace: PathBuf,
     /// Output picture: .svg or .png.
     #[arg(long, short = 'o', value_name = "FILE")]

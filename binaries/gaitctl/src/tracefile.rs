@@ -1,7 +1,8 @@
 //! Reading `gait-trajectory/1` traces (SPEC §10) back: for `plot` and for
-//! `plan --from TRACE` (start where a trace ended).
+//! `plan --from TRACE` (start where a trace ended); JSON lines or their
+//! MCAP recording.
 
-use std::io::BufRead;
+use std::io::{BufRead, Read};
 use std::path::Path;
 
 use gait::{FingerMode, FingerState, HandState};
@@ -73,15 +74,38 @@ fn quat(v: &Value, what: &str, line: usize) -> Result<UnitQuaternion<f64>, Strin
     Ok(UnitQuaternion::new_normalize(Quaternion::new(w, x, y, z)))
 }
 
-/// Reads a trace file.
+/// Reads a trace file: JSON lines, or an MCAP recording of one (told by
+/// its first bytes, `gaitctl trace mcap`).
 pub fn read(path: &Path) -> Result<Trace, String> {
     let file =
         std::fs::File::open(path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
-    let mut lines = std::io::BufReader::new(file).lines().enumerate();
+    let mut file = std::io::BufReader::new(file);
+    let prefix = file
+        .fill_buf()
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    if trace_mcap::is_mcap(prefix) {
+        let mut bytes = Vec::new();
+        file.read_to_end(&mut bytes)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let lines = trace_mcap::read(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+        let all = std::iter::once(lines.header)
+            .chain(lines.samples)
+            .map(Ok::<_, String>);
+        return parse(path, all);
+    }
+    parse(path, file.lines().map(|l| l.map_err(|e| e.to_string())))
+}
+
+/// Parses a trace's lines, header first.
+fn parse(
+    path: &Path,
+    lines: impl Iterator<Item = Result<String, String>>,
+) -> Result<Trace, String> {
+    let mut lines = lines.enumerate();
     let (_, first) = lines
         .next()
         .ok_or_else(|| format!("{}: empty trace", path.display()))?;
-    let first = first.map_err(|e| e.to_string())?;
+    let first = first?;
     let h: Value = serde_json::from_str(&first).map_err(|e| format!("line 1: {e}"))?;
     if h.get("format").and_then(Value::as_str) != Some(gait::trace::FORMAT) {
         return Err(format!(
@@ -100,7 +124,7 @@ pub fn read(path: &Path) -> Result<Trace, String> {
     };
     for (i, l) in lines {
         let n = i + 1;
-        let l = l.map_err(|e| e.to_string())?;
+        let l = l?;
         if l.trim().is_empty() {
             continue;
         }
