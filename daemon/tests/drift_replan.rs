@@ -106,7 +106,7 @@ fn a_measured_contact_near_its_workspace_limit_is_reported_and_replanned() {
     ns.cfg.feedback.finger_tolerance = 0.02;
     ns.cfg.feedback.contact_tolerance = 0.02;
     let azimuth = ns.cfg.model.finger_azimuth_deg;
-    let model = gait::hand::HandModel::new(&ns.cfg.hand()).unwrap();
+    let model = gait::hand::FingertipLimits::new(&ns.cfg.hand()).unwrap();
     let mut g = gait_loop(&ns, 48, |_| {});
     // 1.5 rad about z: its plan rotates a pair to the margin (1 rad about
     // z now turns with all three fingers first and stays 1.7° inside it).

@@ -75,7 +75,7 @@ struct Oracle {
 
 impl Oracle {
     fn new() -> Self {
-        let f = gait::hand::HandModel::new(&cfg())
+        let f = gait::hand::FingertipLimits::new(&cfg())
             .unwrap()
             .margin_friction();
         Self {
@@ -262,7 +262,7 @@ fn margin_semantics_fact3_equals_reduced_friction_conic() {
     // Fact 3 with margin δ is force closure at θ − δ/2 (the notion I1 uses
     // for every method).
     let mut rng = common::rng(24);
-    let m = gait::hand::HandModel::new(&cfg()).unwrap();
+    let m = gait::hand::FingertipLimits::new(&cfg()).unwrap();
     let mut oracle = Oracle::new();
     let mut n = 0;
     while n < 5_000 {

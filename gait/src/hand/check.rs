@@ -4,7 +4,7 @@ use core::f64::consts::PI;
 
 use nalgebra::Vector3;
 
-use super::model::{Bound, HandModel};
+use super::limits::{Bound, FingertipLimits};
 use super::report::{
     Check, FcMethod, FingerReport, ForceClosureCheck, InvariantReport, PAIRS, SlipCheck,
     SlipReport, Unit,
@@ -82,7 +82,7 @@ type ConicCache = (
 /// and a failing three-finger state reports the best closed-form slack.
 #[derive(Debug)]
 pub struct InvariantChecker {
-    model: HandModel,
+    model: FingertipLimits,
     conic: ConicSolver,
     cache: Option<ConicCache>,
     conic_solves: u64,
@@ -116,7 +116,7 @@ impl InvariantChecker {
     /// hard contacts (allocates; afterwards only a conic re-solve does, see
     /// the type docs).
     pub fn new(config: &HandConfig) -> Result<Self, ConfigError> {
-        let model = HandModel::new(config)?;
+        let model = FingertipLimits::new(config)?;
         let mut conic = ConicSolver::new(model.margin_friction());
         // The model is validated, so the build cannot fail for bad data;
         // if Clarabel refused anyway, the first conic check reports
@@ -144,7 +144,7 @@ impl InvariantChecker {
     }
 
     /// The model.
-    pub fn model(&self) -> &HandModel {
+    pub fn model(&self) -> &FingertipLimits {
         &self.model
     }
 
@@ -335,7 +335,7 @@ fn bits_equal(a: &[Vector3<f64>; 3], b: &[Vector3<f64>; 3]) -> bool {
     })
 }
 
-fn finger_report(m: &HandModel, k: usize, f: &FingerState) -> FingerReport {
+fn finger_report(m: &FingertipLimits, k: usize, f: &FingerState) -> FingerReport {
     let roll = Check::closed(m.roll_slack(f.roll, Bound::Limit), Unit::Radian);
     let workspace = Check::closed(m.workspace_slack(k, &f.center, Bound::Margin), Unit::Radian);
     match f.mode {

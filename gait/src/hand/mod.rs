@@ -1,6 +1,6 @@
 //! The hand model and its invariants (SPEC.md §1.1, §1.3).
 //!
-//! - [`HandModel`]: the geometry of one validated [`crate::HandConfig`] —
+//! - [`FingertipLimits`]: the geometry of one validated [`crate::HandConfig`] —
 //!   workspace cones W_k, the free-space shell, the fingertip hemisphere,
 //!   the roll limit γ, fingertip collision, contact consistency and the
 //!   force-closure closed forms with margin — as signed slacks in natural
@@ -16,11 +16,11 @@
 //! decide, is owned and cached by the checker (`&mut self`).
 
 mod check;
-mod model;
+mod limits;
 mod report;
 
 pub use check::{InvariantChecker, StateError, validate_state};
-pub use model::{Bound, HandModel, SLACK_TOLERANCE};
+pub use limits::{Bound, FingertipLimits, SLACK_TOLERANCE};
 pub use report::{
     Check, FcMethod, FingerReport, ForceClosureCheck, Invariant, InvariantReport, PAIRS, SlipCheck,
     SlipReport, Subject, Unit, Violation,

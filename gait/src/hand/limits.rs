@@ -30,11 +30,12 @@ pub enum Bound {
 /// a closed constraint passes when its slack is ≥ −SLACK_TOLERANCE.
 pub const SLACK_TOLERANCE: f64 = 1e-9;
 
-/// The hand and object model, precomputed from a validated
-/// [`HandConfig`] (SPEC §1.1). Cheap to copy; every method is pure and
-/// allocation-free.
+/// The free-fingertip hand's limits and the object, precomputed from a
+/// validated [`HandConfig`] (SPEC §1.1). (The planner's view of a hand is
+/// another thing: `crate::planner::hand_model::HandModel`.) Cheap to copy;
+/// every method is pure and allocation-free.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct HandModel {
+pub struct FingertipLimits {
     config: HandConfig,
     object_radius: f64,
     fingertip_radius: f64,
@@ -52,7 +53,7 @@ pub struct HandModel {
     friction_margin: Friction,
 }
 
-impl HandModel {
+impl FingertipLimits {
     /// Validates `config` and precomputes the model.
     pub fn new(config: &HandConfig) -> Result<Self, ConfigError> {
         config.validate()?;
