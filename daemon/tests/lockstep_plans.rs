@@ -13,7 +13,7 @@ mod ipc_rig;
 use gait::executor::{Mode, PlanRequest};
 use gait::planner::{Plan, PlanError};
 use gaitd::control::gait_controller::GaitPlanner;
-use gaitd::control::planner::{BackgroundPlanner, Wanted};
+use gaitd::control::plan_thread::{BackgroundPlanner, Wanted};
 use ipc_rig::Namespace;
 use shm_schema::{Command, GoalFrame};
 use std::sync::Arc;

@@ -21,7 +21,7 @@ mod hold;
 mod ipc_rig;
 
 use gaitd::control::controller::{ControlCommand, ControlOutput, Controller, TickContext};
-use gaitd::control::planner::{self, BackgroundPlanner, PlannerLink, Wanted};
+use gaitd::control::plan_thread::{self, BackgroundPlanner, PlannerLink, Wanted};
 use gaitd::realtime::runtime::Runtime;
 use gaitd::sys::clock::MockClock;
 use hold::HoldController;
@@ -230,7 +230,7 @@ fn plans_cross_the_loop_without_allocation() {
     let ns = Namespace::new("p");
     let d = daemon(&ns);
     let client = d.client;
-    let (link, planner_thread) = planner::spawn(VecPlanner, 4, || {}).unwrap();
+    let (link, planner_thread) = plan_thread::spawn(VecPlanner, 4, || {}).unwrap();
     let controller = PlanningController {
         link,
         active: None,

@@ -10,7 +10,7 @@ mod ipc_rig;
 
 use gait::executor::PlanRequest;
 use gait::planner::{Plan, PlanError};
-use gaitd::control::planner::{BackgroundPlanner, Wanted};
+use gaitd::control::plan_thread::{BackgroundPlanner, Wanted};
 use ipc_rig::{Namespace, gait_loop_with};
 use shm_schema::{Command, EventKind, GoalFrame, GoalState, NO_FINGER, ReasonCode};
 

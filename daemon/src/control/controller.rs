@@ -9,7 +9,7 @@
 //! Contract (copper-rs `CuTask` phases): every method runs on the real-time
 //! loop thread, so it must not allocate, free, block, sleep, log or do I/O
 //! other than its plant; planning goes through a
-//! [`PlannerLink`](crate::control::planner::PlannerLink). Per tick the loop calls
+//! [`PlannerLink`](crate::control::plan_thread::PlannerLink). Per tick the loop calls
 //! [`Controller::command`] for each command that arrived (in order), then
 //! [`Controller::tick`] exactly once.
 

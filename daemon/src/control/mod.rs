@@ -8,10 +8,10 @@
 //!   the loop publishes.
 //! - [`gait_controller`]: the real controller: planner + executor + plant.
 //! - [`convert`]: maths types to wire types (status), in one place.
-//! - [`planner`]: the planner thread and its lock-free link to the loop.
+//! - [`plan_thread`]: the planner thread and its lock-free link to the loop.
 
 pub mod controller;
 pub mod convert;
 pub mod events;
 pub mod gait_controller;
-pub mod planner;
+pub mod plan_thread;

@@ -23,7 +23,7 @@
 
 use crate::config::DaemonConfig;
 use crate::control::gait_controller::{GaitController, GaitPlanner};
-use crate::control::planner::{self, PlannerThread};
+use crate::control::plan_thread::{self, PlannerThread};
 use crate::io::ipc::{self, IpcError};
 use crate::io::outbox::{self, Outbox, Writer, WriterSettings};
 use crate::io::tracer::{self, TraceError, TraceSettings, TraceWriter};
@@ -235,7 +235,7 @@ pub fn start_background(
     if let Some(n) = &notes {
         planning.keep_notes(n.clone());
     }
-    let (mut link, planner) = planner::spawn(planning, PLANNER_QUEUE, move || {
+    let (mut link, planner) = plan_thread::spawn(planning, PLANNER_QUEUE, move || {
         let _ = rt::pin_current_thread(&cpus);
     })
     .map_err(StartupError::PlannerThread)?;

@@ -260,7 +260,7 @@ pub struct GaitLoop {
     pub client: TestClient,
     pub shared: Arc<Shared>,
     writer: outbox::Writer,
-    planner: gaitd::control::planner::PlannerThread,
+    planner: gaitd::control::plan_thread::PlannerThread,
     _commands_service:
         iceoryx2::service::port_factory::publish_subscribe::PortFactory<Ipc, Command, ()>,
     _node: Node<Ipc>,
@@ -287,7 +287,7 @@ pub fn gait_loop_with<P>(
     setup: impl FnOnce(&mut gaitd::control::gait_controller::GaitController),
 ) -> GaitLoop
 where
-    P: gaitd::control::planner::BackgroundPlanner<
+    P: gaitd::control::plan_thread::BackgroundPlanner<
             Request = gait::executor::PlanRequest,
             Plan = gait::planner::Plan,
             Error = gait::planner::PlanError,
@@ -306,7 +306,7 @@ where
         ..
     } = daemon(ns);
     let hand = ns.cfg.hand();
-    let (link, planner) = gaitd::control::planner::spawn(planner, 4, || {}).unwrap();
+    let (link, planner) = gaitd::control::plan_thread::spawn(planner, 4, || {}).unwrap();
     let mut controller = match plant {
         None => GaitController::new(&hand, 1e-3, link).unwrap(),
         Some(_) => {

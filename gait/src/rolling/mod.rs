@@ -22,14 +22,14 @@
 //! - [`path`]: the fixed-capacity path, its margins and path builders;
 //! - [`fig2`]: the paper's longitude–equator–longitude path and its
 //!   closed-form reach;
-//! - [`planner`]: the single-finger planner.
+//! - [`mod@plan_roll`]: the single-finger rolling planner.
 
 pub mod fig2;
 pub mod path;
-pub mod planner;
+pub mod plan_roll;
 pub mod segment;
 
 pub use fig2::{Turn, fig2_reach, fig2_roll_for};
 pub use path::{MAX_SEGMENTS, PathError, PathMargins, RollingPath};
-pub use planner::{RollGoal, RollLimits, RollPlanError, plan_roll};
+pub use plan_roll::{RollGoal, RollLimits, RollPlanError, plan_roll};
 pub use segment::{PathSample, RollSegment, SegmentKind, Waypoint};

@@ -25,7 +25,7 @@ mod trace;
 use crate::control::controller::{
     ClientTarget, ControlCommand, ControlOutput, Controller, MeasuredReport, TickContext,
 };
-use crate::control::planner::{BackgroundPlanner, PlannerLink, Wanted};
+use crate::control::plan_thread::{BackgroundPlanner, PlannerLink, Wanted};
 use crate::io::tracer::{PlanNote, PlanNotes, TraceRecorder};
 use crate::plant::external::ExternalPlant;
 use crate::plant::{Hand, PlantSample};

@@ -4,7 +4,7 @@
 //! Nothing is allocated or freed here: plans only move. A plan the retire
 //! ring cannot take yet waits in a small fixed table for the next tick.
 
-use crate::control::planner::PlannerLink;
+use crate::control::plan_thread::PlannerLink;
 use gait::executor::{Executor, PlanRequest};
 use gait::planner::{Plan, PlanError};
 
@@ -77,7 +77,7 @@ impl PlanShuttle {
                 Some(slot) => *slot = Some(p),
                 None => {
                     // Cannot happen (the ring has room for every plan alive
-                    // on this side, see `planner::spawn`); should it, a
+                    // on this side, see `plan_thread::spawn`); should it, a
                     // leaked plan is a bounded loss, a free here is not.
                     Box::leak(p);
                     self.leaked += 1;
