@@ -13,8 +13,9 @@ mod python_support;
 
 use gaitd_client::{Client, GoalSpec, GoalState, ReasonCode, Status, Verdict};
 use gaitd_tests::{TestDaemon, oracle_python, repo_root, workspace_bin};
-use python_support::{PlantProcess, angle, python};
+use python_support::{PlantProcess, python};
 use std::time::{Duration, Instant};
+use test_support::quat::angle;
 
 const T: Duration = Duration::from_secs(10);
 /// Longest wait for one goal in lockstep (simulated seconds pass at the

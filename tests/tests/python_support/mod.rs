@@ -150,9 +150,3 @@ impl Drop for PlantProcess {
         self.stop(Duration::from_secs(5));
     }
 }
-
-/// Angle between two unit quaternions \[rad\].
-pub fn angle(a: [f64; 4], b: [f64; 4]) -> f64 {
-    let d: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
-    2.0 * d.abs().min(1.0).acos()
-}
