@@ -310,9 +310,7 @@ fn a_plant_starting_in_an_invalid_state_is_refused_with_its_reason() {
 #[test]
 fn two_lockstep_runs_write_identical_traces() {
     let run = |i: u32| -> (Vec<String>, Vec<(u32, u64)>) {
-        let traces = std::env::temp_dir().join(format!("gaitd-e2e-det-{}-{i}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&traces);
-        std::fs::create_dir_all(&traces).unwrap();
+        let traces = test_support::scratch_dir(&format!("e2e-det-{i}"));
         let d = daemon(
             &format!("det{i}"),
             "lockstep",
