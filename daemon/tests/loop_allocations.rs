@@ -351,9 +351,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
     ns.cfg.load.object_mass = 0.0;
     ns.cfg.load.disturbance_force = 0.0;
     let hand = ns.cfg.hand();
-    let trace_dir = std::env::temp_dir().join(format!("gaitd-alloc-traces-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&trace_dir);
-    std::fs::create_dir_all(&trace_dir).unwrap();
+    let trace_dir = test_support::scratch_dir("alloc-traces");
     let (recorder, tracer) = gaitd::io::tracer::spawn(
         gaitd::io::tracer::TraceSettings {
             dir: trace_dir.clone(),

@@ -19,22 +19,9 @@ use gait::grasp::{
 use nalgebra::Vector3;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use test_support::random::unit;
 
 const INPUTS: usize = 1024;
-
-fn unit(rng: &mut ChaCha8Rng) -> Vector3<f64> {
-    loop {
-        let v = Vector3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        let n = v.norm();
-        if n > 0.1 && n <= 1.0 {
-            return v / n;
-        }
-    }
-}
 
 struct Inputs {
     pairs: Vec<[Vector3<f64>; 2]>,

@@ -16,7 +16,7 @@
 //! placed fingertips really had, and whether the goal succeeded.
 
 use gait::executor::{Executor, ExecutorCommand, ExecutorEvent, GoalStage, GoalTarget, Mode};
-use gait::planner::Planner;
+use gait::planner::{Planner, StepKind};
 use gait::sim::{MeasuredFinger, Measurement};
 use gait::{FingerMode, HandConfig, HandState};
 use nalgebra::{UnitQuaternion, Vector3};
@@ -29,6 +29,13 @@ const SAG: Vector3<f64> = Vector3::new(0.0003, -0.0001, -0.0012);
 const PRESS_STIFFNESS: f64 = 5000.0;
 /// A gap this small is a touch (rounding) \[m\].
 const TOUCH: f64 = 1e-6;
+/// The gap the test's goal must open under a fingertip placed on the
+/// modelled surface \[m\]: twice what the runs without placement must
+/// show, so that the goal found is clearly one the sag matters to.
+const PLACE_GAP: f64 = 4e-4;
+/// The seed of the goals searched, and how many are tried.
+const SEED: u64 = 0x91ACE;
+const TRIES: usize = 64;
 
 /// What one run did, measured on the plant.
 struct Run {
@@ -82,7 +89,8 @@ fn measure(
     (m, gaps)
 }
 
-fn run(max_place_offset: f64, reports_centre: bool, goal: UnitQuaternion<f64>) -> Run {
+/// The configuration of every run: placing up to `max_place_offset`.
+fn config(max_place_offset: f64) -> HandConfig {
     let mut cfg = HandConfig::default();
     // The fingertips are commanded off the modelled sphere by the offsets
     // and the object is off the model: a physics plant's tolerances
@@ -91,6 +99,51 @@ fn run(max_place_offset: f64, reports_centre: bool, goal: UnitQuaternion<f64>) -
     cfg.feedback.contact_tolerance = 0.004;
     cfg.feedback.object_tolerance_deg = 2.0;
     cfg.feedback.max_place_offset = max_place_offset;
+    cfg
+}
+
+/// How far short of the real surface a fingertip placed on the modelled
+/// one at `center` stays \[m\] (positive: a gap).
+fn sag_gap(center: &Vector3<f64>, rc: f64) -> f64 {
+    (center - SAG).norm() - rc
+}
+
+/// The largest gap the sag opens under the fingertips `goal`'s plan
+/// places, from the paper's start (`None`: no plan, or no placement).
+fn planned_gap(planner: &Planner, cfg: &HandConfig, goal: &UnitQuaternion<f64>) -> Option<f64> {
+    let rc = cfg.model.object_radius + cfg.model.fingertip_radius;
+    let plan = planner.plan(&HandState::paper_start(cfg), goal).ok()?;
+    plan.steps
+        .iter()
+        .filter(|st| st.kind == StepKind::Place)
+        .filter_map(|st| {
+            let placed = st.eval(&st.dofs().length, &[0.0; 3]).state;
+            Some(sag_gap(&placed.fingers[st.finger()?].center, rc))
+        })
+        .reduce(f64::max)
+}
+
+/// The first of a seeded stream of Haar-random goals whose plan places a
+/// fingertip where the sag opens a gap of `PLACE_GAP` or more (above the
+/// equator: the sag is mostly downwards), with that gap. Found, not
+/// written down: which goals place where changes with the planner.
+fn goal_placing_over_the_sag() -> (UnitQuaternion<f64>, f64) {
+    let cfg = config(0.0);
+    let planner = Planner::new(&cfg).unwrap();
+    let mut rng = test_support::random::rng(SEED);
+    for _ in 0..TRIES {
+        let goal = test_support::random::haar(&mut rng);
+        if let Some(gap) = planned_gap(&planner, &cfg, &goal)
+            && gap >= PLACE_GAP
+        {
+            return (goal, gap);
+        }
+    }
+    panic!("none of {TRIES} random goals places a fingertip {PLACE_GAP} m short");
+}
+
+fn run(max_place_offset: f64, reports_centre: bool, goal: UnitQuaternion<f64>) -> Run {
+    let cfg = config(max_place_offset);
     let rc = cfg.model.object_radius + cfg.model.fingertip_radius;
     let start = HandState::paper_start(&cfg);
     let planner = Planner::new(&cfg).unwrap();
@@ -155,9 +208,15 @@ fn run(max_place_offset: f64, reports_centre: bool, goal: UnitQuaternion<f64>) -
 
 #[test]
 fn fingertips_placed_where_the_object_is_measured_touch_it() {
-    // A goal whose handovers place fingertips above the equator, where a
-    // sag of 1.2 mm opens a gap.
-    let goal = UnitQuaternion::from_scaled_axis(Vector3::new(1.0, 0.3, 0.0).normalize() * 2.5);
+    // A goal whose plan places a fingertip above the equator, where a sag
+    // of 1.2 mm opens a gap: searched for, so that a planner placing
+    // elsewhere changes the goal, not the test.
+    let (goal, gap) = goal_placing_over_the_sag();
+    println!(
+        "goal {:?}: its plan places a fingertip {:.3} mm short of the real surface",
+        goal.coords.as_slice(),
+        gap * 1e3
+    );
     let on = run(HandConfig::default().feedback.max_place_offset, true, goal);
     let off = run(0.0, true, goal);
     let blind = run(HandConfig::default().feedback.max_place_offset, false, goal);
@@ -201,6 +260,12 @@ fn fingertips_placed_where_the_object_is_measured_touch_it() {
             r.worst_gap > 2e-4,
             "without placement the largest gap is only {:.3} mm",
             r.worst_gap * 1e3
+        );
+        assert!(
+            (r.worst_gap - gap).abs() < TOUCH,
+            "without placement the gap is {:.3} mm, the plan's {:.3} mm",
+            r.worst_gap * 1e3,
+            gap * 1e3
         );
     }
 }

@@ -83,7 +83,7 @@ fn torque_box_is_tight() {
     for n in 0..CASES {
         let c = &chains[n % 3];
         let s = c.forward(&common::random_q(c, &mut rng));
-        let d = common::random_unit(&mut rng);
+        let d = common::unit(&mut rng);
         let g = gravity_torques(c, &s, &h.gravity);
         let tau_max = c.effort();
         let Some(k) = max_force_scale(&s, &d, &g, &tau_max) else {

@@ -27,6 +27,7 @@ mod common;
 
 use kinematics::{Chain, ChainState, rolling_rates};
 use nalgebra::{Matrix3, Rotation3, Vector3};
+use test_support::random::angle;
 
 struct Ball {
     centre: Vector3<f64>,
@@ -73,10 +74,6 @@ fn recovered(
         .map(|(n, v)| (w.cross(&(n * ball.radius)) - v).norm())
         .fold(0.0, f64::max);
     (w, residual)
-}
-
-fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
-    a.cross(b).norm().atan2(a.dot(b))
 }
 
 #[test]

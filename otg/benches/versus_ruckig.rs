@@ -18,6 +18,7 @@ mod case;
 use std::path::PathBuf;
 use std::process::Command;
 use std::time::Instant;
+use test_support::repo::oracle_python;
 
 use otg::{Otg, Output};
 use serde_json::Value;
@@ -31,20 +32,8 @@ fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-fn python() -> PathBuf {
-    let p = std::env::var_os("GAITD_ORACLE_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| repo().join(".venv-oracles/bin/python"));
-    assert!(
-        p.exists(),
-        "oracle Python {} not found: run `bash .ci/install`",
-        p.display()
-    );
-    p
-}
-
 fn oracle(args: &[String]) -> String {
-    let out = Command::new(python())
+    let out = Command::new(oracle_python(&repo()))
         .arg(repo().join("tests/oracles/ruckig_oracle.py"))
         .args(args)
         .output()

@@ -94,7 +94,7 @@ impl Block {
                 let mut a = Interval::between(&valid[i_min], &valid[i_other]);
                 a.left = a
                     .left
-                    .max(self.t_min + crate::calculator::close_tol(self.t_min));
+                    .max(self.t_min + crate::limits::close_tol(self.t_min));
                 self.a = Some(a);
                 return true;
             }
@@ -164,11 +164,11 @@ impl Block {
     }
 
     /// Durations within rounding of `t_min` use the optimal profile itself
-    /// (see `calculator::close_tol`), so no interval may block them: the
+    /// (see `limits::close_tol`), so no interval may block them: the
     /// same profile found twice (e.g. from both directions) would otherwise
     /// open a blocked interval right at `t_min`.
     fn keep_near_t_min_feasible(&mut self) {
-        let floor = self.t_min + crate::calculator::close_tol(self.t_min);
+        let floor = self.t_min + crate::limits::close_tol(self.t_min);
         for slot in [&mut self.a, &mut self.b] {
             if let Some(i) = slot {
                 i.left = i.left.max(floor);
@@ -211,7 +211,7 @@ impl Block {
     /// Whether duration `t` is infeasible for this DoF.
     #[inline]
     pub fn is_blocked(&self, t: f64) -> bool {
-        t < self.t_min - crate::calculator::close_tol(self.t_min)
+        t < self.t_min - crate::limits::close_tol(self.t_min)
             || self.a.as_ref().is_some_and(|i| i.left < t && t < i.right)
             || self.b.as_ref().is_some_and(|i| i.left < t && t < i.right)
     }

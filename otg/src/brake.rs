@@ -4,7 +4,7 @@
 //! back inside the limits before the time-optimal profile starts
 //! (SPEC.md §5; Ruckig's "brake trajectory").
 
-use crate::profile::integrate;
+use crate::motion::integrate;
 
 /// Margin that pushes the braked state strictly inside the limits.
 const BRAKE_EPS: f64 = 2.2e-14;

@@ -4,63 +4,16 @@
 //! (SPEC.md §5; Berscheid & Kröger 2021, §IV).
 
 use crate::block::Block;
+use crate::candidates::Valid;
 use crate::error::OtgError;
 use crate::input::{ControlInterface, DurationDiscretization, Input, Synchronization};
-use crate::position_step1::{Lim, Step1, Valid};
+use crate::limits::{DofLimits, MAX_DURATION, close_tol};
+use crate::position_step1::Step1;
 use crate::position_step2::Step2;
 use crate::profile::{Direction, Profile, ReachedLimits};
 use crate::robust;
 use crate::trajectory::Trajectory;
-use crate::velocity::{AccLim, VelStep1, VelStep2};
-
-/// Longest trajectory accepted \[s\] (as Ruckig).
-pub const MAX_DURATION: f64 = 7.6e3;
-
-/// Kinematic limits of one DoF.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DofLimits {
-    /// Maximum velocity (> 0).
-    pub v_max: f64,
-    /// Minimum velocity (< 0).
-    pub v_min: f64,
-    /// Maximum acceleration (> 0).
-    pub a_max: f64,
-    /// Minimum acceleration (< 0).
-    pub a_min: f64,
-    /// Maximum jerk (> 0).
-    pub j_max: f64,
-}
-
-impl DofLimits {
-    /// Symmetric limits.
-    pub fn symmetric(v_max: f64, a_max: f64, j_max: f64) -> Self {
-        Self {
-            v_max,
-            v_min: -v_max,
-            a_max,
-            a_min: -a_max,
-            j_max,
-        }
-    }
-
-    fn lim(&self) -> Lim {
-        Lim {
-            v_max: self.v_max,
-            v_min: self.v_min,
-            a_max: self.a_max,
-            a_min: self.a_min,
-            j: self.j_max,
-        }
-    }
-
-    fn acc(&self) -> AccLim {
-        AccLim {
-            a_max: self.a_max,
-            a_min: self.a_min,
-            j: self.j_max,
-        }
-    }
-}
+use crate::velocity::{VelStep1, VelStep2};
 
 /// One DoF's boundary values.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -138,12 +91,6 @@ pub(crate) fn step2_dof(
         }
     };
     found || robust::step2_fallback(iface, tf, lim, p)
-}
-
-/// Durations this close to an extremal profile's use that profile as is.
-#[inline]
-pub(crate) fn close_tol(t: f64) -> f64 {
-    1e-12 * t.max(1.0)
 }
 
 /// Rounds `t` up to a multiple of `dt`; a `t` within rounding error of a

@@ -2,10 +2,11 @@
 //! no synchronisation.
 
 use crate::block::Block;
-use crate::calculator::{DofCase, DofLimits, step1_dof};
+use crate::calculator::{DofCase, step1_dof};
+use crate::candidates::Valid;
 use crate::error::OtgError;
-use crate::input::ControlInterface;
-use crate::position_step1::Valid;
+use crate::input::{ControlInterface, Input};
+use crate::limits::DofLimits;
 use crate::profile::Profile;
 
 /// Time-optimal duration of a rest-to-rest motion over `distance` under
@@ -53,7 +54,7 @@ pub fn min_duration(
     af: f64,
     limits: &DofLimits,
 ) -> Result<f64, OtgError> {
-    let mut inp = crate::Input::<1>::new([limits.v_max], [limits.a_max], [limits.j_max]);
+    let mut inp = Input::<1>::new([limits.v_max], [limits.a_max], [limits.j_max]);
     inp.min_velocity = Some([limits.v_min]);
     inp.min_acceleration = Some([limits.a_min]);
     inp.current_position = [p0];

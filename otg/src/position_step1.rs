@@ -8,34 +8,10 @@
 //! otherwise all are collected to find blocked intervals.
 
 use crate::block::Block;
-use crate::calculator::close_tol;
-pub(crate) use crate::candidates::{Keep, Valid};
+use crate::candidates::{Keep, Valid};
+use crate::limits::{Lim, close_tol};
 use crate::profile::{ControlSigns as S, Profile, ReachedLimits as L};
 use crate::roots::{self, EPS, for_roots};
-
-/// Limits as seen by one direction of motion (swapped for "down").
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Lim {
-    pub v_max: f64,
-    pub v_min: f64,
-    pub a_max: f64,
-    pub a_min: f64,
-    pub j: f64,
-}
-
-impl Lim {
-    /// The same limits seen from the opposite direction.
-    #[inline]
-    pub(crate) fn flip(self) -> Self {
-        Self {
-            v_max: self.v_min,
-            v_min: self.v_max,
-            a_max: self.a_min,
-            a_min: self.a_max,
-            j: -self.j,
-        }
-    }
-}
 
 /// Boundary values and their powers, shared by all candidate shapes.
 #[derive(Clone, Copy)]

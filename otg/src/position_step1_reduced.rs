@@ -2,7 +2,9 @@
 //! `position_step1.rs` find no profile at all (numerically degenerate
 //! boundary values); the shortest valid one is taken.
 
-use crate::position_step1::{Lim, Step1, Valid};
+use crate::candidates::Valid;
+use crate::limits::Lim;
+use crate::position_step1::Step1;
 use crate::profile::{ControlSigns as S, ReachedLimits as L};
 
 impl Step1 {

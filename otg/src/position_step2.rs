@@ -3,7 +3,7 @@
 //! §IV-C). Shapes with a velocity plateau are here; those without one are
 //! in `position_step2_flat.rs`.
 
-use crate::position_step1::Lim;
+use crate::limits::Lim;
 use crate::profile::{ControlSigns as S, Profile, ReachedLimits as L};
 use crate::roots::{self, EPS, for_roots};
 

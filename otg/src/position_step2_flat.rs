@@ -2,7 +2,7 @@
 //! including profiles with a reduced jerk `jf < j_max` that stretch a short
 //! motion to the synchronised duration.
 
-use crate::position_step1::Lim;
+use crate::limits::Lim;
 use crate::position_step2::Step2;
 use crate::profile::{ControlSigns as S, Profile, ReachedLimits as L};
 use crate::roots::EPS;

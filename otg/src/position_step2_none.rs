@@ -2,7 +2,7 @@
 //! profiles and the three-phase shapes that the general solutions miss
 //! numerically.
 
-use crate::position_step1::Lim;
+use crate::limits::Lim;
 use crate::position_step2::Step2;
 use crate::profile::{ControlSigns as S, Profile, ReachedLimits as L};
 use crate::roots::{self, EPS, for_roots};

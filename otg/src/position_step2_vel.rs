@@ -2,9 +2,10 @@
 //! duration is a root of a quintic (UDDU) or sextic (UDUD), bracketed
 //! between the extrema of the polynomial and refined by safeguarded Newton.
 
-use crate::position_step1::Lim;
+use crate::limits::Lim;
+use crate::motion::integrate;
 use crate::position_step2::Step2;
-use crate::profile::{ControlSigns as S, Profile, ReachedLimits as L, integrate};
+use crate::profile::{ControlSigns as S, Profile, ReachedLimits as L};
 use crate::roots::{self, EPS, NEWTON_TOL, for_roots};
 
 impl Step2 {
@@ -440,9 +441,10 @@ impl Step2 {
 mod tests {
     use super::*;
     use crate::block::Block;
-    use crate::calculator::{DofCase, DofLimits, step1_dof};
+    use crate::calculator::{DofCase, step1_dof};
     use crate::candidates::Valid;
     use crate::input::ControlInterface;
+    use crate::limits::DofLimits;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 

@@ -6,8 +6,11 @@
 //! a candidate with a negative phase or no shorter than the current
 //! optimum is dropped before it is integrated.
 
-use crate::position_step1::{Lim, Step1, Valid};
-use crate::profile::{ControlSigns as S, ReachedLimits as L, integrate};
+use crate::candidates::Valid;
+use crate::limits::Lim;
+use crate::motion::integrate;
+use crate::position_step1::Step1;
+use crate::profile::{ControlSigns as S, ReachedLimits as L};
 
 impl Step1 {
     /// Integrates and checks the candidate phases `t` (UDDU signs in the

@@ -7,6 +7,7 @@
 //! what makes the closed forms safe to try in any order.
 
 use crate::brake::Brake;
+use crate::motion::integrate;
 use crate::roots::EPS;
 
 const V_EPS: f64 = 1e-12;
@@ -56,16 +57,6 @@ pub enum ControlSigns {
     Uddu,
     /// Up, down, up, down.
     Udud,
-}
-
-/// Position, velocity and acceleration after `t` of constant jerk `j`.
-#[inline]
-pub fn integrate(t: f64, p: f64, v: f64, a: f64, j: f64) -> (f64, f64, f64) {
-    (
-        p + t * (v + t * (a / 2.0 + t * j / 6.0)),
-        v + t * (a + t * j / 2.0),
-        a + t * j,
-    )
 }
 
 /// A single-DoF jerk-limited profile.

@@ -4,33 +4,22 @@
 //! so whatever is returned is valid and limit-respecting.
 
 use crate::block::Block;
-use crate::calculator::{DofLimits, MAX_DURATION};
+use crate::candidates::Valid;
 use crate::input::ControlInterface;
-use crate::position_step1::Valid;
+use crate::limits::{DofLimits, MAX_DURATION};
 use crate::position_step2::Step2;
 use crate::profile::Profile;
-use crate::velocity::VelStep2;
+use crate::velocity::{VelStep1, VelStep2};
 
 /// Step 2 without fallback.
 fn try_step2(iface: ControlInterface, tf: f64, lim: &DofLimits, p: &mut Profile) -> bool {
-    let l = crate::position_step1::Lim {
-        v_max: lim.v_max,
-        v_min: lim.v_min,
-        a_max: lim.a_max,
-        a_min: lim.a_min,
-        j: lim.j_max,
-    };
+    let l = lim.lim();
     match iface {
         ControlInterface::Position => {
             Step2::new(tf, p.p[0], p.v[0], p.a[0], p.pf, p.vf, p.af, lim.j_max).profile(p, &l)
         }
         ControlInterface::Velocity => {
-            let acc = crate::velocity::AccLim {
-                a_max: lim.a_max,
-                a_min: lim.a_min,
-                j: lim.j_max,
-            };
-            VelStep2::new(tf, p.v[0], p.a[0], p.vf, p.af).profile(p, &acc)
+            VelStep2::new(tf, p.v[0], p.a[0], p.vf, p.af).profile(p, &lim.acc())
         }
     }
 }
@@ -137,13 +126,9 @@ fn ramp(v0: f64, a0: f64, v1: f64, a1: f64, lim: &DofLimits) -> Option<Profile> 
     boundary.a[0] = a0;
     boundary.vf = v1;
     boundary.af = a1;
-    let acc = crate::velocity::AccLim {
-        a_max: lim.a_max,
-        a_min: lim.a_min,
-        j: lim.j_max,
-    };
+    let acc = lim.acc();
     let mut block = Block::default();
-    crate::velocity::VelStep1::new(v0, a0, v1, a1)
+    VelStep1::new(v0, a0, v1, a1)
         .block(&boundary, &acc, &mut block, &mut Valid::new(&boundary))
         .then_some(block.p_min)
 }
@@ -194,7 +179,7 @@ fn cruise_profile(
     let j4 = if signs == S::Uddu { -jf } else { jf };
     let jerks = [jf, 0.0, -jf, 0.0, j4, 0.0, -j4];
     for (k, (t, j)) in q.t.iter().zip(jerks).enumerate() {
-        (x, v, a) = crate::profile::integrate(*t, x, v, a, j);
+        (x, v, a) = crate::motion::integrate(*t, x, v, a, j);
         if k == 2 {
             // The cruise is at zero acceleration exactly (as the check
             // pins it): 1e-14 over an hour of cruise is 1e-7 of position.

@@ -6,28 +6,10 @@
 //! stretches it to a synchronised duration.
 
 use crate::block::Block;
-use crate::position_step1::{Keep, Valid};
+use crate::candidates::{Keep, Valid};
+use crate::limits::AccLim;
 use crate::profile::{ControlSigns as S, Profile, ReachedLimits as L};
 use crate::roots::EPS;
-
-/// Acceleration limits and jerk of one direction.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct AccLim {
-    pub a_max: f64,
-    pub a_min: f64,
-    pub j: f64,
-}
-
-impl AccLim {
-    #[inline]
-    fn flip(self) -> Self {
-        Self {
-            a_max: self.a_min,
-            a_min: self.a_max,
-            j: -self.j,
-        }
-    }
-}
 
 /// Step 1 of the velocity interface.
 pub(crate) struct VelStep1 {

@@ -23,6 +23,7 @@ mod case;
 
 use std::path::PathBuf;
 use std::process::Command;
+use test_support::repo::oracle_python;
 
 use case::{Case, Solved};
 use otg::{ControlInterface, OtgError, Synchronization};
@@ -46,21 +47,9 @@ fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-fn python() -> PathBuf {
-    let p = std::env::var_os("GAITD_ORACLE_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| repo().join(".venv-oracles/bin/python"));
-    assert!(
-        p.exists(),
-        "oracle Python {} not found: run `bash .ci/install` (or set GAITD_ORACLE_PYTHON)",
-        p.display()
-    );
-    p
-}
-
 fn generate(seed: u64, dofs: usize, kind: &str, categories: &str) -> Vec<Case> {
     let script = repo().join("tests/oracles/ruckig_oracle.py");
-    let out = Command::new(python())
+    let out = Command::new(oracle_python(&repo()))
         .arg(&script)
         .args([
             "gen",
@@ -415,7 +404,7 @@ fn run(seed: u64, dofs: usize, kind: &str, categories: &str) -> Option<String> {
 /// The installed oracle is the Ruckig these tests were calibrated against.
 #[test]
 fn the_oracle_is_the_pinned_ruckig() {
-    let out = Command::new(python())
+    let out = Command::new(oracle_python(&repo()))
         .args([
             "-c",
             "import importlib.metadata as m; print(m.version('ruckig'))",

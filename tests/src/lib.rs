@@ -417,17 +417,15 @@ fn with_test_budget(extra_config: &str) -> String {
 /// `<repo>/.venv-oracles/bin/python` (made by `.ci/install`). Panics with
 /// instructions if neither exists: the oracle tests must not pass silently.
 pub fn oracle_python() -> PathBuf {
-    let p = std::env::var_os("GAITD_ORACLE_PYTHON")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| repo_root().join(".venv-oracles/bin/python"));
-    assert!(
-        p.exists(),
-        "Python for the oracle tests not found at {}: run `bash .ci/install` \
-         (creates .venv-oracles with ruckig, mujoco, numpy and iceoryx2==0.10.0) \
-         or set GAITD_ORACLE_PYTHON",
-        p.display()
-    );
-    p
+    test_support::repo::oracle_python(&repo_root())
+}
+
+/// The oracle Python with this checkout's `client/python` (the `gaitd`
+/// package) first on `PYTHONPATH`.
+pub fn client_python() -> Command {
+    let mut c = Command::new(oracle_python());
+    c.env("PYTHONPATH", repo_root().join("client/python"));
+    c
 }
 
 /// Runs `cmd` to completion like [`Command::output`], but at most `limit`:

@@ -37,8 +37,7 @@ fn shipped_example_config_is_valid() {
 
 #[test]
 fn bad_key_is_named_in_the_error() {
-    let dir = std::env::temp_dir().join(format!("gaitd-check-config-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_support::scratch_dir("check-config");
     let path = dir.join("bad.toml");
     std::fs::write(&path, "[model]\nroll_limit_deg = -5\n").unwrap();
     let out = check_config(&path);
@@ -50,8 +49,7 @@ fn bad_key_is_named_in_the_error() {
 
 #[test]
 fn a_missing_trace_dir_is_named_in_the_error() {
-    let dir = std::env::temp_dir().join(format!("gaitd-check-trace-dir-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_support::scratch_dir("check-trace-dir");
     let path = dir.join("bad.toml");
     std::fs::write(
         &path,

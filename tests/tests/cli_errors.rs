@@ -50,9 +50,7 @@ struct Scratch(PathBuf);
 
 impl Scratch {
     fn new(tag: &str) -> Self {
-        let d = std::env::temp_dir().join(format!("gaitd-cli-errors-{}-{tag}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        Self(d)
+        Self(test_support::scratch_dir(&format!("cli-errors-{tag}")))
     }
 
     fn file(&self, name: &str, text: &str) -> String {

@@ -7,15 +7,10 @@
 use gaitd_client::{GoalSpec, GoalState, ReasonCode, Verdict};
 use gaitd_tests::TestDaemon;
 use std::time::{Duration, Instant};
+use test_support::quat::angle;
 
 const T: Duration = Duration::from_secs(5);
 const LONG: Duration = Duration::from_secs(90);
-
-/// Angle between two unit quaternions [rad].
-fn angle(a: [f64; 4], b: [f64; 4]) -> f64 {
-    let d: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
-    2.0 * d.abs().min(1.0).acos()
-}
 
 fn wait_executing(c: &mut gaitd_client::Client) {
     let t0 = Instant::now();

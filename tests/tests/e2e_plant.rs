@@ -10,15 +10,10 @@ use gaitd_client::{Client, GoalSpec, GoalState, ReasonCode, Status, Verdict};
 use gaitd_tests::{TestDaemon, TestPlant};
 use shm_schema::{FaultCode, Phase, measured};
 use std::time::{Duration, Instant};
+use test_support::quat::angle;
 
 const T: Duration = Duration::from_secs(5);
 const LONG: Duration = Duration::from_secs(120);
-
-/// Angle between two unit quaternions [rad].
-fn angle(a: [f64; 4], b: [f64; 4]) -> f64 {
-    let d: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
-    2.0 * d.abs().min(1.0).acos()
-}
 
 /// A daemon with an external plant, `timing` as given.
 fn daemon(tag: &str, timing: &str, extra: &str) -> TestDaemon {
@@ -323,9 +318,7 @@ fn a_plant_starting_in_an_invalid_state_is_refused_with_its_reason() {
 #[test]
 fn two_lockstep_runs_write_identical_traces() {
     let run = |i: u32| -> (Vec<String>, Vec<(u32, u64)>) {
-        let traces = std::env::temp_dir().join(format!("gaitd-e2e-det-{}-{i}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&traces);
-        std::fs::create_dir_all(&traces).unwrap();
+        let traces = test_support::scratch_dir(&format!("e2e-det-{i}"));
         let d = daemon(
             &format!("det{i}"),
             "lockstep",

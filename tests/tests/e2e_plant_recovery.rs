@@ -12,15 +12,10 @@ use gaitd_client::{Client, GoalSpec, GoalState, ReasonCode, Verdict};
 use gaitd_tests::{TestDaemon, TestPlant, wait_plant_started};
 use shm_schema::{FaultCode, Phase};
 use std::time::{Duration, Instant};
+use test_support::quat::angle;
 
 const T: Duration = Duration::from_secs(5);
 const LONG: Duration = Duration::from_secs(60);
-
-/// Angle between two unit quaternions [rad].
-fn angle(a: [f64; 4], b: [f64; 4]) -> f64 {
-    let d: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
-    2.0 * d.abs().min(1.0).acos()
-}
 
 /// Runs `goal` to its end; returns the outcome.
 fn run(c: &mut Client, goal: &GoalSpec) -> (GoalState, ReasonCode) {

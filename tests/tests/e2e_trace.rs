@@ -10,6 +10,7 @@ use gaitd_tests::{TestDaemon, mujoco_replay};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+use test_support::quat::angle;
 
 const T: Duration = Duration::from_secs(10);
 const LONG: Duration = Duration::from_secs(90);
@@ -81,11 +82,6 @@ fn norm(v: &[f64]) -> f64 {
 }
 
 /// Angle between two unit quaternions [rad] (either sign).
-fn angle(a: &[f64], b: &[f64]) -> f64 {
-    let d: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
-    2.0 * d.abs().min(1.0).acos()
-}
-
 /// Checks the trace against SPEC §10; returns (header, ticks).
 fn check_trace(path: &Path, goal_id: u64, target: [f64; 4]) -> (Value, usize) {
     let text = std::fs::read_to_string(path).unwrap();
@@ -151,7 +147,11 @@ fn check_trace(path: &Path, goal_id: u64, target: [f64; 4]) -> (Value, usize) {
         touching > 0,
         "fingers touched ({touching} touching, {free} free)"
     );
-    let err = angle(&last_q, &target);
+    let last: [f64; 4] = last_q
+        .as_slice()
+        .try_into()
+        .expect("four quaternion numbers");
+    let err = angle(last, target);
     assert!(err < 1e-6, "trace ends {err} rad from the goal");
     (h, n)
 }

@@ -54,8 +54,7 @@ fn header_physics(trace: &Path) -> Vec<String> {
 
 /// Plans with the default load and replays with gravity (module docs).
 fn replay_with_gravity(tag: &str, plan_args: &[&str]) {
-    let dir = std::env::temp_dir().join(format!("gaitd-mujoco-g-{}-{tag}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_support::scratch_dir(&format!("mujoco-g-{tag}"));
     let trace = dir.join("trace.jsonl");
     let out = Command::new(workspace_bin("gaitctl"))
         .arg("plan")
@@ -92,8 +91,7 @@ fn replay_with_gravity(tag: &str, plan_args: &[&str]) {
 }
 
 fn replay(tag: &str, plan_args: &[&str]) {
-    let dir = std::env::temp_dir().join(format!("gaitd-mujoco-{}-{tag}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = test_support::scratch_dir(&format!("mujoco-{tag}"));
     let cfg = dir.join("weightless.toml");
     std::fs::write(&cfg, "[load]\ngravity = [0.0, 0.0, 0.0]\n").unwrap();
     let trace = dir.join("trace.jsonl");

@@ -13,8 +13,9 @@ mod python_support;
 
 use gaitd_client::{Client, GoalSpec, GoalState, ReasonCode, Status, Verdict};
 use gaitd_tests::{TestDaemon, oracle_python, repo_root, workspace_bin};
-use python_support::{PlantProcess, angle, python};
+use python_support::{PlantProcess, python};
 use std::time::{Duration, Instant};
+use test_support::quat::angle;
 
 const T: Duration = Duration::from_secs(10);
 /// Longest wait for one goal in lockstep (simulated seconds pass at the
@@ -279,9 +280,7 @@ fn the_example_plant_drives_gaitd_to_a_goal() {
 #[test]
 fn two_lockstep_runs_with_the_mujoco_plant_are_identical() {
     let run = |i: u32| -> (Vec<String>, Vec<(u32, u64)>) {
-        let traces = std::env::temp_dir().join(format!("gaitd-py-det-{}-{i}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&traces);
-        std::fs::create_dir_all(&traces).unwrap();
+        let traces = test_support::scratch_dir(&format!("py-det-{i}"));
         let mut d = shm_daemon(
             &format!("py-det{i}"),
             &format!(

@@ -686,8 +686,7 @@ mod tests {
     fn trace_dir_must_be_a_writable_directory() {
         let c = DaemonConfig::from_toml("", "x.toml").unwrap();
         assert_eq!(c.daemon.trace_dir, "", "tracing is off by default");
-        let dir = std::env::temp_dir().join(format!("gaitd-cfg-trace-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = test_support::scratch_dir("cfg-trace");
         let file = dir.join("a-file");
         std::fs::write(&file, "").unwrap();
         let ok = format!("[daemon]\ntrace_dir = \"{}\"\n", dir.display());

@@ -91,10 +91,8 @@ mod tests {
 
     #[test]
     fn messages_arrive_on_a_real_socket() {
-        let dir = std::env::temp_dir().join(format!("gaitd-sdnotify-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = test_support::scratch_dir("sdnotify");
         let path = dir.join("notify.sock");
-        let _ = std::fs::remove_file(&path);
         let server = UnixDatagram::bind(&path).unwrap();
         let n = Notifier::connect(path.to_str().unwrap()).unwrap();
         n.ready().unwrap();

@@ -1,30 +1,18 @@
-//! Seeded random helpers shared by the kinematics and grasp tests.
+//! Seeded random helpers shared by the kinematics and grasp tests (the
+//! generator, unit vectors and angles from `test_support::random`).
 #![allow(dead_code)]
 
 use nalgebra::{Rotation3, Unit, UnitQuaternion, Vector3};
-use rand::{Rng, SeedableRng};
+use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
-pub fn rng(seed: u64) -> ChaCha8Rng {
-    ChaCha8Rng::seed_from_u64(seed)
-}
+// Each test binary uses some of these only.
+#[allow(unused_imports)]
+pub use test_support::random::{angle, rng, unit};
 
-/// Uniform on S².
-pub fn unit(rng: &mut ChaCha8Rng) -> Vector3<f64> {
-    loop {
-        let v = Vector3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        let n = v.norm();
-        if n > 0.1 && n <= 1.0 {
-            return v / n;
-        }
-    }
-}
-
-/// Haar-random rotation.
+/// A random rotation: uniform axis, angle uniform in [0, π) (not Haar:
+/// small angles come more often than uniformly on SO(3); see
+/// `test_support::random::haar`).
 pub fn rotation(rng: &mut ChaCha8Rng) -> UnitQuaternion<f64> {
     let axis = unit(rng);
     let angle = rng.random_range(0.0..std::f64::consts::PI);
@@ -55,11 +43,6 @@ fn any_perp(m: &Vector3<f64>) -> Vector3<f64> {
 pub fn hemisphere_point(rng: &mut ChaCha8Rng) -> Vector3<f64> {
     let v = unit(rng);
     Vector3::new(v.x, v.y, v.z.abs())
-}
-
-/// Angle between two unit vectors (robust).
-pub fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
-    a.cross(b).norm().atan2(a.dot(b))
 }
 
 /// A unit vector perpendicular to `n`, uniform on that circle.

@@ -5,43 +5,14 @@ pub mod load;
 pub mod plan_load;
 pub mod verify;
 
-use nalgebra::{Quaternion, UnitQuaternion};
-use rand::Rng;
-
-/// A Haar-random rotation (uniform on SO(3)): a normalised 4-D Gaussian.
-pub fn haar(rng: &mut impl Rng) -> UnitQuaternion<f64> {
-    loop {
-        let mut g = || {
-            // Box–Muller.
-            let u1: f64 = rng.random_range(1e-300..1.0);
-            let u2: f64 = rng.random();
-            (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
-        };
-        let q = Quaternion::new(g(), g(), g(), g());
-        if q.norm() > 1e-6 {
-            return UnitQuaternion::new_normalize(q);
-        }
-    }
-}
-
 use gait::planner::geometry::{Geometry, rotation, swing};
 use gait::{FingerMode, FingerState, HandConfig, HandState};
 use nalgebra::Vector3;
+use rand::Rng;
 
-/// A uniformly random unit vector.
-pub fn unit(rng: &mut impl Rng) -> Vector3<f64> {
-    loop {
-        let v = Vector3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        let n = v.norm();
-        if n > 0.1 && n <= 1.0 {
-            return v / n;
-        }
-    }
-}
+// Each test binary uses some of these only.
+#[allow(unused_imports)]
+pub use test_support::random::{haar, unit};
 
 /// A random unit vector within `angle` of `axis`.
 pub fn in_cap(rng: &mut impl Rng, axis: &Vector3<f64>, angle: f64) -> Vector3<f64> {

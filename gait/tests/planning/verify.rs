@@ -6,6 +6,7 @@
 use gait::planner::{Plan, Step};
 use gait::{FingerMode, HandConfig, HandState};
 use nalgebra::Vector3;
+use test_support::random::angle;
 
 /// A violated invariant.
 #[derive(Debug, Clone)]
@@ -49,10 +50,6 @@ impl Checker {
         }
     }
 
-    fn angle(a: &Vector3<f64>, b: &Vector3<f64>) -> f64 {
-        a.cross(b).norm().atan2(a.dot(b))
-    }
-
     /// Every violated invariant of one state.
     pub fn check(&self, s: &HandState, step: usize, out: &mut Vec<Violation>) {
         let mut v = |what, finger, value| {
@@ -68,7 +65,7 @@ impl Checker {
         for (k, f) in s.fingers.iter().enumerate() {
             let rho = f.center.norm();
             let dir = f.center / rho;
-            let ang = Self::angle(&dir, &self.base[k]);
+            let ang = angle(&dir, &self.base[k]);
             if ang > self.cone + self.tol {
                 v("workspace", k, ang.to_degrees());
             }
@@ -102,11 +99,10 @@ impl Checker {
             }
         }
         let fc = match grasp.len() {
-            2 => Self::angle(&grasp[0], &grasp[1]) >= self.fc_angle - self.tol,
+            2 => angle(&grasp[0], &grasp[1]) >= self.fc_angle - self.tol,
             3 => {
-                let pair = |a: usize, b: usize| {
-                    Self::angle(&grasp[a], &grasp[b]) >= self.fc_angle - self.tol
-                };
+                let pair =
+                    |a: usize, b: usize| angle(&grasp[a], &grasp[b]) >= self.fc_angle - self.tol;
                 pair(0, 1) || pair(0, 2) || pair(1, 2) || self.fact4(&grasp)
             }
             _ => false,

@@ -3,9 +3,13 @@
 #![allow(dead_code)]
 
 use kinematics::{Chain, HandDescription};
-use nalgebra::{SVector, Vector3};
-use rand::{Rng, SeedableRng};
+use nalgebra::SVector;
+use rand::Rng;
 use rand_chacha::ChaCha8Rng;
+
+// Each test binary uses some of these only.
+#[allow(unused_imports)]
+pub use test_support::random::{rng, unit};
 
 /// The shipped URDF.
 pub const URDF: &str = include_str!("../../../deploy/hands/trifingerpro/trifingerpro.urdf");
@@ -25,28 +29,8 @@ pub fn chains() -> [Chain<3>; 3] {
     })
 }
 
-/// A seeded generator.
-pub fn rng(seed: u64) -> ChaCha8Rng {
-    ChaCha8Rng::seed_from_u64(seed)
-}
-
 /// A configuration uniform in the limits with margin.
 pub fn random_q<const N: usize>(chain: &Chain<N>, rng: &mut ChaCha8Rng) -> SVector<f64, N> {
     let (lo, hi) = (chain.lower(), chain.upper());
     SVector::from_fn(|i, _| rng.random_range(lo[i]..=hi[i]))
-}
-
-/// A unit vector uniform on the sphere.
-pub fn random_unit(rng: &mut ChaCha8Rng) -> Vector3<f64> {
-    loop {
-        let v = Vector3::new(
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-            rng.random_range(-1.0..1.0),
-        );
-        let n = v.norm();
-        if n > 0.1 && n <= 1.0 {
-            return v / n;
-        }
-    }
 }

@@ -8,23 +8,19 @@
 
 #![allow(dead_code)] // each test binary uses a part
 
-use gaitd_tests::{oracle_python, remove_shm, repo_root};
+use gaitd_tests::{remove_shm, repo_root};
 use std::path::PathBuf;
 use std::process::{Child, Command, Output, Stdio};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
+/// The oracle Python with this checkout's package on `PYTHONPATH`.
+pub use gaitd_tests::client_python as python;
+
 /// `python <tests/python/script>` with the package on the path.
 pub fn script(name: &str) -> Command {
     let mut c = python();
     c.arg(repo_root().join("tests/python").join(name));
-    c
-}
-
-/// The oracle Python with `client/python` on `PYTHONPATH`.
-pub fn python() -> Command {
-    let mut c = Command::new(oracle_python());
-    c.env("PYTHONPATH", repo_root().join("client/python"));
     c
 }
 
@@ -149,10 +145,4 @@ impl Drop for PlantProcess {
     fn drop(&mut self) {
         self.stop(Duration::from_secs(5));
     }
-}
-
-/// Angle between two unit quaternions \[rad\].
-pub fn angle(a: [f64; 4], b: [f64; 4]) -> f64 {
-    let d: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
-    2.0 * d.abs().min(1.0).acos()
 }

@@ -8,22 +8,16 @@
 
 use crate::cut::Cutter;
 use crate::support::{Pki, T, TestBridge};
-use gaitd_tests::{TestDaemon, oracle_python, output_within, repo_root};
+use gaitd_tests::{TestDaemon, client_python, oracle_python, output_within, repo_root};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::process::{Child, Command, Stdio};
 use std::sync::atomic::Ordering;
 use std::sync::mpsc::{Receiver, channel};
 use std::time::Duration;
 
-fn python() -> Command {
-    let mut c = Command::new(oracle_python());
-    c.env("PYTHONPATH", repo_root().join("client/python"));
-    c
-}
-
 /// Whether the oracle Python has `zenoh`; records the skip of `check` if not.
 fn has_zenoh(check: &str) -> bool {
-    match python().args(["-c", "import zenoh"]).output() {
+    match client_python().args(["-c", "import zenoh"]).output() {
         Ok(o) if o.status.success() => true,
         Ok(o) => {
             test_support::skip(
@@ -58,7 +52,7 @@ fn a_remote_python_client_sends_a_goal_and_reads_status() {
     let b = TestBridge::start(&d, &pki, "");
     // The script's own waits add up to about 90 s; a hang fails here.
     let out = output_within(
-        python()
+        client_python()
             .arg(repo_root().join("tests/python/remote_goal.py"))
             .args([&b.endpoint, &pki.dir.display().to_string(), "op", &b.prefix])
             // Where no bridge listens: a free UDP port.
@@ -197,7 +191,7 @@ fn a_remote_python_clients_command_whose_link_drops_reaches_the_daemon_once() {
     let cutter = Cutter::start(b.tls_endpoint.trim_start_matches("tls/").to_owned());
     let endpoint = format!("tls/127.0.0.1:{}", cutter.port);
     let mut script = Script::start(
-        python()
+        client_python()
             .arg(repo_root().join("tests/tests/remote/remote_cut.py"))
             .args([&endpoint, &pki.dir.display().to_string(), "op", &b.prefix]),
     );

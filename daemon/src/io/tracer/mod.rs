@@ -203,10 +203,7 @@ mod tests {
     }
 
     fn tmp(tag: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("gaitd-tracer-{}-{tag}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&d);
-        std::fs::create_dir_all(&d).unwrap();
-        d
+        test_support::scratch_dir(&format!("tracer-{tag}"))
     }
 
     /// A recorder and a sink on one ring of `capacity`, sharing counters.
