@@ -324,6 +324,7 @@ def hold(feed_forward: bool, seconds: float = 2.0) -> dict[str, float]:
     up = np.array([0.0, 0.0, weight / 3.0])
     start = h.object_position()
     moved = tau_peak = wall = 0.0
+    touching: set[str] = set()
     steps = round(seconds / h.model.opt.timestep)
     for _ in range(steps):
         t0 = time.perf_counter()
@@ -337,9 +338,14 @@ def hold(feed_forward: bool, seconds: float = 2.0) -> dict[str, float]:
                 tau[3 * k : 3 * k + 3] += jp.T @ (-f_n * n + up)
         obs = h.step(Action.make(9, torque=tau, position=q_grasp, kp=0.5, kd=0.01))
         wall += time.perf_counter() - t0
+        touching.update(
+            mujoco.mj_id2name(h.model, mujoco.mjtObj.mjOBJ_GEOM, int(c.geom2)) for c in h.data.contact[: h.data.ncon]
+        )
         moved = max(moved, float(np.linalg.norm(obs.object_position - start)))
         tau_peak = max(tau_peak, float(np.max(np.abs(obs.tau))))
+    tips = {f"{f.tip}/0" for f in hand.fingers}  # the tip sphere, the tip link's only collision primitive
     return {
+        "only_tips": float(touching <= tips),
         "moved": moved,
         "tau_peak": tau_peak,
         "clips": float(h.clip_count.sum()),
@@ -360,6 +366,7 @@ def test_the_ball_is_held_by_joint_torques_alone() -> None:
     assert r["tau_peak"] <= TAU_MAX
     assert r["clips"] == 0 and r["limits"] == 0
     assert r["contacts"] >= 3
+    assert r["only_tips"]  # no link capsule (nor the floor) ever touched the ball
 
 
 def test_without_the_grip_force_the_ball_drops() -> None:
