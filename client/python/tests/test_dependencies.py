@@ -28,6 +28,7 @@ CORE = [
     "gaitd.trace",
     "gaitd.plants",
     "gaitd.plants.mujoco_scene",
+    "gaitd.plants.trifinger_scene",
 ]
 EXTRAS = ["numpy", "mujoco", "zenoh"]
 
@@ -51,7 +52,7 @@ def test_the_core_imports_without_the_extras() -> None:
     assert r.returncode == 0, r.stderr
 
 
-@pytest.mark.parametrize("module", ["gaitd.plants.mujoco_plant", "gaitd.plants.mujoco"])
+@pytest.mark.parametrize("module", ["gaitd.plants.mujoco_plant", "gaitd.plants.mujoco", "gaitd.plants.trifinger_hand"])
 def test_the_mujoco_hand_needs_its_extra(module: str) -> None:
     """The check above can fail: the MuJoCo hand does import an extra."""
     r = import_without_extras([module])
