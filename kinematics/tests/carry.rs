@@ -239,7 +239,7 @@ fn the_range_ends_where_a_limit_binds() {
                 }
             }
             let fingers = [&narrow[0], &narrow[1], &narrow[2]];
-            let axis = common::random_unit(&mut rng);
+            let axis = common::unit(&mut rng);
             let r = carry_range(&fingers, &q, &o, &axis, std::f64::consts::TAU, &lim, step);
             ranges.push(r.angle.to_degrees());
             // Every sample before the range keeps every margin…
