@@ -24,15 +24,21 @@ struct Grasp {
     hand: HandDescription,
 }
 
-/// Each finger on the ball's equator at its azimuth (finger 0 at 75°, the
-/// others turned with their fingers: the README's grasp).
-fn equator_grasp() -> Grasp {
+/// The shipped description and its three chains.
+fn shipped() -> (HandDescription, Vec<Chain<3>>) {
     let hand = HandDescription::parse(URDF, SECTION).unwrap();
-    let chains: Vec<Chain<3>> = hand
+    let chains = hand
         .fingers
         .iter()
         .map(|f| Chain::from_description(f, hand.joint_limit_margin).unwrap())
         .collect();
+    (hand, chains)
+}
+
+/// Each finger on the ball's equator at its azimuth (finger 0 at 75°, the
+/// others turned with their fingers: the README's grasp).
+fn equator_grasp() -> Grasp {
+    let (hand, chains) = shipped();
     let margins = Margins {
         patch: 0.0,
         clearance: 0.0,
@@ -183,12 +189,7 @@ fn the_tennis_ball_holds_within_the_torque_box_and_ten_times_it_does_not() {
 /// statics.
 #[test]
 fn two_fingers_hold_the_tennis_ball() {
-    let hand = HandDescription::parse(URDF, SECTION).unwrap();
-    let chains: Vec<Chain<3>> = hand
-        .fingers
-        .iter()
-        .map(|f| Chain::from_description(f, hand.joint_limit_margin).unwrap())
-        .collect();
+    let (hand, chains) = shipped();
     let margins = Margins {
         patch: 5f64.to_radians(),
         clearance: 0.005,

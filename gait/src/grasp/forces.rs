@@ -600,47 +600,15 @@ impl LoadSolver {
                 off += c.kind.dim();
             }
         }
-        triplets.sort_by_key(|&(r, c, _)| (c, r));
-        let mut colptr = vec![0usize; n + 1];
-        let mut rowval = Vec::with_capacity(triplets.len());
-        let mut nzval = Vec::with_capacity(triplets.len());
-        for &(r, c, v) in &triplets {
-            colptr[c + 1] += 1;
-            rowval.push(r);
-            nzval.push(v);
-        }
-        for c in 0..n {
-            colptr[c + 1] += colptr[c];
-        }
-        let a = clarabel::algebra::CscMatrix::new(rows, n, colptr, rowval, nzval);
-        let mut q = vec![0.0; n];
-        q[f_col] = 1.0;
         let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(eq_rows)];
         for _ in 0..ns {
             cones.extend(contacts.iter().map(|c| SecondOrderConeT(c.kind.dim())));
         }
         cones.push(NonnegativeConeT(2 * ns * k));
-        let settings = clarabel::solver::DefaultSettingsBuilder::default()
-            .verbose(false)
-            .max_iter(200)
-            .max_threads(1)
-            .build()
-            .map_err(|_| GraspError::SolverSetup)?;
-        let mut solver = DefaultSolver::new(&socp::zero_p(n), &q, &a, &b, &cones, settings)
-            .map_err(|_| GraspError::SolverSetup)?;
-        solver.solve();
-        let sol = &solver.solution;
-        match sol.status {
-            SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
-                Err(GraspError::Infeasible)
-            }
-            s if socp::solved(s) && sol.x[f_col].is_finite() => Ok(LoadSolution {
-                peak_normal: sol.x[f_col],
-                iterations: sol.iterations,
-            }),
-            _ => Err(GraspError::SolverFailed {
-                iterations: sol.iterations,
-            }),
-        }
+        let (x, iterations) = socp::solve_once(rows, n, triplets, &b, &cones, f_col, 200)?;
+        Ok(LoadSolution {
+            peak_normal: x[f_col],
+            iterations,
+        })
     }
 }

@@ -10,7 +10,9 @@
 //! changes and Clarabel's `update_A` accepts the new values.
 
 use clarabel::algebra::CscMatrix;
-use clarabel::solver::{DefaultSettings, DefaultSettingsBuilder, SolverStatus};
+use clarabel::solver::{
+    DefaultSettings, DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
+};
 
 use super::GraspError;
 
@@ -147,4 +149,55 @@ pub fn nominal_normal(i: usize, count: usize) -> nalgebra::Vector3<f64> {
     let rho = (1.0 - z * z).sqrt();
     let phi = golden * i as f64 + 0.3;
     nalgebra::Vector3::new(rho * phi.cos(), rho * phi.sin(), z * 0.9 + 0.05).normalize()
+}
+
+/// One solve of a problem built for that call (tests, plan-time studies):
+/// minimise x\[`objective`\] subject to A x + s = b, s in `cones`, A given as
+/// (row, column, value) entries over `columns` variables. The primal
+/// solution and the iterations, or why not: [`GraspError::Infeasible`]
+/// for a primal infeasible problem, [`GraspError::SolverFailed`] when
+/// Clarabel stops without a finite objective.
+pub fn solve_once(
+    rows: usize,
+    columns: usize,
+    mut entries: Vec<(usize, usize, f64)>,
+    b: &[f64],
+    cones: &[SupportedConeT<f64>],
+    objective: usize,
+    max_iter: u32,
+) -> Result<(Vec<f64>, u32), GraspError> {
+    entries.sort_by_key(|&(r, c, _)| (c, r));
+    let mut colptr = vec![0usize; columns + 1];
+    let mut rowval = Vec::with_capacity(entries.len());
+    let mut nzval = Vec::with_capacity(entries.len());
+    for &(r, c, v) in &entries {
+        colptr[c + 1] += 1;
+        rowval.push(r);
+        nzval.push(v);
+    }
+    for c in 0..columns {
+        colptr[c + 1] += colptr[c];
+    }
+    let a = CscMatrix::new(rows, columns, colptr, rowval, nzval);
+    let mut q = vec![0.0; columns];
+    q[objective] = 1.0;
+    let settings = DefaultSettingsBuilder::default()
+        .verbose(false)
+        .max_iter(max_iter)
+        .max_threads(1)
+        .build()
+        .map_err(|_| GraspError::SolverSetup)?;
+    let mut solver = DefaultSolver::new(&zero_p(columns), &q, &a, b, cones, settings)
+        .map_err(|_| GraspError::SolverSetup)?;
+    solver.solve();
+    let sol = &solver.solution;
+    match sol.status {
+        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
+            Err(GraspError::Infeasible)
+        }
+        s if solved(s) && sol.x[objective].is_finite() => Ok((sol.x.clone(), sol.iterations)),
+        _ => Err(GraspError::SolverFailed {
+            iterations: sol.iterations,
+        }),
+    }
 }

@@ -30,10 +30,7 @@
 //! 1/u* is how many times over. Builds a fresh problem per call
 //! (allocates): for planning and checking, not for the tick.
 
-use clarabel::solver::{
-    DefaultSolver, IPSolver, NonnegativeConeT, SecondOrderConeT, SolverStatus, SupportedConeT,
-    ZeroConeT,
-};
+use clarabel::solver::{NonnegativeConeT, SecondOrderConeT, SupportedConeT, ZeroConeT};
 use nalgebra::{Matrix3, Vector3, Vector6};
 
 use super::GraspError;
@@ -190,48 +187,15 @@ impl TorqueBoxSolver {
                 off += c.kind.dim();
             }
         }
-        triplets.sort_by_key(|&(r, c, _)| (c, r));
-        let mut colptr = vec![0usize; n + 1];
-        let mut rowval = Vec::with_capacity(triplets.len());
-        let mut nzval = Vec::with_capacity(triplets.len());
-        for &(r, c, v) in &triplets {
-            colptr[c + 1] += 1;
-            rowval.push(r);
-            nzval.push(v);
-        }
-        for c in 0..n {
-            colptr[c + 1] += colptr[c];
-        }
-        let a = clarabel::algebra::CscMatrix::new(rows, n, colptr, rowval, nzval);
-        let mut q = vec![0.0; n];
-        q[u_col] = 1.0;
         let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(eq_rows)];
         for _ in 0..ns {
             cones.extend(contacts.iter().map(|c| SecondOrderConeT(c.kind.dim())));
         }
         cones.push(NonnegativeConeT(floor_rows + 6 * ns * k));
-        let settings = clarabel::solver::DefaultSettingsBuilder::default()
-            .verbose(false)
-            .max_iter(MAX_ITER)
-            .max_threads(1)
-            .build()
-            .map_err(|_| GraspError::SolverSetup)?;
-        let mut solver = DefaultSolver::new(&socp::zero_p(n), &q, &a, &b, &cones, settings)
-            .map_err(|_| GraspError::SolverSetup)?;
-        solver.solve();
-        let sol = &solver.solution;
-        match sol.status {
-            SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => {
-                return Err(GraspError::Infeasible);
-            }
-            s if !(socp::solved(s) && sol.x.iter().all(|v| v.is_finite())) => {
-                return Err(GraspError::SolverFailed {
-                    iterations: sol.iterations,
-                });
-            }
-            _ => {}
+        let (x, iterations) = socp::solve_once(rows, n, triplets, &b, &cones, u_col, MAX_ITER)?;
+        if !x.iter().all(|v| v.is_finite()) {
+            return Err(GraspError::SolverFailed { iterations });
         }
-        let x = &sol.x;
         let forces = (0..ns)
             .map(|s| {
                 let mut off = s * d;
@@ -253,7 +217,7 @@ impl TorqueBoxSolver {
         Ok(TorqueBoxSolution {
             utilisation: x[u_col],
             forces,
-            iterations: sol.iterations,
+            iterations,
         })
     }
 }
