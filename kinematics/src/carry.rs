@@ -19,6 +19,10 @@
 //! with the grasp. [`carry_pair`] follows it. Three fingers may spin (hard
 //! contacts, §1.2) and turn about any axis.
 //!
+//! [`Carrier`] is the same law advanced tick by tick, for a loop: the
+//! joints at the angle turned so far, moved on by RK4 sub-steps no longer
+//! than a set step (one per tick at any speed a hand turns a ball).
+//!
 //! Allocation-free: fingers are passed as slices of at most three.
 
 use nalgebra::Vector3;
@@ -386,5 +390,109 @@ fn scan(
     Range {
         angle: limit,
         bound: Bound::Reached,
+    }
+}
+
+/// Most sub-steps one [`Carrier::advance_to`] takes: the work a call may
+/// do is bounded; a longer jump is refused.
+pub const MAX_SUBSTEPS: usize = 64;
+
+/// A carry advanced tick by tick (module docs): the grasp's joints at the
+/// angle turned so far about a fixed axis.
+#[derive(Debug, Clone, Copy)]
+pub struct Carrier<'a> {
+    fingers: [&'a Chain<3>; 3],
+    len: usize,
+    q: [Vector3<f64>; 3],
+    object: Object,
+    axis: Vector3<f64>,
+    angle: f64,
+    step: f64,
+}
+
+/// Why a [`Carrier`] did not move.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CarrierError {
+    /// The law failed (a singular finger).
+    Law(Bound),
+    /// The jump needs more than [`MAX_SUBSTEPS`] sub-steps.
+    TooFar,
+}
+
+impl<'a> Carrier<'a> {
+    /// A carry about the unit `axis` of the grasp `fingers` (one to three;
+    /// extra ones are ignored) at joints `q`, from angle 0, in sub-steps of
+    /// at most `step` \[rad\].
+    pub fn new(
+        fingers: &[&'a Chain<3>],
+        q: &[Vector3<f64>],
+        object: &Object,
+        axis: &Vector3<f64>,
+        step: f64,
+    ) -> Self {
+        let len = fingers.len().min(3).min(q.len());
+        let mut f = [fingers[0]; 3];
+        let mut qs = [Vector3::zeros(); 3];
+        f[..len].copy_from_slice(&fingers[..len]);
+        qs[..len].copy_from_slice(&q[..len]);
+        Self {
+            fingers: f,
+            len,
+            q: qs,
+            object: *object,
+            axis: *axis,
+            angle: 0.0,
+            step,
+        }
+    }
+
+    /// The angle turned so far \[rad\].
+    pub fn angle(&self) -> f64 {
+        self.angle
+    }
+
+    /// The joints at [`Carrier::angle`].
+    pub fn joints(&self) -> &[Vector3<f64>] {
+        &self.q[..self.len]
+    }
+
+    /// Moves on (or back) to the turned angle `angle`; returns the joints.
+    /// On an error nothing moved.
+    pub fn advance_to(&mut self, angle: f64) -> Result<&[Vector3<f64>], CarrierError> {
+        let delta = angle - self.angle;
+        let n = (delta.abs() / self.step).ceil() as usize;
+        if n > MAX_SUBSTEPS {
+            return Err(CarrierError::TooFar);
+        }
+        let mut q = self.q;
+        let axis = self.axis;
+        let fingers = &self.fingers[..self.len];
+        for _ in 0..n {
+            rk4_step(
+                fingers,
+                &mut q[..self.len],
+                &self.object,
+                delta / n as f64,
+                &mut |_| Ok(axis),
+            )
+            .map_err(CarrierError::Law)?;
+        }
+        self.q = q;
+        self.angle = angle;
+        Ok(&self.q[..self.len])
+    }
+
+    /// The joint rates at [`Carrier::angle`] when the object turns at
+    /// `rate` \[rad/s\] about the axis.
+    pub fn rates(&self, rate: f64) -> Result<[Vector3<f64>; 3], Bound> {
+        let mut out = [Vector3::zeros(); 3];
+        rates(
+            &self.fingers[..self.len],
+            &self.q[..self.len],
+            &self.object,
+            &(self.axis * rate),
+            &mut out,
+        )?;
+        Ok(out)
     }
 }

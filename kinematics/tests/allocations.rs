@@ -3,7 +3,8 @@
 mod common;
 
 use kinematics::{
-    ClosedFormIk, DlsParams, gravity_torques, joint_torques, max_force_scale, rolling_rates,
+    Carrier, ClosedFormIk, DlsParams, gravity_torques, joint_torques, max_force_scale,
+    rolling_rates,
 };
 use nalgebra::Vector3;
 use test_support::counting::{Counting, count};
@@ -17,6 +18,9 @@ fn per_tick_calls_do_not_allocate() {
     let chains = common::chains();
     let iks = chains.map(|c| ClosedFormIk::new(&c).unwrap());
     let g = h.gravity;
+    let grasp = [Vector3::new(0.366, 0.890, -1.854); 3];
+    let fingers = [&chains[0], &chains[1], &chains[2]];
+    let mut carrier = Carrier::new(&fingers, &grasp, &h.object, &Vector3::z(), 0.02);
     let (_, heap) = count(|| {
         let mut acc = 0.0;
         for t in 0..1000 {
@@ -37,7 +41,11 @@ fn per_tick_calls_do_not_allocate() {
                 .iter()
                 .map(|cap| cap.sphere_gap(&h.object.centre, h.object.radius))
                 .fold(f64::INFINITY, f64::min);
+            let carried = carrier.advance_to(1e-3 * t as f64).unwrap()[k][0];
+            let rate = carrier.rates(1.0).unwrap()[k][0];
             acc += sol[0]
+                + carried
+                + rate
                 + d.q[0]
                 + rr.spin
                 + tau[0]
