@@ -60,6 +60,7 @@ use super::GraspError;
 use super::contact::{
     Contact, ContactFrame, ContactKind, Friction, grasp_columns, grasp_gram, grasp_rank,
 };
+use super::load_socp::LoadRows;
 use super::socp::{self, CscBuilder, EntrySink, ValueWriter};
 use crate::HandConfig;
 
@@ -544,68 +545,18 @@ impl LoadSolver {
         scenarios: &[(Vector3<f64>, Vector3<f64>)],
         floor: f64,
     ) -> Result<LoadSolution, GraspError> {
-        if contacts.is_empty() || scenarios.is_empty() {
-            return Err(GraspError::NoContacts);
-        }
-        let fr = self.friction;
-        let ok = fr.is_valid()
-            && floor.is_finite()
-            && floor >= 0.0
-            && contacts
-                .iter()
-                .all(|c| c.normal.iter().all(|v| v.is_finite()) && c.normal.norm() > 1e-12)
-            && scenarios
-                .iter()
-                .all(|(e, t)| e.iter().chain(t.iter()).all(|v| v.is_finite()));
-        if !ok {
-            return Err(GraspError::BadInput);
-        }
         let k = contacts.len();
         let ns = scenarios.len();
-        let d: usize = contacts.iter().map(|c| c.kind.dim()).sum();
-        let n = ns * d + 1;
-        let f_col = n - 1;
-        let cols: Vec<[Vector6<f64>; 4]> = contacts.iter().map(|c| grasp_columns(c, &fr)).collect();
-        // Rows: equilibrium 6·ns, cones ns·d, caps ns·k, floors ns·k.
-        let eq_rows = 6 * ns;
-        let cone_rows = ns * d;
-        let rows = eq_rows + cone_rows + 2 * ns * k;
-        let mut triplets: Vec<(usize, usize, f64)> = Vec::new();
-        let mut b = vec![0.0; rows];
-        let inv_r = 1.0 / fr.object_radius;
-        for (s, (e, t)) in scenarios.iter().enumerate() {
-            let rhs = [-e.x, -e.y, -e.z, t.x * inv_r, t.y * inv_r, t.z * inv_r];
-            b[6 * s..6 * s + 6].copy_from_slice(&rhs);
-            let mut off = 0;
-            for (i, c) in contacts.iter().enumerate() {
-                for (j, column) in cols[i].iter().enumerate().take(c.kind.dim()) {
-                    let col = s * d + off + j;
-                    for (r, &v) in column.iter().enumerate() {
-                        if v != 0.0 {
-                            triplets.push((6 * s + r, col, v));
-                        }
-                    }
-                    let cone_row = eq_rows + s * d + off + j;
-                    let top = if j == 0 { -fr.mu } else { -1.0 };
-                    triplets.push((cone_row, col, top));
-                    if j == 0 {
-                        let cap = eq_rows + cone_rows + s * k + i;
-                        triplets.push((cap, col, 1.0));
-                        triplets.push((cap, f_col, -1.0));
-                        let fl = eq_rows + cone_rows + ns * k + s * k + i;
-                        triplets.push((fl, col, -1.0));
-                        b[fl] = -floor;
-                    }
-                }
-                off += c.kind.dim();
+        // The caller's rows: f_n,i,s − F ≤ 0, each contact, each scenario.
+        let mut rows = LoadRows::new(contacts, &self.friction, scenarios, floor, ns * k)?;
+        let f_col = rows.objective();
+        for s in 0..ns {
+            for i in 0..k {
+                rows.push(s * k + i, rows.var(s, i, 0), 1.0);
+                rows.push(s * k + i, f_col, -1.0);
             }
         }
-        let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(eq_rows)];
-        for _ in 0..ns {
-            cones.extend(contacts.iter().map(|c| SecondOrderConeT(c.kind.dim())));
-        }
-        cones.push(NonnegativeConeT(2 * ns * k));
-        let (x, iterations) = socp::solve_once(rows, n, triplets, &b, &cones, f_col, 200)?;
+        let (x, iterations) = rows.solve(200)?;
         Ok(LoadSolution {
             peak_normal: x[f_col],
             iterations,

@@ -47,6 +47,7 @@ pub mod facts;
 pub mod forces;
 pub mod grip;
 pub mod hold;
+mod load_socp;
 pub mod planar;
 mod socp;
 pub mod torque_box;

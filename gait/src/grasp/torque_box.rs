@@ -30,12 +30,11 @@
 //! 1/u* is how many times over. Builds a fresh problem per call
 //! (allocates): for planning and checking, not for the tick.
 
-use clarabel::solver::{NonnegativeConeT, SecondOrderConeT, SupportedConeT, ZeroConeT};
-use nalgebra::{Matrix3, Vector3, Vector6};
+use nalgebra::{Matrix3, Vector3};
 
 use super::GraspError;
-use super::contact::{Contact, ContactFrame, ContactKind, Friction, grasp_columns};
-use super::socp;
+use super::contact::{Contact, ContactFrame, ContactKind, Friction};
+use super::load_socp::LoadRows;
 
 /// One finger's statics at its grasp (three joints).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -91,38 +90,22 @@ impl TorqueBoxSolver {
         scenarios: &[(Vector3<f64>, Vector3<f64>)],
         floor: f64,
     ) -> Result<TorqueBoxSolution, GraspError> {
-        if contacts.is_empty() || scenarios.is_empty() {
-            return Err(GraspError::NoContacts);
-        }
         if fingers.len() != contacts.len() {
             return Err(GraspError::OutputLength);
         }
         let fr = self.friction;
         let finite3 = |m: &Matrix3<f64>| m.iter().all(|v| v.is_finite());
-        let ok = fr.is_valid()
-            && floor.is_finite()
-            && floor >= 0.0
-            && contacts
-                .iter()
-                .all(|c| c.normal.iter().all(|v| v.is_finite()) && c.normal.norm() > 1e-12)
-            && fingers.iter().all(|f| {
-                finite3(&f.force_to_torque)
-                    && finite3(&f.moment_to_torque)
-                    && f.bias.iter().all(|v| v.is_finite())
-                    && f.limit.iter().all(|v| v.is_finite() && *v > 0.0)
-            })
-            && scenarios
-                .iter()
-                .all(|(e, t)| e.iter().chain(t.iter()).all(|v| v.is_finite()));
+        let ok = fingers.iter().all(|f| {
+            finite3(&f.force_to_torque)
+                && finite3(&f.moment_to_torque)
+                && f.bias.iter().all(|v| v.is_finite())
+                && f.limit.iter().all(|v| v.is_finite() && *v > 0.0)
+        });
         if !ok {
             return Err(GraspError::BadInput);
         }
         let k = contacts.len();
         let ns = scenarios.len();
-        let d: usize = contacts.iter().map(|c| c.kind.dim()).sum();
-        let n = ns * d + 1;
-        let u_col = n - 1;
-        let cols: Vec<[Vector6<f64>; 4]> = contacts.iter().map(|c| grasp_columns(c, &fr)).collect();
         // Per contact, per variable: the joint torques it makes.
         let torque_cols: Vec<[Vector3<f64>; 4]> = contacts
             .iter()
@@ -141,61 +124,31 @@ impl TorqueBoxSolver {
                 ]
             })
             .collect();
-        // Rows: equilibrium 6·ns, cones ns·d, floors ns·k, torques 2·3·ns·k.
-        let eq_rows = 6 * ns;
-        let cone_rows = ns * d;
-        let floor_rows = ns * k;
-        let rows = eq_rows + cone_rows + floor_rows + 6 * ns * k;
-        let mut triplets: Vec<(usize, usize, f64)> = Vec::new();
-        let mut b = vec![0.0; rows];
-        let inv_r = 1.0 / fr.object_radius;
-        let torque_row = |s: usize, i: usize, j: usize, side: usize| {
-            eq_rows + cone_rows + floor_rows + ((s * k + i) * 3 + j) * 2 + side
-        };
-        for (s, (e, t)) in scenarios.iter().enumerate() {
-            let rhs = [-e.x, -e.y, -e.z, t.x * inv_r, t.y * inv_r, t.z * inv_r];
-            b[6 * s..6 * s + 6].copy_from_slice(&rhs);
-            let mut off = 0;
-            for (i, c) in contacts.iter().enumerate() {
-                for (v, column) in cols[i].iter().enumerate().take(c.kind.dim()) {
-                    let col = s * d + off + v;
-                    for (r, &x) in column.iter().enumerate() {
-                        if x != 0.0 {
-                            triplets.push((6 * s + r, col, x));
-                        }
-                    }
-                    let top = if v == 0 { -fr.mu } else { -1.0 };
-                    triplets.push((eq_rows + s * d + off + v, col, top));
-                    if v == 0 {
-                        let fl = eq_rows + cone_rows + s * k + i;
-                        triplets.push((fl, col, -1.0));
-                        b[fl] = -floor;
-                    }
-                    for (j, &a) in torque_cols[i][v].iter().enumerate() {
-                        // a·x − u τ_max ≤ −g  and  −a·x − u τ_max ≤ g
-                        triplets.push((torque_row(s, i, j, 0), col, a));
-                        triplets.push((torque_row(s, i, j, 1), col, -a));
-                    }
-                }
+        // The caller's rows, per scenario, contact and joint, both sides:
+        // a·x − u τ_max ≤ −g  and  −a·x − u τ_max ≤ g.
+        let mut rows = LoadRows::new(contacts, &fr, scenarios, floor, 6 * ns * k)?;
+        let u_col = rows.objective();
+        for s in 0..ns {
+            for (i, (c, per_var)) in contacts.iter().zip(&torque_cols).enumerate() {
                 for j in 0..3 {
+                    let row = ((s * k + i) * 3 + j) * 2;
+                    for (v, t) in per_var.iter().enumerate().take(c.kind.dim()) {
+                        rows.push(row, rows.var(s, i, v), t[j]);
+                        rows.push(row + 1, rows.var(s, i, v), -t[j]);
+                    }
                     let (g, lim) = (fingers[i].bias[j], fingers[i].limit[j]);
-                    triplets.push((torque_row(s, i, j, 0), u_col, -lim));
-                    triplets.push((torque_row(s, i, j, 1), u_col, -lim));
-                    b[torque_row(s, i, j, 0)] = -g;
-                    b[torque_row(s, i, j, 1)] = g;
+                    rows.push(row, u_col, -lim);
+                    rows.push(row + 1, u_col, -lim);
+                    rows.bound(row, -g);
+                    rows.bound(row + 1, g);
                 }
-                off += c.kind.dim();
             }
         }
-        let mut cones: Vec<SupportedConeT<f64>> = vec![ZeroConeT(eq_rows)];
-        for _ in 0..ns {
-            cones.extend(contacts.iter().map(|c| SecondOrderConeT(c.kind.dim())));
-        }
-        cones.push(NonnegativeConeT(floor_rows + 6 * ns * k));
-        let (x, iterations) = socp::solve_once(rows, n, triplets, &b, &cones, u_col, MAX_ITER)?;
+        let (x, iterations) = rows.solve(MAX_ITER)?;
         if !x.iter().all(|v| v.is_finite()) {
             return Err(GraspError::SolverFailed { iterations });
         }
+        let d: usize = contacts.iter().map(|c| c.kind.dim()).sum();
         let forces = (0..ns)
             .map(|s| {
                 let mut off = s * d;
