@@ -305,20 +305,7 @@ mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
-
-    fn unit(rng: &mut ChaCha8Rng) -> Vector3<f64> {
-        loop {
-            let v = Vector3::new(
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-            );
-            let n = v.norm();
-            if n > 0.1 && n < 1.0 {
-                return v / n;
-            }
-        }
-    }
+    use test_support::random::unit;
 
     #[test]
     fn sinusoid_matches_rotation() {
