@@ -228,7 +228,8 @@ pub struct Range {
 const BISECTIONS: u32 = 12;
 
 /// How far (≤ `limit`) the grasp of `fingers` at `q` can be carried about
-/// the unit `axis` (three fingers; a pair spins, see [`carry_pair_range`])
+/// the unit `axis` (three fingers; a pair turned about a fixed axis spins, see
+/// [`carry_pair`])
 /// keeping `limits`: scanned in steps of at most `step` \[rad\], the first
 /// failing step bisected. 0 if the start breaks a limit.
 pub fn carry_range(
@@ -305,26 +306,7 @@ pub fn carry_pair(
     Ok(last)
 }
 
-/// How far (≤ `limit`) the pair at `q` can turn without spin
-/// ([`carry_pair`], starting along `hint`) keeping `limits`.
-pub fn carry_pair_range(
-    pair: [&Chain<3>; 2],
-    q: &[Vector3<f64>],
-    object: &Object,
-    hint: &Vector3<f64>,
-    limit: f64,
-    limits: &GraspLimits,
-    step: f64,
-) -> Range {
-    let mut along = *hint;
-    scan(&pair, q, object, limit, limits, step, &mut |stage| {
-        let a = no_spin_axis(pair, stage, object, &along)?;
-        along = a;
-        Ok(a)
-    })
-}
-
-/// The scan behind the ranges: steps while every limit holds, then
+/// The scan behind [`carry_range`]: steps while every limit holds, then
 /// bisects the first failing step from its last good start.
 fn scan(
     fingers: Fingers<'_>,
@@ -422,7 +404,8 @@ pub enum CarrierError {
 impl<'a> Carrier<'a> {
     /// A carry about the unit `axis` of the grasp `fingers` (one to three;
     /// extra ones are ignored) at joints `q`, from angle 0, in sub-steps of
-    /// at most `step` \[rad\].
+    /// at most `step` \[rad\]. Panics without a finger (a caller's
+    /// mistake: a grasp has two or three).
     pub fn new(
         fingers: &[&'a Chain<3>],
         q: &[Vector3<f64>],
