@@ -17,12 +17,19 @@ use std::time::Duration;
 /// Bytes from the client that are more than a keep-alive: a query.
 const QUERY_BYTES: usize = 150;
 
+/// How long the client must have sent nothing but keep-alives before the
+/// cutter arms: a session still declaring its subscriptions would otherwise
+/// have its declaration cut instead of the command.
+const QUIET: Duration = Duration::from_millis(500);
+
 /// The forwarder: listens on `port`, connects each client to `to` (also
 /// used by the Python client's test, `python.rs`).
 pub struct Cutter {
     /// Where clients connect (127.0.0.1).
     pub port: u16,
     armed: Arc<AtomicBool>,
+    /// Messages from clients longer than a keep-alive, so far.
+    queries: Arc<AtomicU64>,
     /// Links cut so far.
     pub cuts: Arc<AtomicU64>,
 }
@@ -32,29 +39,64 @@ impl Cutter {
     pub fn start(to: String) -> Self {
         let port = free_port();
         let listener = TcpListener::bind(("127.0.0.1", port)).unwrap();
-        let (armed, cuts) = (
+        let (armed, queries, cuts) = (
             Arc::new(AtomicBool::new(false)),
             Arc::new(AtomicU64::new(0)),
+            Arc::new(AtomicU64::new(0)),
         );
-        let (a, c) = (armed.clone(), cuts.clone());
+        let counters = Counters {
+            armed: armed.clone(),
+            queries: queries.clone(),
+            cuts: cuts.clone(),
+        };
         std::thread::spawn(move || {
             for client in listener.incoming().map_while(Result::ok) {
                 let Ok(bridge) = TcpStream::connect(&to) else {
                     continue;
                 };
-                link(client, bridge, a.clone(), c.clone());
+                link(client, bridge, counters.clone());
             }
         });
-        Self { port, armed, cuts }
+        Self {
+            port,
+            armed,
+            queries,
+            cuts,
+        }
     }
 
-    /// The next query's reply is lost with its link.
+    /// The next query's reply is lost with its link. Waits first until the
+    /// clients have sent no query for `QUIET` (at most `T`), so that the
+    /// query cut is the caller's next command.
     pub fn arm(&self) {
+        let start = std::time::Instant::now();
+        let mut seen = self.queries.load(Ordering::Acquire);
+        let mut since = std::time::Instant::now();
+        while since.elapsed() < QUIET && start.elapsed() < T {
+            std::thread::sleep(Duration::from_millis(20));
+            let now = self.queries.load(Ordering::Acquire);
+            if now != seen {
+                (seen, since) = (now, std::time::Instant::now());
+            }
+        }
         self.armed.store(true, Ordering::Release);
     }
 }
 
-fn link(client: TcpStream, bridge: TcpStream, armed: Arc<AtomicBool>, cuts: Arc<AtomicU64>) {
+/// What the forwarder's links share with the test.
+#[derive(Clone)]
+struct Counters {
+    armed: Arc<AtomicBool>,
+    queries: Arc<AtomicU64>,
+    cuts: Arc<AtomicU64>,
+}
+
+fn link(client: TcpStream, bridge: TcpStream, counters: Counters) {
+    let Counters {
+        armed,
+        queries,
+        cuts,
+    } = counters;
     let cut = Arc::new(AtomicBool::new(false));
     let (mut c_rx, mut b_tx) = (client.try_clone().unwrap(), bridge.try_clone().unwrap());
     let (mut b_rx, mut c_tx) = (bridge, client);
@@ -67,7 +109,11 @@ fn link(client: TcpStream, bridge: TcpStream, armed: Arc<AtomicBool>, cuts: Arc<
             if n == 0 || b_tx.write_all(&buf[..n]).is_err() {
                 break;
             }
-            if n >= QUERY_BYTES && armed.swap(false, Ordering::AcqRel) {
+            if n < QUERY_BYTES {
+                continue;
+            }
+            queries.fetch_add(1, Ordering::AcqRel);
+            if armed.swap(false, Ordering::AcqRel) {
                 up.store(true, Ordering::Release);
                 std::thread::sleep(Duration::from_millis(300));
                 cuts.fetch_add(1, Ordering::AcqRel);
