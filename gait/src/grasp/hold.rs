@@ -381,7 +381,8 @@ impl HoldModel {
     /// torque vertex — so the parts of those 2 + 12 + 12 terms are computed
     /// once, in each contact's own frame, and a scenario costs a sum and two
     /// quadratic roots (the planner asks this for up to 289 scenarios per
-    /// pair, many times per plan).
+    /// pair, many times per plan) — or none, where the scenario is already
+    /// inside both cones at the squeeze found so far (most are).
     pub fn pair_holds(&self, n: &[Vector3<f64>; 2], loads: &Loads) -> bool {
         let (n1, n2) = (&n[0], &n[1]);
         let d = n2 - n1;
@@ -409,7 +410,7 @@ impl HoldModel {
             for (c, frame) in frames.iter().enumerate() {
                 let [b, x, y] = p.contact[c];
                 b_max = b_max.max(b);
-                squeeze = squeeze.max(frame.least(b, x, y, p.torsion, self.min_grip));
+                squeeze = frame.least_beyond(squeeze, b, x, y, p.torsion, self.min_grip);
             }
             let peak = a_sq * squeeze + b_max;
             !(peak > self.max_grip || peak.is_nan())

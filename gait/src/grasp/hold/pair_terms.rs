@@ -49,6 +49,26 @@ impl PairContact {
         }
     }
 
+    /// The larger of `f` and [`PairContact::least`], without the root
+    /// where the load part is already inside the cone at squeeze `f` with
+    /// a normal of at least `floor`: the squeezes that put it inside form
+    /// an interval unbounded above (the squeeze direction lies inside the
+    /// cone), so its least squeeze is below `f`. The relative margin keeps
+    /// a "below" far from rounding, so the result is the same number the
+    /// root would give.
+    #[inline]
+    pub(super) fn least_beyond(&self, f: f64, b: f64, x: f64, y: f64, s: f64, floor: f64) -> f64 {
+        let normal = self.a * f + b;
+        if normal > 0.0 && normal >= floor {
+            let (tx, ty) = (self.aa[0] * f + x, self.aa[1] * f + y);
+            let cone = self.mu2 * normal * normal;
+            if tx * tx + ty * ty + s * s <= (1.0 - INSIDE_MARGIN) * cone {
+                return f;
+            }
+        }
+        f.max(self.least(b, x, y, s, floor))
+    }
+
     /// `HoldModel::least` for this contact with the load part's normal
     /// `b`, tangential (x, y) and torsion term `s`. Only for a contact
     /// whose squeeze direction lies inside its cone (`a` > 0, `qa` < 0),
@@ -66,6 +86,9 @@ impl PairContact {
         f
     }
 }
+
+/// Relative margin of [`PairContact::least_beyond`]'s "inside".
+const INSIDE_MARGIN: f64 = 1e-9;
 
 /// The load part of one load term at a soft pair: per contact its normal
 /// component b = g·(−n) and tangential components (x, y), and the scaled
