@@ -174,6 +174,32 @@ impl Loads {
     }
 }
 
+/// The chord of a soft pair on the sphere of radius R: midpoint c, half
+/// chord d, |d|², |d| and u = d/|d| (module docs).
+struct Chord {
+    c: Vector3<f64>,
+    d: Vector3<f64>,
+    dn2: f64,
+    len: f64,
+    u: Vector3<f64>,
+}
+
+impl Chord {
+    fn new(n1: &Vector3<f64>, n2: &Vector3<f64>, r: f64) -> Self {
+        let c = (n1 + n2) * (0.5 * r);
+        let d = (n2 - n1) * (0.5 * r);
+        let dn2 = d.norm_squared();
+        let len = dn2.sqrt();
+        Self {
+            c,
+            d,
+            dn2,
+            len,
+            u: d / len,
+        }
+    }
+}
+
 /// Grip forces of one grasp (contacts in the order given).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hold {
@@ -355,19 +381,24 @@ impl HoldModel {
         e: &Vector3<f64>,
         t: &Vector3<f64>,
     ) -> (Vector3<f64>, Vector3<f64>, f64) {
-        let r = self.radius;
-        let c = (n1 + n2) * (0.5 * r);
-        let d = (n2 - n1) * (0.5 * r);
-        let dn2 = d.norm_squared();
-        let u = d / dn2.sqrt();
-        let tt = c.cross(e) + t;
-        let along = tt.dot(&u);
-        let t_perp = tt - u * along;
-        let delta = t_perp.cross(&d) / dn2;
+        self.chord_parts(&Chord::new(n1, n2, self.radius), e, t)
+    }
+
+    /// [`HoldModel::pair_parts`] on a pair's chord computed once.
+    fn chord_parts(
+        &self,
+        ch: &Chord,
+        e: &Vector3<f64>,
+        t: &Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>, f64) {
+        let tt = ch.c.cross(e) + t;
+        let along = tt.dot(&ch.u);
+        let t_perp = tt - ch.u * along;
+        let delta = t_perp.cross(&ch.d) / ch.dn2;
         let g1 = -e * 0.5 - delta * 0.5;
         let g2 = -e * 0.5 + delta * 0.5;
         // Torsional moments τ n2 − τ n1 = (2|d|/R) τ u supply t·u.
-        let tau = along * r / (2.0 * dn2.sqrt());
+        let tau = along * self.radius / (2.0 * ch.len);
         (g1, g2, tau)
     }
 
@@ -399,8 +430,9 @@ impl HoldModel {
             // The squeeze direction lies outside a cone: nothing holds.
             return false;
         }
+        let chord = Chord::new(n1, n2, self.radius);
         let part = |e: &Vector3<f64>, t: &Vector3<f64>| {
-            let (g1, g2, tau) = self.pair_parts(n1, n2, e, t);
+            let (g1, g2, tau) = self.chord_parts(&chord, e, t);
             LoadPart::new(&frames, &[g1, g2], tau * self.torsion_scale)
         };
         let zero = Vector3::zeros();
@@ -465,9 +497,10 @@ impl HoldModel {
         // largest b_s per contact gives the peak.
         let a_sq = u.dot(&-n1);
         let mut b_max = [f64::NEG_INFINITY; 2];
+        let chord = Chord::new(n1, n2, self.radius);
         for s in 0..count {
             let (e, t) = loads.scenario(s);
-            let (g1, g2, tau) = self.pair_parts(n1, n2, &e, &t);
+            let (g1, g2, tau) = self.chord_parts(&chord, &e, &t);
             for (i, (dir, g, nn)) in [(u, g1, n1), (-u, g2, n2)].into_iter().enumerate() {
                 let a = dir.dot(&-nn);
                 let b = g.dot(&-nn);
@@ -483,7 +516,7 @@ impl HoldModel {
         // Contact forces of scenario s at squeeze f.
         let normals = |f: f64, s: usize| {
             let (e, t) = loads.scenario(s);
-            let (g1, g2, tau) = self.pair_parts(n1, n2, &e, &t);
+            let (g1, g2, tau) = self.chord_parts(&chord, &e, &t);
             let f1 = u * f + g1;
             let f2 = -u * f + g2;
             (f1, f2, tau)

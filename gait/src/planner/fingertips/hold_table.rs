@@ -238,11 +238,14 @@ impl HoldTable {
                 continue;
             }
             let slack = load.slack(&centre, c, None);
-            let exact = load.exact_peak(&centre, c);
             let sure = margin > radius && slack > SLACK_BAND;
+            // The exact F* (the costly part) only where the slack leaves
+            // it open.
             let may = !sure
                 && (slack > -SLACK_BAND
-                    || exact.is_some_and(|f| f <= EXACT_BAND * load.max_grip()));
+                    || load
+                        .exact_peak(&centre, c)
+                        .is_some_and(|f| f <= EXACT_BAND * load.max_grip()));
             let bit = 1 << (n % 64);
             if sure {
                 block[n / 64].fetch_or(bit, Ordering::Relaxed);
