@@ -1,5 +1,6 @@
 //! The one place where wire types (`shm_schema`) and maths types (`gait`,
-//! nalgebra) meet (STYLE: "the conversions live in one module there").
+//! nalgebra) meet: the daemon is the only crate that sees both, and only
+//! here.
 
 use crate::control::controller::{ClientTarget, ControlCommand, ControlOutput, Goal};
 use gait::config::{LimitsConfig, MotionLimit};

@@ -18,7 +18,7 @@
 //!
 //! and contact 2 the same with the signs of the E_u and T terms of N, of
 //! the T_ν term in plane and of T_c flipped (its in-plane force is
-//! −(a F − b E_c/2 + T_ν/(2R))). The torsion line is GRAVITY-NOTES' key
+//! −(a F − b E_c/2 + T_ν/(2R))). The torsion line is SPEC §3.3's key
 //! identity: only torsion resists the load's moment about the chord.
 //! Everything is affine in the load. The weight and the acceleration
 //! torque about a known axis (both signs) enter exactly; the disturbance

@@ -5,7 +5,7 @@
 //! too close to another fingertip) then a radial descent; a Lift is a radial
 //! ascent. While the object turns, the free finger already travels to above
 //! its next placement when that is clear of the sweeping fingertips
-//! (PLANNER-NOTES: saves about a second per goal); otherwise it stays, or
+//! (this saves about a second per goal); otherwise it stays, or
 //! first parks over its cone centre, which no other fingertip can reach.
 
 use nalgebra::Vector3;
