@@ -168,7 +168,7 @@ fn finger_status(hand: &HandState, k: usize, object_radius: f64) -> FingerStatus
 mod tests {
     use super::*;
     use crate::control::controller::Controller;
-    use crate::control::events::TickEvents;
+    use crate::control::tick_events::TickEvents;
     use crate::hold::HoldController;
     use gait::HandConfig;
     use shm_schema::{Command, DaemonState};

@@ -32,7 +32,7 @@ use crate::control::controller::{
     ControlOutput, Controller, FingerOutput, GoalReport, TickContext,
 };
 use crate::control::convert::fill_status;
-use crate::control::events::TickEvents;
+use crate::control::tick_events::TickEvents;
 use crate::io::ipc::Ipc;
 use crate::io::outbox::{Outbound, Outbox};
 use crate::plant::PlantSample;

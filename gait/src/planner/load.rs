@@ -52,7 +52,7 @@ use super::plan::{Motion, Step};
 use crate::HandConfig;
 use crate::grasp::grip::{CARRY_BITS, Grip, GripModel, grasp_mask};
 use crate::grasp::hold::{Accel, HoldModel, ICOSAHEDRON_RATIO};
-use crate::state::HandState;
+use crate::hand_state::HandState;
 
 /// Largest rotation between two exact checks of a Rotate step \[rad\] (3°).
 pub const ROTATION_SAMPLE: f64 = 3.0 * std::f64::consts::PI / 180.0;

@@ -148,7 +148,7 @@ pub fn print_table(r: &Value) {
     );
     print_tick(r);
     if !r["load"].is_null() {
-        super::load::print(&r["load"]);
+        super::many_clients::print(&r["load"]);
     }
     print_jitter(r);
     println!(

@@ -14,7 +14,7 @@ use super::super::collision::{other_centers, path_clear, sweep_clear};
 use super::super::geometry::{Geometry, angle_between};
 use super::super::plan::{FreeMove, FreePath, Handover, Motion, Reorientation, Step, StepKind};
 use super::StillAction;
-use crate::state::{FingerMode, HandState};
+use crate::hand_state::{FingerMode, HandState};
 
 /// Why segments could not be turned into collision-free motions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

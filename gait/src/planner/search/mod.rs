@@ -34,7 +34,7 @@ use super::budget::{Budget, Effort, Halt};
 use super::goal::Remaining;
 use super::hand_model::{self, Action, HandModel};
 use super::plan::Step;
-use crate::state::HandState;
+use crate::hand_state::HandState;
 use fresh::Fresh;
 use node::{Edge, Key, KeyHasher, Last, NONE, Node, Open};
 
