@@ -9,7 +9,7 @@
 //!   and a fixed-work reference loop at the same rate (`noise`): the
 //!   platform's own tail;
 //! - [`many_clients`] (with `--load-seconds`): missed periods idle vs under load;
-//! - [`reference`]: a bare iceoryx2 one-way latency in the same run, the
+//! - [`reference`](mod@reference): a bare iceoryx2 one-way latency in the same run, the
 //!   reference of the status latency;
 //! - [`report`]: the JSON result and the table, with the daemon's RSS;
 //! - [`plant`] (with `--plant-steps`, instead of the above): the plant
