@@ -24,7 +24,7 @@
 //! `config/` and `sys/` use none of the others.
 //!
 //! Data flows one way per tick: commands → [`realtime::intake`] →
-//! [`control::controller::Controller`] → [`control::events`] and
+//! [`control::controller::Controller`] → [`control::tick_events`] and
 //! [`control::convert`] → [`io::outbox`] (published by the writer thread).
 
 // Lets the test-support files shared with the integration tests name

@@ -62,15 +62,11 @@ fn special_f64(rng: &mut ChaCha8Rng, cfg: &[f64; 9]) -> f64 {
     }
 }
 
-/// A random unit quaternion.
+/// A random unit quaternion (Haar-random), in the wire's (w, x, y, z)
+/// order.
 fn unit_quaternion(rng: &mut ChaCha8Rng) -> [f64; 4] {
-    loop {
-        let q: [f64; 4] = std::array::from_fn(|_| rng.random_range(-1.0..1.0));
-        let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if n > 1e-3 && n <= 1.0 {
-            return q.map(|x| x / n);
-        }
-    }
+    let q = test_support::random::haar(rng);
+    [q.w, q.i, q.j, q.k]
 }
 
 /// A well-formed command: any kind, ids from small pools (so duplicates

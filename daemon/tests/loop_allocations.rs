@@ -1,5 +1,5 @@
 //! Zero heap allocations on the loop thread (SPEC §11), proven with a
-//! counting global allocator (STYLE §6, copper-rs
+//! counting global allocator (as copper-rs's
 //! `error_display_allocations.rs`): the daemon's real loop code
 //! (`Runtime::run_once`: command intake from a real iceoryx2 subscriber,
 //! controller tick, answers/events/status handed to the writer thread) with

@@ -28,12 +28,12 @@ pub mod contact;
 pub mod executor;
 pub mod grasp;
 pub mod hand;
+pub mod hand_state;
 pub mod planner;
 pub mod rolling;
 pub mod sim;
 pub mod sphere;
-pub mod state;
 pub mod trace;
 
 pub use config::{ConfigError, HandConfig};
-pub use state::{FINGERS, FingerMode, FingerState, HandState};
+pub use hand_state::{FINGERS, FingerMode, FingerState, HandState};

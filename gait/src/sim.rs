@@ -9,8 +9,8 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
+use crate::hand_state::{FingerMode, HandState};
 use crate::planner::Setpoint;
-use crate::state::{FingerMode, HandState};
 
 /// One measured fingertip.
 #[derive(Debug, Clone, Copy, PartialEq)]

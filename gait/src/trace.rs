@@ -22,8 +22,8 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::HandConfig;
 use crate::executor::{Mode, TickReport};
+use crate::hand_state::FingerMode;
 use crate::planner::StepKind;
-use crate::state::FingerMode;
 
 /// The format name in the header.
 pub const FORMAT: &str = "gait-trajectory/1";

@@ -402,7 +402,7 @@ fn a_heavy_object_is_planned_or_rejected_with_its_reason() {
 fn a_start_that_cannot_hold_the_load_is_rejected() {
     // Two contacts 143° apart in a horizontal plane: force-closure, but
     // the weight's moment about the chord needs far more than 20 N of
-    // torsion grip (GRAVITY-NOTES: ~160 N).
+    // torsion grip (~160 N).
     let cfg = HandConfig::default();
     let mut s = HandState::paper_start(&cfg);
     let rc = cfg.model.object_radius + cfg.model.fingertip_radius;

@@ -37,7 +37,7 @@ fn main() {
         .collect();
     let (o, big_r) = (h.object.centre, h.object.radius);
     let omega = Vector3::new(0.3, -0.2, 0.5);
-    // The feasible grasp of HAND-NOTES, moved a little each tick.
+    // The feasible grasp of deploy/hands/trifingerpro/README.md, moved a little each tick.
     let q0 = Vector3::new(0.366, 0.890, -1.854);
     let mut q = [q0; 3];
     let tick = |k: usize, t: usize, q: &mut Vector3<f64>| {
@@ -94,7 +94,7 @@ fn main() {
     );
 
     // Three fingers carried by a turn of the ball about the vertical from
-    // the grasp of HAND-NOTES (30° from the top): one advance per tick.
+    // that grasp (30° from the top): one advance per tick.
     let grasp = [q0; 3];
     let fingers = [&chains[0], &chains[1], &chains[2]];
     let axis = Vector3::z();

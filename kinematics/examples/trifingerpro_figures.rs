@@ -28,7 +28,7 @@ fn grasp(chains: &[Chain<3>], centre: Vector3<f64>, big_r: f64) -> Option<Grasp>
     };
     let mut tips = [Vector3::zeros(); 3];
     for (k, c) in chains.iter().enumerate() {
-        // HAND-NOTES: finger_0's contact at azimuth 75° on the equator, the others turned with their fingers.
+        // finger_0's contact at azimuth 75° on the equator, the others turned with their fingers.
         let az = (75.0 - 120.0 * k as f64).to_radians();
         let n = Vector3::new(az.cos(), az.sin(), 0.0);
         let q = ClosedFormIk::new(c)

@@ -20,7 +20,7 @@ pub struct ConnArgs {
     /// iceoryx2 file prefix [env: GAITD_IPC_FILE_PREFIX].
     #[arg(long, global = true)]
     pub ipc_file_prefix: Option<String>,
-    /// How long to wait for the daemon [s].
+    /// How long to wait for the daemon, in seconds.
     #[arg(long, global = true, default_value_t = 2.0)]
     pub timeout: f64,
     /// A remote gaitd: its gaitd-bridge at ENDPOINT (quic/HOST:PORT, or

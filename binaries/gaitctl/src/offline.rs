@@ -47,15 +47,15 @@ pub struct GoalRun {
     pub route: Option<Route>,
     /// Steps of the plan by kind: roll, rotate, transfer, place, lift.
     pub steps: [u32; 5],
-    /// Execution time [s].
+    /// Execution time \[s\].
     pub duration: f64,
-    /// Angle between the final and the goal orientation [rad].
+    /// Angle between the final and the goal orientation \[rad\].
     pub final_error: f64,
     /// Smallest force-closure slack seen while executing.
     pub min_fc_margin: f64,
-    /// Largest commanded normal force [N].
+    /// Largest commanded normal force \[N\].
     pub max_grip: f64,
-    /// Planning wall time [ms].
+    /// Planning wall time \[ms\].
     pub planning_ms: f64,
 }
 

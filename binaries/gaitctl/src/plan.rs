@@ -59,7 +59,7 @@ pub struct Args {
         conflicts_with = "scenario"
     )]
     axis: Option<String>,
-    /// Rotation angle [deg] for --axis (any size with --relative: 360 is a full turn).
+    /// Rotation angle in degrees for --axis (any size with --relative: 360 is a full turn).
     #[arg(
         long,
         value_name = "DEG",
@@ -86,7 +86,7 @@ pub struct Args {
     /// gaitd configuration file for the model (default: built-in defaults).
     #[arg(long, value_name = "FILE")]
     config: Option<PathBuf>,
-    /// Control rate of the execution and the trace [Hz].
+    /// Control rate of the execution and the trace, in Hz.
     #[arg(long, default_value_t = 1000.0)]
     rate: f64,
     /// Print progress while executing.

@@ -20,7 +20,7 @@ pub struct Args {
         requires = "angle_deg"
     )]
     axis: Option<Vec<f64>>,
-    /// Rotation angle [deg] (with --axis).
+    /// Rotation angle in degrees (with --axis).
     #[arg(long, allow_hyphen_values = true, requires = "axis")]
     angle_deg: Option<f64>,
     /// Rotate relative to the current orientation (default: absolute target);

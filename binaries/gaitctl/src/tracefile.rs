@@ -12,22 +12,22 @@ use serde_json::Value;
 /// One finger of one sample.
 #[derive(Debug, Clone, Copy)]
 pub struct TraceFinger {
-    /// Fingertip centre [m].
+    /// Fingertip centre \[m\].
     pub p: Vector3<f64>,
     /// Fingertip orientation.
     pub q: UnitQuaternion<f64>,
     /// Touching the object.
     pub contact: bool,
-    /// Normal force [N].
+    /// Normal force \[N\].
     pub grip: f64,
-    /// Roll τ [rad].
+    /// Roll τ \[rad\].
     pub roll: f64,
 }
 
 /// One tick of a trace.
 #[derive(Debug, Clone)]
 pub struct TraceSample {
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
     /// Object orientation.
     pub object: UnitQuaternion<f64>,
@@ -40,13 +40,13 @@ pub struct TraceSample {
 /// A whole trace.
 #[derive(Debug, Clone)]
 pub struct Trace {
-    /// Object radius R [m].
+    /// Object radius R \[m\].
     pub object_radius: f64,
-    /// Fingertip radius r [m].
+    /// Fingertip radius r \[m\].
     pub fingertip_radius: f64,
-    /// Workspace cone half angle β [deg] (default 60 if absent).
+    /// Workspace cone half angle β \[deg\] (default 60 if absent).
     pub workspace_half_angle_deg: f64,
-    /// Finger base azimuths [deg] (default 0, 120, 240 if absent).
+    /// Finger base azimuths \[deg\] (default 0, 120, 240 if absent).
     pub finger_azimuth_deg: [f64; 3],
     /// The samples.
     pub samples: Vec<TraceSample>,

@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 /// Options.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Refresh rate [Hz].
+    /// Refresh rate in Hz.
     #[arg(long, default_value_t = 20.0)]
     rate: f64,
     /// Stop after this many frames (default: until Ctrl-C).
@@ -44,7 +44,7 @@ fn bar(fraction: f64, width: usize) -> String {
 }
 
 /// The view of one status. `progress` is the goal's completed fraction if
-/// known; `rate` the loop rate measured by the viewer [Hz], if it has
+/// known; `rate` the loop rate measured by the viewer \[Hz\], if it has
 /// seen enough statuses to tell.
 pub fn render(s: &Status, progress: Option<f64>, rate: Option<f64>) -> String {
     let mut o = String::new();

@@ -1,7 +1,7 @@
 """The daemon's hand model where a plant needs it: the paper's start grasp,
 and how grasping fingertips turn the object.
 
-``paper_start`` mirrors ``HandState::paper_start`` (gait/src/state.rs): the
+``paper_start`` mirrors ``HandState::paper_start`` (gait/src/hand_state.rs): the
 object at identity, each fingertip on the equator at its finger azimuth φ_k,
 touching with its pole: centre (R + r) d_k, pole axis Q_f e_z = −d_k,
 fingertip x axis = hand z, roll 0. The daemon takes any start that passes

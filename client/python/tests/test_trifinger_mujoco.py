@@ -155,7 +155,7 @@ def test_tip_forward_kinematics_is_the_urdf_chain() -> None:
             err = float(np.linalg.norm(h.tip_position(k) - urdf_tip(f, q)))
             worst = max(worst, err)
             assert err < 1e-9, (f, q, h.tip_position(k), urdf_tip(f, q))
-    # q = 0: every link straight down; the closed-form IK's offsets (HAND-NOTES: TIP_X_OFFSET 0.086,
+    # q = 0: every link straight down; the closed-form IK's offsets (TIP_X_OFFSET 0.086,
     # JOINT1_Y_OFFSET 0.0505, two 0.16 m links below the 0.29 m holder).
     h.reset([0.0] * 9)
     assert np.allclose(h.tip_position(0), [0.086, 0.0505, 0.29 - 0.32], atol=1e-12)

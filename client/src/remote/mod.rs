@@ -25,15 +25,15 @@
 
 #[cfg(feature = "remote")]
 pub mod continuity;
-mod error;
 pub(crate) mod inflight;
 pub mod protocol;
+mod remote_error;
 #[cfg(feature = "remote")]
 pub mod tls;
 #[cfg(feature = "remote")]
 pub(crate) mod transport;
 
 pub use crate::remote_options::{RemoteOptions, TlsFiles};
-pub use error::RemoteError;
+pub use remote_error::RemoteError;
 #[cfg(feature = "remote")]
 pub use transport::{RawReply, zenoh_text};

@@ -13,7 +13,7 @@
 //! [`Controller::command`] for each command that arrived (in order), then
 //! [`Controller::tick`] exactly once.
 
-use crate::control::events::TickEvents;
+use crate::control::tick_events::TickEvents;
 use crate::sys::clock::Nanos;
 use gait::HandState;
 use gait::config::LimitsConfig;

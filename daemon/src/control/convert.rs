@@ -1,5 +1,6 @@
 //! The one place where wire types (`shm_schema`) and maths types (`gait`,
-//! nalgebra) meet (STYLE: "the conversions live in one module there").
+//! nalgebra) meet: the daemon is the only crate that sees both, and only
+//! here.
 
 use crate::control::controller::{ClientTarget, ControlCommand, ControlOutput, Goal};
 use gait::config::{LimitsConfig, MotionLimit};
@@ -167,7 +168,7 @@ fn finger_status(hand: &HandState, k: usize, object_radius: f64) -> FingerStatus
 mod tests {
     use super::*;
     use crate::control::controller::Controller;
-    use crate::control::events::TickEvents;
+    use crate::control::tick_events::TickEvents;
     use crate::hold::HoldController;
     use gait::HandConfig;
     use shm_schema::{Command, DaemonState};

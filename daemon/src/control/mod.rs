@@ -4,7 +4,7 @@
 //! wire format.
 //!
 //! - [`controller`]: the seam: the `Controller` trait the loop drives.
-//! - [`events`]: the events of one tick: the queue a controller fills and
+//! - [`tick_events`]: the events of one tick: the queue a controller fills and
 //!   the loop publishes.
 //! - [`gait_controller`]: the real controller: planner + executor + plant.
 //! - [`convert`]: maths types to wire types (status), in one place.
@@ -12,6 +12,6 @@
 
 pub mod controller;
 pub mod convert;
-pub mod events;
 pub mod gait_controller;
 pub mod plan_thread;
+pub mod tick_events;

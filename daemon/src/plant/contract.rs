@@ -1,7 +1,6 @@
 //! The timing contract with an external plant (PLANT-GUIDE.md, "Timing
 //! contract"), counted as TriFinger's `robot_interfaces` counts action
-//! repetitions and libfranka counts lost packets (HAND-NOTES.md, "How the
-//! real robot is driven"): every tick may miss it in four ways —
+//! repetitions and libfranka counts lost packets: every tick may miss it in four ways —
 //!
 //! - its command went out late: in real time, handed out after the next
 //!   tick's deadline, or a period skipped with no command at all;

@@ -214,7 +214,7 @@ impl Intake {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::control::events::TickEvents;
+    use crate::control::tick_events::TickEvents;
     use crate::hold::HoldController;
     use gait::HandConfig;
     use shm_schema::{EventKind, GoalFrame, LimitKind, LimitOrder};

@@ -1,4 +1,4 @@
-//! The real-time loop (SPEC §6.1, §7.2), in copper-rs phases (STYLE §3):
+//! The real-time loop (SPEC §6.1, §7.2), in copper-rs phases (`cu29_runtime`'s `CuTask`):
 //!
 //! 1. **preprocess** — record the wake-up (jitter, missed periods), drain at
 //!    most `max_commands_per_tick` commands: validate, decide, answer;
@@ -32,7 +32,7 @@ use crate::control::controller::{
     ControlOutput, Controller, FingerOutput, GoalReport, TickContext,
 };
 use crate::control::convert::fill_status;
-use crate::control::events::TickEvents;
+use crate::control::tick_events::TickEvents;
 use crate::io::ipc::Ipc;
 use crate::io::outbox::{Outbound, Outbox};
 use crate::plant::PlantSample;

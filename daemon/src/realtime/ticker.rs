@@ -1,4 +1,4 @@
-//! Periodic wake-ups on absolute deadlines (SPEC §7.2; STYLE §5, copper-rs
+//! Periodic wake-ups on absolute deadlines (SPEC §7.2; as copper-rs's
 //! `LoopRateLimiter`).
 //!
 //! Deadlines are `start + k·period`, never "now + period", so a late

@@ -1,4 +1,4 @@
-//! Injected time (STYLE §5, copper-rs `cu29_clock`): the loop reads time
+//! Injected time (as copper-rs's `cu29_clock`): the loop reads time
 //! and sleeps only through [`Clock`], so tests drive it with a
 //! [`MockClock`] that advances exactly, with scripted wake-up delays.
 

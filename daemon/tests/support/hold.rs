@@ -99,7 +99,7 @@ impl Controller for HoldController {
 mod tests {
     use super::*;
     use gaitd::control::controller::{ClientTarget, Goal};
-    use gaitd::control::events::TickEvents;
+    use gaitd::control::tick_events::TickEvents;
     use nalgebra::UnitQuaternion;
 
     #[test]

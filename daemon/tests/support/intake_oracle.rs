@@ -17,7 +17,7 @@ use gaitd::config::DaemonConfig;
 use gaitd::control::controller::{
     ClientTarget, ControlCommand, ControlOutput, Controller, TickContext,
 };
-use gaitd::control::events::TickEvents;
+use gaitd::control::tick_events::TickEvents;
 use gaitd::realtime::intake::Intake;
 use shm_schema::{Answer, Command, CommandKind, GoalFrame, ReasonCode, Verdict};
 use std::collections::VecDeque;

@@ -126,7 +126,7 @@ pub struct LoadConfig {
     /// Largest normal force a fingertip can apply \[N\]: no grasp the
     /// planner makes needs more to hold the load (SPEC §1.3 I1'), and no
     /// commanded grip exceeds it. Default 20 N, a typical fingertip force
-    /// of a dexterous hand and the limit GRAVITY-NOTES' numbers are given
+    /// of a dexterous hand and the limit SPEC §3.3's load figures are given
     /// for (a 0.1 kg object then needs near-antipodal pairs in planes
     /// close to vertical).
     pub max_grip: f64,

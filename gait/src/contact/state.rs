@@ -1,8 +1,8 @@
 //! The state of one fingertip–object contact (SPEC §2.2–2.3) and its
 //! conversions.
 
+use crate::hand_state::{FingerMode, FingerState};
 use crate::sphere::{ChartId, ChartPoint, rotation::angle_between};
-use crate::state::{FingerMode, FingerState};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 
 /// Radii of the two spheres (SPEC §1.1): object R, fingertip r.

@@ -6,9 +6,9 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use super::Reason;
 use crate::config::LimitsConfig;
+use crate::hand_state::HandState;
 use crate::planner::timing::step_profiles;
 use crate::planner::{Budget, Plan, PlanError, Target, Unbounded};
-use crate::state::HandState;
 
 /// Where a goal wants the object.
 #[derive(Debug, Clone, Copy, PartialEq)]

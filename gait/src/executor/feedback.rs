@@ -8,8 +8,8 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use super::lifecycle::FaultKind;
 use crate::config::FeedbackConfig;
+use crate::hand_state::{FingerMode, HandState};
 use crate::sim::Measurement;
-use crate::state::{FingerMode, HandState};
 
 /// The executor's finger field for "no finger in particular" (the wire's
 /// is `shm_schema::NO_FINGER`, a `u32`; the daemon maps one to the other).

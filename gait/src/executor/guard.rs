@@ -28,8 +28,8 @@
 use super::lifecycle::FaultKind;
 use crate::HandConfig;
 use crate::hand::{InvariantChecker, Unit};
+use crate::hand_state::{FingerMode, HandState};
 use crate::sim::Measurement;
-use crate::state::{FingerMode, HandState};
 
 use super::feedback::NOT_A_FINGER;
 

@@ -37,8 +37,8 @@ pub mod placement;
 mod plant;
 pub mod policy;
 pub mod recovery;
-mod report;
 pub mod runner;
+mod tick_report;
 mod written;
 
 use nalgebra::{UnitQuaternion, Vector3};
@@ -47,16 +47,16 @@ use crate::HandConfig;
 use crate::config::{ConfigError, LimitsConfig};
 use crate::grasp::grip;
 use crate::hand::{InvariantChecker, InvariantReport, StateError};
+use crate::hand_state::HandState;
 use crate::planner::{Motion, Plan, PlanError, Setpoint, Step, StepKind};
 use crate::sim::Measurement;
-use crate::state::HandState;
 pub use command::{ExecutorAnswer, ExecutorCommand, GoalTarget, PlanRequest};
 use feedback::{Feedback, NOT_A_FINGER};
 pub use lifecycle::{ExecutorEvent, ExecutorEvents, FaultKind, GoalStage, Reason};
 use policy::{Cause, Decision, FaultPolicy, Source};
-pub use report::TickReport;
-use report::step_on_ticks;
 use runner::StepRunner;
+pub use tick_report::TickReport;
+use tick_report::step_on_ticks;
 pub use written::WRITTEN;
 
 /// The gait state machine's coarse state (module docs).

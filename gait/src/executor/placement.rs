@@ -35,8 +35,8 @@
 
 use nalgebra::Vector3;
 
+use crate::hand_state::{FingerMode, HandState};
 use crate::planner::Setpoint;
-use crate::state::{FingerMode, HandState};
 
 /// Distance from the modelled surface over which a placement offset blends
 /// in or out \[m\]: a few times the offsets seen (≤ 1.2 mm), so the

@@ -514,7 +514,7 @@ impl GraspForceSolver {
 /// τ²/μ_t²)), E_s the force on the object the contacts must balance and T_s
 /// the torque about O they must supply. Each scenario's forces are free:
 /// F* is the least force limit under which *every* listed load can be held
-/// (GRAVITY-NOTES' F*). Builds a fresh problem per call (allocates): for
+/// (F* of SPEC §3.3). Builds a fresh problem per call (allocates): for
 /// tests, benchmarks and plan-time studies, not for the tick.
 #[derive(Debug, Clone, Copy)]
 pub struct LoadSolver {

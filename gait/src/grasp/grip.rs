@@ -26,7 +26,7 @@ use nalgebra::Vector3;
 
 use crate::HandConfig;
 use crate::grasp::hold::{Accel, Hold, HoldModel};
-use crate::state::{FingerMode, HandState};
+use crate::hand_state::{FingerMode, HandState};
 
 /// Grip forces for one state.
 #[derive(Debug, Clone, Copy, PartialEq)]

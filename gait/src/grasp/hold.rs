@@ -1,5 +1,5 @@
 //! Holding the object against its load, in closed form (SPEC §1.3 I1',
-//! §3.3; GRAVITY-NOTES.md): grip forces for two soft or three hard
+//! §3.3): grip forces for two soft or three hard
 //! contacts that balance the weight, the torque that accelerates the
 //! object and *every* disturbance of the configured size, and the largest
 //! normal force this needs.
@@ -51,14 +51,14 @@
 //! squeeze is a convex function of the load, so the squeeze a tick needs
 //! never exceeds the plan-time bound over the same polytope.
 //!
-//! # Two soft contacts (the key identity of GRAVITY-NOTES)
+//! # Two soft contacts (the key identity of SPEC §3.3)
 //! With p_i = R n_i, chord midpoint c, half chord d and u = d/|d|: the
 //! squeeze is ±F along the chord, the load part −E/2 ∓ Δ/2 with d × Δ the
 //! part of t = c × E + T normal to the chord, and the torsional moments
 //! ±τ = ±(t·u)/(2 sin(θ/2)) about the normals give the rest. The contact
 //! forces act through the chord, so *only torsion* resists the moment of
 //! the load about it: |t·u| = R cos(θ/2) |E·ν| (+ T·u), ν the normal of the
-//! plane through O and the two contacts — hence GRAVITY-NOTES'
+//! plane through O and the two contacts — hence SPEC §3.3's
 //! F* ≥ (R/2μ_t) cot(θ/2) |E·ν|: keep chords near antipodal and their plane
 //! near vertical. (The torsions are split equally; the tests compare the
 //! result with the exact SOCP of [`super::forces::LoadSolver`].)
@@ -725,7 +725,7 @@ mod tests {
 
     #[test]
     fn antipodal_horizontal_pair_needs_mg_over_two_mu() {
-        // GRAVITY-NOTES: an antipodal pair on a horizontal line needs
+        // An antipodal pair on a horizontal line needs
         // m g / (2 μ) (no disturbance, no floor).
         let mut c = HandConfig::default();
         c.load.disturbance_force = 0.0;

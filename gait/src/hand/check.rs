@@ -4,15 +4,15 @@ use core::f64::consts::PI;
 
 use nalgebra::Vector3;
 
-use super::limits::{Bound, FingertipLimits};
-use super::report::{
+use super::invariant_report::{
     Check, FcMethod, FingerReport, ForceClosureCheck, InvariantReport, PAIRS, SlipCheck,
     SlipReport, Unit,
 };
+use super::limits::{Bound, FingertipLimits};
 use crate::grasp::facts::angle_between;
 use crate::grasp::planar::three_hard_certificate;
 use crate::grasp::{ClosureMargin, ConicSolver, Contact, ContactKind};
-use crate::state::{FingerMode, FingerState, HandState};
+use crate::hand_state::{FingerMode, FingerState, HandState};
 use crate::{ConfigError, HandConfig};
 
 /// Why a state could not be checked.

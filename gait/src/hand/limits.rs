@@ -13,7 +13,7 @@ use nalgebra::Vector3;
 
 use crate::grasp::facts::{angle_between, fact3_slack, fact4_slack};
 use crate::grasp::{Contact, Friction};
-use crate::state::{FINGERS, FingerMode, HandState};
+use crate::hand_state::{FINGERS, FingerMode, HandState};
 use crate::{ConfigError, HandConfig};
 
 /// Which limit a slack is measured against.

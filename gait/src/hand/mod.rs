@@ -16,12 +16,12 @@
 //! decide, is owned and cached by the checker (`&mut self`).
 
 mod check;
+mod invariant_report;
 mod limits;
-mod report;
 
 pub use check::{InvariantChecker, StateError, validate_state};
-pub use limits::{Bound, FingertipLimits, SLACK_TOLERANCE};
-pub use report::{
+pub use invariant_report::{
     Check, FcMethod, FingerReport, ForceClosureCheck, Invariant, InvariantReport, PAIRS, SlipCheck,
     SlipReport, Subject, Unit, Violation,
 };
+pub use limits::{Bound, FingertipLimits, SLACK_TOLERANCE};

@@ -1,5 +1,5 @@
-//! Candidate contact points in each finger's workspace cone (PLANNER-NOTES
-//! step 2): the cone centre plus rings every `spacing` degrees, computed once
+//! Candidate contact points in each finger's workspace cone (SPEC §4,
+//! `planner.candidate_spacing_deg`): the cone centre plus rings every `spacing` degrees, computed once
 //! per configuration.
 
 use nalgebra::Vector3;

@@ -9,7 +9,7 @@ use nalgebra::Vector3;
 
 use super::geometry::{Geometry, Sinusoid};
 use super::plan::FreePath;
-use crate::state::{FingerMode, HandState};
+use crate::hand_state::{FingerMode, HandState};
 
 /// Whether centres at `p` and `q` are far enough apart.
 pub fn clear(g: &Geometry, p: &Vector3<f64>, q: &Vector3<f64>) -> bool {

@@ -1,5 +1,4 @@
-//! Closed-form geometry the planner searches with (SPEC §1.1, §4.2;
-//! PLANNER-NOTES "Geometry that makes it fast").
+//! Closed-form geometry the planner searches with (SPEC §1.1, §4.2).
 //!
 //! Everything here is about rotations of points on spheres about axes through
 //! the object centre O. A point c rotated about the unit axis k by t has, with
@@ -371,9 +370,9 @@ mod tests {
     }
 
     #[test]
-    fn separation_angles_match_the_notes() {
+    fn contact_separation_is_19_67_degrees() {
         let g = Geometry::new(&HandConfig::default());
-        // PLANNER-NOTES: two contacts need ≥ 19.67° of separation.
+        // At the default radii two contacts need ≥ 19.67° of separation.
         let sep = g.cos_sep_contact.acos().to_degrees();
         assert!((sep - 19.67).abs() < 0.01, "{sep}");
         assert!((g.fc_min_angle.to_degrees() - 142.0).abs() < 1e-9);

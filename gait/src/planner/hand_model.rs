@@ -19,7 +19,7 @@ use super::budget::Stop;
 use super::load::LoadViolation;
 use super::plan::Step;
 use super::timing::DurationModel;
-use crate::state::HandState;
+use crate::hand_state::HandState;
 
 /// What the object turns for (the plan's route names it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -18,7 +18,7 @@
 //!
 //! and contact 2 the same with the signs of the E_u and T terms of N, of
 //! the T_ν term in plane and of T_c flipped (its in-plane force is
-//! −(a F − b E_c/2 + T_ν/(2R))). The torsion line is GRAVITY-NOTES' key
+//! −(a F − b E_c/2 + T_ν/(2R))). The torsion line is SPEC §3.3's key
 //! identity: only torsion resists the load's moment about the chord.
 //! Everything is affine in the load. The weight and the acceleration
 //! torque about a known axis (both signs) enter exactly; the disturbance
@@ -52,7 +52,7 @@ use super::plan::{Motion, Step};
 use crate::HandConfig;
 use crate::grasp::grip::{CARRY_BITS, Grip, GripModel, grasp_mask};
 use crate::grasp::hold::{Accel, HoldModel, ICOSAHEDRON_RATIO};
-use crate::state::HandState;
+use crate::hand_state::HandState;
 
 /// Largest rotation between two exact checks of a Rotate step \[rad\] (3°).
 pub const ROTATION_SAMPLE: f64 = 3.0 * std::f64::consts::PI / 180.0;

@@ -53,7 +53,7 @@ pub use plan::{
 pub use route::Route;
 
 use crate::config::{ConfigError, HandConfig};
-use crate::state::{FingerMode, HandState};
+use crate::hand_state::{FingerMode, HandState};
 use alternatives::{PASSES, Role, TURN_PIECE};
 use fingertips::Fingertips;
 use geometry::{Geometry, rotation};

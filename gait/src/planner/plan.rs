@@ -11,8 +11,8 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 use super::geometry::{rotation, swing};
 use crate::contact::ContactGeometry;
+use crate::hand_state::{FingerMode, HandState};
 use crate::rolling::{RollSegment, Waypoint};
-use crate::state::{FingerMode, HandState};
 
 /// Most path parameters a step has (a rotation plus a concurrent free-finger
 /// transfer, or up to three rolling fingers).

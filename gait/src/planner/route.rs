@@ -6,7 +6,7 @@ use std::fmt;
 
 use super::alternatives::{PASSES, Role};
 use super::hand_model::{Action, HandModel, RegraspFor, Turn};
-use crate::state::HandState;
+use crate::hand_state::HandState;
 
 /// One action of a route.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -395,7 +395,7 @@ fn min_on(s: &Sinusoid, t_end: f64) -> f64 {
 mod tests {
     use super::*;
     use crate::HandConfig;
-    use crate::state::HandState;
+    use crate::hand_state::HandState;
 
     /// The paper start's finger 1 rolled towards −e_φ (away from finger 2)
     /// by `deg` on the equator.

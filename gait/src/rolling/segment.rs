@@ -2,8 +2,8 @@
 //! object-fixed axis, evaluated in closed form (SPEC §2.3 with ω_o = 0).
 
 use crate::contact::{ContactGeometry, RelativeContact};
+use crate::hand_state::{FingerMode, FingerState};
 use crate::sphere::rotation::{axis_angle, rotate};
-use crate::state::{FingerMode, FingerState};
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// What a segment does to the contact.

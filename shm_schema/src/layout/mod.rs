@@ -104,9 +104,9 @@ fn layout<T: ZeroCopySend>(name: &'static str, fields: Vec<FieldInfo>) -> TypeLa
     }
 }
 
-mod client;
+mod client_payloads;
 mod markdown;
-mod plant;
+mod plant_payloads;
 mod python;
 
 pub use markdown::layout_markdown;
@@ -115,8 +115,8 @@ pub use python::python_layout;
 /// Every payload type, nested types after the types that use them: the
 /// client's (commands, answers, status, events), then the plant's.
 pub fn layouts() -> Vec<TypeLayout> {
-    let mut all = client::layouts();
-    all.extend(plant::layouts());
+    let mut all = client_payloads::layouts();
+    all.extend(plant_payloads::layouts());
     all
 }
 

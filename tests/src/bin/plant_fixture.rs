@@ -1,5 +1,5 @@
-//! A misbehaving plant for the end-to-end tests (STYLE: misbehaving
-//! fixtures): an exact kinematic hand in lockstep that, after `--after N`
+//! A misbehaving plant for the end-to-end tests (as dora's
+//! fault-tolerance fixtures): an exact kinematic hand in lockstep that, after `--after N`
 //! good steps, lies, stalls or faults in the way `--lie` says — or starts
 //! in a state that breaks an invariant. It numbers its own measurements
 //! (`PlantHost::send_raw`) so that it can lie about them.

@@ -21,6 +21,21 @@ pub fn root() -> PathBuf {
         .expect("the repository root (tests/support/../..)")
 }
 
+/// The workspace's members (their directories), as listed in the root
+/// `Cargo.toml` under `root`.
+pub fn members(root: &Path) -> Vec<String> {
+    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).expect("the root Cargo.toml");
+    let line = manifest
+        .lines()
+        .find(|l| l.trim_start().starts_with("members"))
+        .expect("a `members = [...]` line");
+    let list = &line[line.find('[').expect("[") + 1..line.rfind(']').expect("]")];
+    list.split(',')
+        .map(|m| m.trim().trim_matches('"').to_string())
+        .filter(|m| !m.is_empty())
+        .collect()
+}
+
 /// The Python of the test oracles (ruckig, MuJoCo, the client package)
 /// for the checkout at `repo`: [`ORACLE_PYTHON_ENV`], else
 /// `repo/.venv-oracles/bin/python`, which `bash .ci/install` makes. The

@@ -20,7 +20,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
 use std::path::Path;
 
-use test_support::repo::root;
+use test_support::repo::{members, root};
 
 /// Crates (source directories) whose module graph must be acyclic.
 const ACYCLIC: [&str; 10] = [
@@ -224,20 +224,6 @@ fn module_graphs_are_acyclic() {
             describe(&g, &cyclic)
         );
     }
-}
-
-/// The workspace's members, as listed in the root `Cargo.toml`.
-fn members(root: &Path) -> Vec<String> {
-    let manifest = fs::read_to_string(root.join("Cargo.toml")).expect("the root Cargo.toml");
-    let line = manifest
-        .lines()
-        .find(|l| l.trim_start().starts_with("members"))
-        .expect("a `members = [...]` line");
-    let list = &line[line.find('[').expect("[") + 1..line.rfind(']').expect("]")];
-    list.split(',')
-        .map(|m| m.trim().trim_matches('"').to_string())
-        .filter(|m| !m.is_empty())
-        .collect()
 }
 
 #[test]

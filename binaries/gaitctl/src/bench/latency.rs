@@ -14,12 +14,12 @@ use gaitd_client::{Client, GoalFrame, GoalSpec, Status, Verdict, monotonic_ns};
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
-/// Goal → answer latencies [µs] and how the goals were answered.
+/// Goal → answer latencies \[µs\] and how the goals were answered.
 #[derive(Debug, Default)]
 pub struct GoalAnswers {
     /// One per goal sent.
     pub latency_us: Vec<f64>,
-    /// "accepted" or "rejected <reason>" → count.
+    /// `"accepted"` or `"rejected <reason>"` → count.
     pub verdicts: BTreeMap<String, usize>,
 }
 
@@ -73,7 +73,7 @@ pub fn goal_to_answer(
 pub struct FirstMotion {
     /// Ticks from the accepting tick to the first moving status.
     pub ticks: Vec<f64>,
-    /// The same seen from here [ms] (answer → first moving status).
+    /// The same seen from here \[ms\] (answer → first moving status).
     pub wall_ms: Vec<f64>,
 }
 
@@ -131,13 +131,13 @@ pub struct StatusWindow {
     pub start: Status,
     /// The newest status when the busy-polling part ended.
     pub end: Status,
-    /// publish → receive, busy-polling [µs].
+    /// publish → receive, busy-polling \[µs\].
     pub publish_us: Vec<f64>,
-    /// tick wake-up → receive, busy-polling [µs].
+    /// tick wake-up → receive, busy-polling \[µs\].
     pub tick_us: Vec<f64>,
-    /// The daemon's compute time of each status seen [µs].
+    /// The daemon's compute time of each status seen \[µs\].
     pub compute_us: Vec<f64>,
-    /// publish → receive, blocking on the notification [µs].
+    /// publish → receive, blocking on the notification \[µs\].
     pub blocking_us: Vec<f64>,
 }
 

@@ -8,8 +8,8 @@
 //! - [`tick`]: tick compute time while moving, the window's wake-up jitter,
 //!   and a fixed-work reference loop at the same rate (`noise`): the
 //!   platform's own tail;
-//! - `load` (with `--load-seconds`): missed periods idle vs under load;
-//! - [`reference`]: a bare iceoryx2 one-way latency in the same run, the
+//! - [`many_clients`] (with `--load-seconds`): missed periods idle vs under load;
+//! - [`reference`](mod@reference): a bare iceoryx2 one-way latency in the same run, the
 //!   reference of the status latency;
 //! - [`report`]: the JSON result and the table, with the daemon's RSS;
 //! - [`plant`] (with `--plant-steps`, instead of the above): the plant
@@ -18,7 +18,7 @@
 //!   goal → answer through gaitd-bridge, beside bare Zenoh.
 
 mod latency;
-mod load;
+mod many_clients;
 mod noise;
 mod plant;
 mod reference;
@@ -226,7 +226,13 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
     let mut window = latency::status_window(&mut c, a.statuses, first, timeout)?;
     let load = if a.load_seconds > 0.0 {
         let (readers, writers) = (a.load_readers, a.load_writers);
-        Some(load::run(conn, &mut c, a.load_seconds, readers, writers)?)
+        Some(many_clients::run(
+            conn,
+            &mut c,
+            a.load_seconds,
+            readers,
+            writers,
+        )?)
     } else {
         None
     };

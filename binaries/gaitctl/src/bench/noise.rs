@@ -41,7 +41,7 @@ fn calibrate(buf: &mut [u64], target: Duration) -> u32 {
 /// Runs `n` periods of `period`, each doing about `work` of computation
 /// (sized on a warm cache), on this thread pinned to `cpu` and, if
 /// permitted, at SCHED_FIFO `priority` (the daemon's loop settings).
-/// Returns the summary of the per-period compute times [µs] and whether
+/// Returns the summary of the per-period compute times \[µs\] and whether
 /// SCHED_FIFO was granted, or an error text if the thread cannot run.
 pub fn reference_loop(
     n: usize,

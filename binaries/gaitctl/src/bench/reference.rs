@@ -61,7 +61,7 @@ impl BenchPing {
 /// Samples warming the caches before any is counted.
 const WARM_UP: u64 = 100;
 
-/// The bare iceoryx2 latencies of one run [µs].
+/// The bare iceoryx2 latencies of one run \[µs\].
 #[derive(Debug, Default)]
 pub struct Bare {
     /// Ping-pong, ping sent → echo stamped.
@@ -221,7 +221,7 @@ fn publish_periodically(
     Ok(ExitCode::SUCCESS)
 }
 
-/// One-way and half round-trip latencies [µs] of `n` ping-pongs.
+/// One-way and half round-trip latencies \[µs\] of `n` ping-pongs.
 fn ping_pong(
     n: usize,
     root: &str,
@@ -289,7 +289,7 @@ fn wait_echo(
     }
 }
 
-/// Latencies [µs] of `n` samples from a child publishing every `period_us`.
+/// Latencies \[µs\] of `n` samples from a child publishing every `period_us`.
 fn periodic(
     n: usize,
     period_us: u64,

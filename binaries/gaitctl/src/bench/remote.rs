@@ -30,7 +30,7 @@ fn zerr(e: impl std::fmt::Display) -> gaitd_client::Error {
     ))
 }
 
-/// Status latencies through the bridge [µs].
+/// Status latencies through the bridge \[µs\].
 fn status_latency(c: &mut Client, n: usize, timeout: Duration) -> gaitd_client::Result<Vec<f64>> {
     let mut v = Vec::with_capacity(n);
     c.wait_status(timeout)?;
@@ -42,7 +42,7 @@ fn status_latency(c: &mut Client, n: usize, timeout: Duration) -> gaitd_client::
     Ok(v)
 }
 
-/// Goal → answer through the bridge [µs].
+/// Goal → answer through the bridge \[µs\].
 fn goal_to_answer(c: &mut Client, n: usize, timeout: Duration) -> gaitd_client::Result<Vec<f64>> {
     let mut v = Vec::with_capacity(n);
     for i in 0..n {
@@ -114,7 +114,7 @@ fn session(
 }
 
 /// Bare Zenoh on loopback over the bridge's link `proto` (`quic`, `tls`):
-/// (transport, pub → sub one-way [µs], get → reply [µs]).
+/// (transport, pub → sub one-way \[µs\], get → reply \[µs\]).
 fn bare(
     n: usize,
     queries: usize,

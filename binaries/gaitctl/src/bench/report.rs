@@ -12,13 +12,13 @@ use serde_json::{Value, json};
 pub struct Measured {
     /// CPUs online, kernel, pinning.
     pub machine: Value,
-    /// The daemon's process id and (RSS, peak RSS) [kB], if found.
+    /// The daemon's process id and (RSS, peak RSS) \[kB\], if found.
     pub daemon: (Option<i32>, Option<(u64, u64)>),
     /// Goal → answer.
     pub goals: GoalAnswers,
     /// Goal → first motion.
     pub motion: FirstMotion,
-    /// Tick compute time while moving [µs].
+    /// Tick compute time while moving \[µs\].
     pub moving_us: Vec<f64>,
     /// The status window.
     pub window: StatusWindow,
@@ -148,7 +148,7 @@ pub fn print_table(r: &Value) {
     );
     print_tick(r);
     if !r["load"].is_null() {
-        super::load::print(&r["load"]);
+        super::many_clients::print(&r["load"]);
     }
     print_jitter(r);
     println!(

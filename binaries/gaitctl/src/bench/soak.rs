@@ -30,7 +30,7 @@ struct Sample {
     goals: u64,
 }
 
-/// Reads `VmRSS` and `VmHWM` [kB] of `pid`.
+/// Reads `VmRSS` and `VmHWM` \[kB\] of `pid`.
 pub fn rss_kb(pid: i32) -> Option<(u64, u64)> {
     let text = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
     let field = |name: &str| {

@@ -9,7 +9,7 @@ use serde_json::json;
 use shm_schema::status::{JITTER_BUCKETS, jitter_bucket_upper_ns};
 use std::time::{Duration, Instant};
 
-/// Tick compute time [µs] of every status of `turns` half turns about z
+/// Tick compute time \[µs\] of every status of `turns` half turns about z
 /// (rolling, rotations and gaits), each planned and executed to its end.
 pub fn compute_while_moving(
     c: &mut Client,

@@ -5,7 +5,7 @@ radii, friction angle → μ, torsion, finger azimuths, the object's mass and
 gravity (on or off as ``[load] gravity`` says; inertia of a solid sphere),
 the control period. It starts in the daemon's paper start grasp.
 
-How a setpoint drives the fingertips (NOTES.md):
+How a setpoint drives the fingertips (`tests/oracles/mujoco/NOTES.md`):
 
 * each step the mount's qpos is overwritten with the pose reached at the
   start of the step and its qvel with the *step velocity* that lands it on

@@ -1,6 +1,6 @@
 """The MuJoCo scene of the physics hand: a free sphere and three compliant fingertips.
 
-Design (``oracles/mujoco/NOTES.md`` explains what works for fingertips on a
+Design (``tests/oracles/mujoco/NOTES.md`` explains what works for fingertips on a
 sphere in MuJoCo, and why):
 
 * Each finger is a heavy *mount* (10⁴ kg, free joint) whose position,

@@ -28,7 +28,7 @@ The scene (``build_xml``):
 * **Gravity** from ``hand.toml``, on.
 * **Contacts** are explicit pairs only (every geom has contype = conaffinity
   = 0): the object with each tip sphere — the soft finger of
-  ``oracles/mujoco/NOTES.md``: condim 4 (normal, two tangential, torsion),
+  ``tests/oracles/mujoco/NOTES.md``: condim 4 (normal, two tangential, torsion),
   friction (μ, μ, torsion), elliptic cones, impratio 10, noslip iterations,
   solref time constant 2 × timestep and a flat solimp (a linear contact
   spring) — the object with every link capsule (condim 3, μ: links should

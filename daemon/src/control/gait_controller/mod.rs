@@ -16,11 +16,11 @@
 //! - `trace`: goal traces from the loop side.
 
 pub mod codes;
-mod events;
+mod control_output;
 pub mod goal_ids;
 pub mod plan_link;
-mod report;
-mod trace;
+mod trace_recording;
+mod wire_events;
 
 use crate::control::controller::{
     ClientTarget, ControlCommand, ControlOutput, Controller, MeasuredReport, TickContext,

@@ -5,7 +5,7 @@
 //! too close to another fingertip) then a radial descent; a Lift is a radial
 //! ascent. While the object turns, the free finger already travels to above
 //! its next placement when that is clear of the sweeping fingertips
-//! (PLANNER-NOTES: saves about a second per goal); otherwise it stays, or
+//! (this saves about a second per goal); otherwise it stays, or
 //! first parks over its cone centre, which no other fingertip can reach.
 
 use nalgebra::Vector3;
@@ -14,7 +14,7 @@ use super::super::collision::{other_centers, path_clear, sweep_clear};
 use super::super::geometry::{Geometry, angle_between};
 use super::super::plan::{FreeMove, FreePath, Handover, Motion, Reorientation, Step, StepKind};
 use super::StillAction;
-use crate::state::{FingerMode, HandState};
+use crate::hand_state::{FingerMode, HandState};
 
 /// Why segments could not be turned into collision-free motions.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

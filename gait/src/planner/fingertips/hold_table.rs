@@ -1,5 +1,5 @@
 //! Which placements hold the load with a grasping contact, tabulated
-//! (SPEC §1.3 I1'; PLANNER-NOTES "Under load": whether a pair holds
+//! (SPEC §1.3 I1'; SPEC §4.3 "Under load": whether a pair holds
 //! depends only on where its contacts are in the hand frame).
 //!
 //! The search asks, again and again, which candidate placements of the

@@ -31,7 +31,7 @@ use super::zigzag::ZigzagCache;
 use crate::HandConfig;
 use crate::grasp::grip::GripModel;
 use crate::grasp::hold::Accel;
-use crate::state::{FingerMode, HandState};
+use crate::hand_state::{FingerMode, HandState};
 use build::Builder;
 use hold_table::HoldTable;
 

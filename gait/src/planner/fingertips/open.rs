@@ -25,8 +25,8 @@ use crate::HandConfig;
 use crate::contact::{ContactGeometry, ContactState};
 use crate::grasp::grip::GripModel;
 use crate::grasp::hold::Accel;
+use crate::hand_state::{FingerMode, HandState};
 use crate::rolling::{RollGoal, RollLimits, SegmentKind, plan_roll};
-use crate::state::{FingerMode, HandState};
 
 /// A pair rolled apart: the three-finger state after it, the rolls, their
 /// time, and whether they needed several legs.

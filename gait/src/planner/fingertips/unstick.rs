@@ -23,8 +23,8 @@ use crate::contact::{ContactGeometry, ContactState};
 use crate::grasp::grip::{CARRY_BITS, GripModel, spin_bit};
 use crate::grasp::hold::Accel;
 use crate::grasp::planar::three_hard_certificate;
+use crate::hand_state::HandState;
 use crate::rolling::{RollGoal, RollLimits, RollingPath, plan_roll};
-use crate::state::HandState;
 
 /// Paper Theory 1 for a pair of contact normals: some candidate placement
 /// of the free finger is force-closure with one of them, clear of both,

@@ -12,7 +12,7 @@ use super::super::goal::Remaining;
 use super::super::hand_model::{Action, At, HandModel, RegraspFor, Turn};
 use super::Search;
 use super::node::{Deferred, Edge, Last, NONE, Node};
-use crate::state::HandState;
+use crate::hand_state::HandState;
 
 /// Most children kept per substitution side (`planner.branching` ≤ this).
 pub const MAX_BRANCHING: usize = 16;

@@ -1,6 +1,6 @@
 //! Per-axis tables of fresh placements: for every candidate contact, how a
 //! finger would touch down there to carry the object about the axis next,
-//! and how far it could then (PLANNER-NOTES "fresh range").
+//! and how far it could then (SPEC §4, "The search").
 
 use nalgebra::Vector3;
 

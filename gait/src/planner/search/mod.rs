@@ -1,5 +1,5 @@
-//! The one search: A* over grasps and the rotation still to do (SPEC §4;
-//! PLANNER-NOTES "The search that worked", generalised).
+//! The one search: A* over grasps and the rotation still to do (SPEC §4,
+//! "The search").
 //!
 //! A node is a grasp — two fingers (the third waits above the object) or
 //! three — with the rotation still to do ([`super::goal::Remaining`]). Its
@@ -34,7 +34,7 @@ use super::budget::{Budget, Effort, Halt};
 use super::goal::Remaining;
 use super::hand_model::{self, Action, HandModel};
 use super::plan::Step;
-use crate::state::HandState;
+use crate::hand_state::HandState;
 use fresh::Fresh;
 use node::{Edge, Key, KeyHasher, Last, NONE, Node, Open};
 

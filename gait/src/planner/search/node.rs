@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 
 use super::super::goal::Remaining;
 use super::super::hand_model::{HandModel, RegraspFor, Turn};
-use crate::state::HandState;
+use crate::hand_state::HandState;
 
 /// Index of no node (a root's parent).
 pub const NONE: u32 = u32::MAX;

@@ -1,7 +1,7 @@
 //! What the invariant check reports (SPEC.md §1.3): per invariant, pass or
 //! fail, which finger or pair, and the signed slack in natural units.
 
-use crate::state::{FINGERS, FingerMode};
+use crate::hand_state::{FINGERS, FingerMode};
 
 /// Unit of a slack.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

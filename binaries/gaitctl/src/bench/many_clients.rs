@@ -89,7 +89,7 @@ impl Load {
     }
 }
 
-/// One window: statuses seen, compute times [µs] of those ticks.
+/// One window: statuses seen, compute times \[µs\] of those ticks.
 fn window(c: &mut Client, seconds: f64) -> gaitd_client::Result<(Status, Status, Vec<f64>)> {
     let first = c.wait_status(Duration::from_secs(2))?;
     let end = Instant::now() + Duration::from_secs_f64(seconds);
