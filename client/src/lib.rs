@@ -67,6 +67,7 @@
 
 mod client;
 mod connection;
+pub mod describe;
 mod error;
 mod goal;
 mod options;
