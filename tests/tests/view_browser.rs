@@ -63,7 +63,9 @@ fn the_live_view_shows_the_ball_and_the_hand_moving_in_a_browser() {
             "--grpc-port",
             &grpc.to_string(),
         ])
-        .args(["--report-every", "1"])
+        // 15 Hz: a browser rendering in software on a loaded machine keeps
+        // up with it (at 30 Hz it falls tens of seconds behind there).
+        .args(["--rate", "15", "--report-every", "1"])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -136,6 +138,6 @@ fn the_live_view_shows_the_ball_and_the_hand_moving_in_a_browser() {
         "the hand did not move in the view: {seen} (screenshots in {})",
         shots.display()
     );
-    // At 30 Hz for the ≥ 4.5 s the browser took at least.
+    // At 15 Hz for the ≥ 7.5 s the browser took at least.
     assert!(sent >= 100, "gaitd-view sent {sent} frames");
 }

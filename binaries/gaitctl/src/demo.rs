@@ -40,6 +40,10 @@ pub struct Args {
     /// Give up on a goal after this many seconds.
     #[arg(long, default_value_t = 120.0)]
     goal_timeout: f64,
+    /// Open the live 3D view beside the demo (starts gaitd-view on its
+    /// default ports and prints the address to open in a browser).
+    #[arg(long)]
+    view: bool,
     #[command(flatten)]
     live: LiveArg,
 }
@@ -402,6 +406,22 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
         println!("using the running gaitd");
     }
     let mut c = client.expect("connected");
+    // The view reads the same daemon: the embedded one's namespace.
+    let _viewer = if a.view {
+        let mut vc = conn.clone();
+        if let Some(e) = &embedded {
+            vc.prefix.clone_from(&e.opts.ipc.service_prefix);
+            vc.ipc_root.clone_from(&e.opts.ipc.root_path);
+            vc.ipc_file_prefix.clone_from(&e.opts.ipc.file_prefix);
+        }
+        let args = crate::view::Args::default();
+        Some(
+            crate::view::start(&vc, &args, std::process::Stdio::piped())
+                .map(crate::view::Running)?,
+        )
+    } else {
+        None
+    };
     let s0 = match &embedded {
         Some(e) if a.plant.is_some() => wait_for_plant(&mut c, e)?,
         _ => c

@@ -26,6 +26,7 @@ mod reorient;
 mod status;
 mod trace;
 mod tracefile;
+mod view;
 mod watch;
 
 use clap::{Parser, Subcommand};
@@ -75,6 +76,10 @@ enum Cmd {
     /// Run a plant out of process for a daemon with `[plant] kind = "shm"`:
     /// `sim` (the kinematic hand) or `mujoco` (the MuJoCo physics hand).
     Plant(plant::Args),
+    /// The live 3D view in the browser (starts gaitd-view): the hand, the
+    /// contacts and their paths, friction cones, forces, margins, errors
+    /// and events as the daemon runs.
+    View(view::Args),
     /// Internal: the echo side of the bench's iceoryx2 ping-pong.
     #[command(hide = true, name = "__pong")]
     Pong(bench::PongArgs),
@@ -96,6 +101,7 @@ fn main() -> ExitCode {
         Cmd::Plot(a) => return offline_exit(plot::run(&a)),
         Cmd::Trace(a) => return offline_exit(trace::run(&a)),
         Cmd::Plant(a) => return plant::main(&cli.conn, &a),
+        Cmd::View(a) => return offline_exit(view::run(&cli.conn, &a)),
         Cmd::Pong(a) => bench::pong(&a),
     };
     result.unwrap_or_else(|e| failed(&e))

@@ -12,7 +12,7 @@
 //! - `world/contacts`: the contact points of the fingers that touch, with
 //!   `world/cones`, their friction cones (outside the object, around the
 //!   normal), and `world/forces/commanded`, `world/forces/measured`: the
-//!   normal forces, pressing into the object, 1 cm per N times R/0.1 m.
+//!   normal forces, pressing into the object (10 N as long as R).
 //!
 //! The ball's and fingertips' radii are read off the status (the contact
 //! lies on the object's surface, the tip centre r outside it), so the view
@@ -136,7 +136,8 @@ impl Scene {
     }
 
     fn contacts(&mut self, rec: &RecordingStream, s: &Status, big_r: f64) {
-        let scale = 0.01 * big_r / 0.1;
+        // 10 N of normal force as long as the object's radius.
+        let scale = 0.1 * big_r;
         let (mut points, mut colours, mut cones, mut cone_colours) =
             (vec![], vec![], vec![], vec![]);
         let (mut origins, mut pushes, mut measured_pushes) = (vec![], vec![], vec![]);

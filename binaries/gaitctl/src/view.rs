@@ -1,0 +1,129 @@
+//! `gaitctl view`: the live 3D view in the browser — starts `gaitd-view`
+//! (its own binary, so that gaitctl does not build the viewer) for the
+//! daemon these flags name, and waits for it.
+
+use crate::common::ConnArgs;
+use std::io::{BufRead, BufReader};
+use std::path::PathBuf;
+use std::process::{Child, Command, ExitCode, Stdio};
+
+/// The web viewer's HTTP port, unless told otherwise.
+const WEB_PORT: u16 = 9090;
+/// The viewer's data stream port, unless told otherwise.
+const GRPC_PORT: u16 = 9876;
+/// Frames per second, unless told otherwise.
+const RATE: f64 = 30.0;
+
+/// Options.
+#[derive(clap::Args, Debug, Clone)]
+pub struct Args {
+    /// HTTP port of the web viewer.
+    #[arg(long, default_value_t = WEB_PORT)]
+    pub web_port: u16,
+    /// Port of the viewer's data stream.
+    #[arg(long, default_value_t = GRPC_PORT)]
+    pub grpc_port: u16,
+    /// Address the viewer listens on (0.0.0.0 to be seen from other hosts).
+    #[arg(long, default_value = "127.0.0.1")]
+    pub bind: String,
+    /// Frames per second sent to the viewer.
+    #[arg(long, default_value_t = RATE)]
+    pub rate: f64,
+    /// gaitd-view binary (default: next to gaitctl).
+    #[arg(long, value_name = "PATH")]
+    pub gaitd_view: Option<PathBuf>,
+}
+
+impl Default for Args {
+    fn default() -> Self {
+        Self {
+            web_port: WEB_PORT,
+            grpc_port: GRPC_PORT,
+            bind: "127.0.0.1".into(),
+            rate: RATE,
+            gaitd_view: None,
+        }
+    }
+}
+
+/// A running gaitd-view, stopped when dropped.
+pub struct Running(pub Child);
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Runs the view until it ends (Ctrl-C).
+pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
+    let mut child = start(conn, a, Stdio::inherit())?;
+    let status = child.wait().map_err(|e| e.to_string())?;
+    Ok(if status.success() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
+}
+
+/// Starts gaitd-view for the daemon of `conn`; with piped output, returns
+/// once it printed its address (and prints it).
+pub fn start(conn: &ConnArgs, a: &Args, stdout: Stdio) -> Result<Child, String> {
+    if conn.remote.is_some() {
+        return Err(
+            "the live view reads a local daemon over shared memory: run it on the daemon's host \
+             (--bind 0.0.0.0 makes it reachable from other hosts)"
+                .into(),
+        );
+    }
+    let bin = a.gaitd_view.clone().unwrap_or_else(|| {
+        std::env::current_exe()
+            .ok()
+            .and_then(|p| p.parent().map(|d| d.join("gaitd-view")))
+            .unwrap_or_else(|| PathBuf::from("gaitd-view"))
+    });
+    if a.gaitd_view.is_none() && !bin.exists() {
+        return Err(format!(
+            "{} is not built: cargo build --release -p gaitd-view (the Rerun viewer's SDK, \
+             a few minutes)",
+            bin.display()
+        ));
+    }
+    let mut cmd = Command::new(&bin);
+    let flags = [
+        ("--prefix", &conn.prefix),
+        ("--ipc-config", &conn.ipc_config),
+        ("--ipc-root", &conn.ipc_root),
+        ("--ipc-file-prefix", &conn.ipc_file_prefix),
+    ];
+    for (flag, value) in flags {
+        if let Some(v) = value {
+            cmd.arg(flag).arg(v);
+        }
+    }
+    cmd.args(["--web-port", &a.web_port.to_string()])
+        .args(["--grpc-port", &a.grpc_port.to_string()])
+        .args(["--bind", &a.bind])
+        .args(["--rate", &a.rate.to_string()])
+        .args(["--timeout", &conn.timeout.to_string()])
+        .stdout(stdout);
+    let mut child = cmd
+        .spawn()
+        .map_err(|e| format!("cannot start {}: {e}", bin.display()))?;
+    if let Some(out) = child.stdout.take() {
+        // Its first line is the address; the rest (frame counts) is dropped.
+        let mut lines = BufReader::new(out).lines();
+        match lines.next() {
+            Some(Ok(line)) => println!("{line}"),
+            _ => {
+                let status = child.wait().map_err(|e| e.to_string())?;
+                return Err(format!(
+                    "gaitd-view ended ({status}) before it served the view"
+                ));
+            }
+        }
+        std::thread::spawn(move || lines.for_each(drop));
+    }
+    Ok(child)
+}
