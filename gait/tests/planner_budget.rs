@@ -152,3 +152,28 @@ fn the_expansion_budget_alone_plans_bit_for_bit_the_same() {
         assert_eq!(a, c, "goal {i}");
     }
 }
+
+#[test]
+fn a_prepared_planner_plans_the_same_and_searches_far_less() {
+    // The paper start under the default load: the pair must roll apart
+    // beyond one great circle's reach, in legs found by search.
+    let cfg = HandConfig::default();
+    let start = HandState::paper_start(&cfg);
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let goals: Vec<_> = (0..3).map(|_| planning::haar(&mut rng)).collect();
+    let cold = Planner::new(&cfg).unwrap();
+    let prepared = Planner::new(&cfg).unwrap();
+    prepared.prepare(&start);
+    let searched = prepared.roll_apart_searches();
+    assert!(searched > 0, "prepare searched nothing");
+    for (i, g) in goals.iter().enumerate() {
+        assert_eq!(cold.plan(&start, g), prepared.plan(&start, g), "goal {i}");
+    }
+    // What prepare kept, planning did not search again.
+    let (cold_n, more) = (
+        cold.roll_apart_searches(),
+        prepared.roll_apart_searches() - searched,
+    );
+    println!("roll-apart searches: prepare {searched}, then {more}; cold {cold_n}");
+    assert!(more < cold_n, "prepare spared planning no search");
+}

@@ -43,6 +43,10 @@ pub trait BackgroundPlanner: Send + 'static {
     /// `wanted` says the loop no longer waits for it.
     fn plan(&mut self, request: &Self::Request, wanted: &Wanted)
     -> Result<Self::Plan, Self::Error>;
+    /// Runs once on the planner thread before it takes any request: work
+    /// every plan would begin with (default: none). A request that comes
+    /// meanwhile waits for it.
+    fn prepare(&mut self) {}
 }
 
 /// No request is wanted (the loop waits for no plan).
@@ -180,6 +184,7 @@ pub fn spawn<Pl: BackgroundPlanner>(
         .name("gaitd-planner".into())
         .spawn(move || {
             on_start();
+            planner.prepare();
             while !stop2.load(Ordering::Acquire) {
                 while let Some(old) = ret_rx.pop() {
                     drop(old);
@@ -242,6 +247,33 @@ mod tests {
             }
         }
     }
+    /// Answers each request with whether it was prepared first.
+    struct Prepared(bool);
+    impl BackgroundPlanner for Prepared {
+        type Request = ();
+        type Plan = bool;
+        type Error = ReasonCode;
+        fn plan(&mut self, _: &(), _: &Wanted) -> Result<bool, ReasonCode> {
+            Ok(self.0)
+        }
+        fn prepare(&mut self) {
+            self.0 = std::thread::current().name() == Some("gaitd-planner");
+        }
+    }
+
+    #[test]
+    fn the_planner_thread_prepares_before_its_first_request() {
+        let (mut link, _thread) = spawn(Prepared(false), 2, || {}).unwrap();
+        link.submit(()).unwrap();
+        let reply = loop {
+            if let Some(r) = link.poll() {
+                break r;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        };
+        assert_eq!(reply.result.map(|b| *b), Ok(true));
+    }
+
     impl BackgroundPlanner for Squares {
         type Request = u64;
         type Plan = Plan;

@@ -232,6 +232,9 @@ pub fn start_background(
     // loop), when traces are written.
     let notes = (!cfg.daemon.trace_dir.is_empty()).then(|| Arc::new(tracer::PlanNotes::default()));
     let mut planning = GaitPlanner::new(gait_planner, budget);
+    // The controller starts from the paper's start (an external plant's
+    // first measurement re-bases it, usually to the same grasp).
+    planning.prepare_from(gait::HandState::paper_start(&cfg.hand()));
     if let Some(n) = &notes {
         planning.keep_notes(n.clone());
     }

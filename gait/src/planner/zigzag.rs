@@ -27,6 +27,7 @@
 
 use std::collections::HashMap;
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use nalgebra::Vector3;
 
@@ -168,12 +169,19 @@ pub fn zigzag(
 #[derive(Debug, Default)]
 pub struct ZigzagCache {
     found: Mutex<HashMap<[u64; 11], Option<Zigzag>>>,
+    /// Searches made (inputs not found).
+    searches: AtomicU64,
 }
 
 /// Entries a [`ZigzagCache`] holds before it is emptied.
 const CACHE_ENTRIES: usize = 4096;
 
 impl ZigzagCache {
+    /// Searches made so far (inputs not found in the cache).
+    pub fn searches(&self) -> u64 {
+        self.searches.load(Ordering::Relaxed)
+    }
+
     /// [`zigzag`], from the cache when these inputs were searched before.
     #[allow(clippy::too_many_arguments)]
     pub fn zigzag(
@@ -205,6 +213,7 @@ impl ZigzagCache {
         if let Some(z) = lock().get(&key) {
             return *z;
         }
+        self.searches.fetch_add(1, Ordering::Relaxed);
         let z = zigzag(g, timing, k, n, a, tau, target);
         let mut map = lock();
         if map.len() >= CACHE_ENTRIES {

@@ -58,6 +58,8 @@ pub struct GaitPlanner {
     planner: gait::planner::Planner,
     budget: Option<Duration>,
     notes: Option<Arc<PlanNotes>>,
+    /// The state to prepare planning from, before the first request.
+    prepare_from: Option<HandState>,
 }
 
 impl GaitPlanner {
@@ -67,7 +69,15 @@ impl GaitPlanner {
             planner,
             budget,
             notes: None,
+            prepare_from: None,
         }
+    }
+
+    /// Before its first request, the planner thread does what planning
+    /// from `start` begins with and the goal does not change
+    /// ([`gait::planner::Planner::prepare`]).
+    pub fn prepare_from(&mut self, start: HandState) {
+        self.prepare_from = Some(start);
     }
 
     /// From now on each plan's route, effort and planning time is noted
@@ -100,6 +110,16 @@ impl BackgroundPlanner for GaitPlanner {
     type Request = PlanRequest;
     type Plan = Plan;
     type Error = PlanError;
+    fn prepare(&mut self) {
+        if let Some(start) = self.prepare_from.take() {
+            let t = Instant::now();
+            self.planner.prepare(&start);
+            tracing::info!(
+                ms = t.elapsed().as_secs_f64() * 1e3,
+                "planner prepared for the start state"
+            );
+        }
+    }
     fn plan(&mut self, r: &PlanRequest, wanted: &Wanted) -> Result<Plan, PlanError> {
         let mut stop = Deadline {
             until: self.budget.map(|b| Instant::now() + b),

@@ -155,6 +155,11 @@ impl Fingertips {
         }
     }
 
+    /// Roll-apart paths searched so far (not found in the cache).
+    pub fn zigzag_searches(&self) -> u64 {
+        self.zigzags.searches()
+    }
+
     /// Model constants.
     pub fn geometry(&self) -> &Geometry {
         &self.geom
