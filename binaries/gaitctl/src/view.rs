@@ -108,6 +108,20 @@ pub fn start(conn: &ConnArgs, a: &Args, stdout: Stdio) -> Result<Child, String> 
         .args(["--rate", &a.rate.to_string()])
         .args(["--timeout", &conn.timeout.to_string()])
         .stdout(stdout);
+    // The view ends with this gaitctl, however it ends (a demo stopped by a
+    // signal must not leave it holding the ports).
+    // SAFETY: prctl is async-signal-safe; nothing else runs between fork
+    // and exec.
+    unsafe {
+        use std::os::unix::process::CommandExt;
+        cmd.pre_exec(|| {
+            if libc::prctl(libc::PR_SET_PDEATHSIG, libc::SIGTERM) == 0 {
+                Ok(())
+            } else {
+                Err(std::io::Error::last_os_error())
+            }
+        });
+    }
     let mut child = cmd
         .spawn()
         .map_err(|e| format!("cannot start {}: {e}", bin.display()))?;

@@ -114,10 +114,13 @@ fn run(a: &Args) -> Result<(), String> {
     let mut report = Instant::now();
     let mut quiet_since = Instant::now();
     loop {
-        for e in client.events().map_err(|e| e.to_string())? {
-            scene.event(&rec, &e);
+        // A daemon that went away reads as silence: the view keeps what it
+        // showed and waits for it to come back.
+        let events: Vec<_> = client.events().map(Iterator::collect).unwrap_or_default();
+        for e in &events {
+            scene.event(&rec, e);
         }
-        match client.latest_status().map_err(|e| e.to_string())? {
+        match client.latest_status().unwrap_or(None) {
             Some(s) if Some(s.tick) != last_tick => {
                 last_tick = Some(s.tick);
                 scene.frame(&rec, &s);
