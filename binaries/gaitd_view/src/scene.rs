@@ -116,7 +116,7 @@ impl Scene {
     }
 
     fn tips(&self, rec: &RecordingStream, s: &Status, r: f64) {
-        let colours = FINGER_COLOURS.map(|c| Color::from_rgb(c[0], c[1], c[2]));
+        let colours: [Color; 3] = core::array::from_fn(finger_colour);
         let commanded = s.fingers.iter().map(|f| v32(&f.commanded_tip_position));
         let _ = rec.log(
             "world/tips/commanded",
@@ -151,11 +151,7 @@ impl Scene {
                 continue;
             }
             let n = [c[0] / norm, c[1] / norm, c[2] / norm];
-            let colour = Color::from_rgb(
-                FINGER_COLOURS[k][0],
-                FINGER_COLOURS[k][1],
-                FINGER_COLOURS[k][2],
-            );
+            let colour = finger_colour(k);
             points.push(v32(&c));
             colours.push(colour);
             for strip in cone(&c, &n, 0.6 * big_r, self.mu) {
@@ -213,13 +209,7 @@ impl Scene {
             self.paths.iter().filter(|p| p.len() > 1).cloned().collect();
         let path_colours: Vec<Color> = (0..3)
             .filter(|&k| self.paths[k].len() > 1)
-            .map(|k| {
-                Color::from_rgb(
-                    FINGER_COLOURS[k][0],
-                    FINGER_COLOURS[k][1],
-                    FINGER_COLOURS[k][2],
-                )
-            })
+            .map(finger_colour)
             .collect();
         let _ = rec.log(
             "world/object/contact_paths",
@@ -228,6 +218,12 @@ impl Scene {
                 .with_radii([0.004 * big_r as f32]),
         );
     }
+}
+
+/// Finger `k`'s colour.
+fn finger_colour(k: usize) -> Color {
+    let [r, g, b] = FINGER_COLOURS[k];
+    Color::from_rgb(r, g, b)
 }
 
 /// Whether a finger in phase `state` touches the object.
