@@ -65,6 +65,8 @@
 //! it reconnect once when the daemon's status went stale; any caller can
 //! also use [`Client::ensure_connected`] or [`Client::reconnect`].
 
+#[cfg(feature = "cli")]
+pub mod cli;
 mod client;
 mod connection;
 pub mod describe;

@@ -7,6 +7,8 @@
 
 use gaitd_client::{GoalSpec, GoalState, ReasonCode, Verdict};
 use gaitd_tests::{TestDaemon, mujoco_replay};
+
+mod rerun_support;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -205,4 +207,88 @@ fn a_recorded_goal_replays_in_mujoco() {
         "MuJoCo replay of the daemon's trace failed:\n{text}{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// A recorded goal opens in Rerun: the daemon's trace, converted to MCAP
+/// (`gaitctl trace mcap`), is turned by `gaitd-view --replay … --save` into
+/// a Rerun recording, which Rerun's own decoder reads back: a frame of the
+/// object for every 1/30 s of the goal, the last one where the trace ends,
+/// and the hand's and the plots' entities.
+#[test]
+fn a_recorded_goal_opens_in_rerun() {
+    let (d, dir) = traced_daemon("trace-rrd", "");
+    reach(&d, target());
+    let jsonl = the_trace(&d, &dir);
+    let mcap = d.dir.join("goal.mcap");
+    let rrd = d.dir.join("goal.rrd");
+    let out = d
+        .gaitctl()
+        .args(["trace", "mcap"])
+        .arg(&jsonl)
+        .arg("-o")
+        .arg(&mcap)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let out = std::process::Command::new(gaitd_tests::workspace_bin("gaitd-view"))
+        .arg("--replay")
+        .arg(&mcap)
+        .arg("--save")
+        .arg(&rrd)
+        .args(["--rate", "30"])
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{said}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // The trace's own numbers.
+    let text = std::fs::read_to_string(&jsonl).unwrap();
+    let ticks: Vec<Value> = text
+        .lines()
+        .skip(1)
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let t = |v: &Value| v["t"].as_f64().unwrap();
+    let span = t(ticks.last().unwrap()) - t(&ticks[0]);
+    let last_q = nums(&ticks.last().unwrap()["object_q"], 4, "object_q");
+
+    let rec = rerun_support::read(&rrd);
+    let frames = rec.object.len() as f64;
+    println!(
+        "{said}goal of {span:.3} s: {frames} object frames in the recording, entities {:?}",
+        rec.entities
+    );
+    assert!(
+        frames >= (span * 30.0).floor() && frames <= (span * 30.0).floor() + 2.0,
+        "{frames} frames for {span} s at 30 per second"
+    );
+    let (_, q) = rec.object.iter().max_by_key(|(time, _)| *time).unwrap();
+    // Rerun's quaternions are [x, y, z, w], f32.
+    let dot = q[3] as f64 * last_q[0]
+        + q[0] as f64 * last_q[1]
+        + q[1] as f64 * last_q[2]
+        + q[2] as f64 * last_q[3];
+    assert!(
+        1.0 - dot.abs() < 1e-6,
+        "last object {q:?} vs trace {last_q:?}"
+    );
+    for e in [
+        "world/object/ball",
+        "world/tips/commanded",
+        "world/contacts",
+        "world/cones",
+        "world/forces/commanded",
+        "world/ahead/tips",
+        "world/ahead/axes",
+        "plots/margins/force_closure",
+        "plots/goal/remaining_deg",
+        "events",
+    ] {
+        assert!(rec.entities.contains(e), "no {e} in {:?}", rec.entities);
+    }
+    // A trace has no measurements: nothing measured is drawn.
+    assert!(!rec.entities.contains("world/tips/measured"));
 }

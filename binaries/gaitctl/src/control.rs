@@ -13,21 +13,21 @@ pub struct CancelArgs {
 
 /// `cancel`.
 pub fn cancel(conn: &ConnArgs, a: &CancelArgs) -> gaitd_client::Result<ExitCode> {
-    let mut c = conn.connect()?;
+    let mut c = conn.connect("gaitctl")?;
     let v = c.cancel(a.goal, conn.timeout())?;
     Ok(verdict_exit("cancel", v))
 }
 
 /// `hold`.
 pub fn hold(conn: &ConnArgs) -> gaitd_client::Result<ExitCode> {
-    let mut c = conn.connect()?;
+    let mut c = conn.connect("gaitctl")?;
     let v = c.hold(conn.timeout())?;
     Ok(verdict_exit("hold", v))
 }
 
 /// `reset`.
 pub fn reset(conn: &ConnArgs) -> gaitd_client::Result<ExitCode> {
-    let mut c = conn.connect()?;
+    let mut c = conn.connect("gaitctl")?;
     let v = c.reset(conn.timeout())?;
     Ok(verdict_exit("reset", v))
 }

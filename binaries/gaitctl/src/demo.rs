@@ -366,7 +366,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
     } else {
         let mut quick = conn.clone();
         quick.timeout = 0.3;
-        quick.connect().ok()
+        quick.connect("gaitctl").ok()
     };
     if client.is_none() {
         let bin = a.gaitd.clone().unwrap_or_else(|| {

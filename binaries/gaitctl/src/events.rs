@@ -29,7 +29,7 @@ fn print(e: &shm_schema::Event, json: bool) {
 
 /// Runs the subcommand.
 pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
-    let mut c = conn.connect()?;
+    let mut c = conn.connect("gaitctl")?;
     if c.is_remote() {
         // The bridge's history answers a query: print until it is quiet.
         while let Some(e) = c.next_event(Duration::from_millis(300))? {

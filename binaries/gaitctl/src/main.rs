@@ -25,7 +25,6 @@ mod progress;
 mod reorient;
 mod status;
 mod trace;
-mod tracefile;
 mod view;
 mod watch;
 

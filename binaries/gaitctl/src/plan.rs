@@ -10,7 +10,8 @@ use gait::executor::{GoalStage, GoalTarget};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use super::offline::{GoalRun, OfflineRun, load_config};
-use super::{trace, tracefile};
+use super::trace;
+use trace_mcap::file as tracefile;
 
 /// Where the trace goes: the JSON-lines file and, for the MCAP recording,
 /// a copy in memory (the recording's writer needs the header's model and

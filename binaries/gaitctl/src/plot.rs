@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-use super::tracefile::{self, Trace};
+use trace_mcap::file::{self as tracefile, Trace};
 
 /// Arguments of `gaitctl plot`.
 #[derive(clap::Args, Debug)]

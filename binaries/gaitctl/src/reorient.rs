@@ -107,7 +107,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         }
     };
     goal.limits.clone_from(&a.limits);
-    let mut c = conn.connect()?;
+    let mut c = conn.connect("gaitctl")?;
     let t = c.reorient(&goal, conn.timeout())?;
     match t.verdict {
         Verdict::Rejected(r) => {

@@ -14,7 +14,7 @@ pub struct Args {
 
 /// Runs the subcommand.
 pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
-    let mut c = conn.connect()?;
+    let mut c = conn.connect("gaitctl")?;
     let s = c.wait_status(conn.timeout())?;
     if a.json {
         println!("{}", status_json(&s));

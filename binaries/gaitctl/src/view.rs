@@ -1,6 +1,6 @@
 //! `gaitctl view`: the live 3D view in the browser — starts `gaitd-view`
 //! (its own binary, so that gaitctl does not build the viewer) for the
-//! daemon these flags name, and waits for it.
+//! daemon these flags name, local or remote (`--remote`), and waits for it.
 
 use crate::common::ConnArgs;
 use std::io::{BufRead, BufReader};
@@ -70,13 +70,6 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
 /// Starts gaitd-view for the daemon of `conn`; with piped output, returns
 /// once it printed its address (and prints it).
 pub fn start(conn: &ConnArgs, a: &Args, stdout: Stdio) -> Result<Child, String> {
-    if conn.remote.is_some() {
-        return Err(
-            "the live view reads a local daemon over shared memory: run it on the daemon's host \
-             (--bind 0.0.0.0 makes it reachable from other hosts)"
-                .into(),
-        );
-    }
     let bin = a.gaitd_view.clone().unwrap_or_else(|| {
         std::env::current_exe()
             .ok()
@@ -96,8 +89,21 @@ pub fn start(conn: &ConnArgs, a: &Args, stdout: Stdio) -> Result<Child, String> 
         ("--ipc-config", &conn.ipc_config),
         ("--ipc-root", &conn.ipc_root),
         ("--ipc-file-prefix", &conn.ipc_file_prefix),
+        ("--remote", &conn.remote),
+        ("--identity", &conn.identity),
     ];
     for (flag, value) in flags {
+        if let Some(v) = value {
+            cmd.arg(flag).arg(v);
+        }
+    }
+    let files = [
+        ("--pki", &conn.pki),
+        ("--ca", &conn.ca),
+        ("--cert", &conn.cert),
+        ("--key", &conn.key),
+    ];
+    for (flag, value) in files {
         if let Some(v) = value {
             cmd.arg(flag).arg(v);
         }

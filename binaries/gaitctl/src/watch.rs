@@ -186,7 +186,7 @@ pub fn plant_timing_line(t: &shm_schema::Timing) -> Option<String> {
 
 /// Runs the subcommand.
 pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
-    let mut c = conn.connect()?;
+    let mut c = conn.connect("gaitctl")?;
     if a.live.live.redraw() {
         redraw(&mut c, conn, a)
     } else {

@@ -1,65 +1,70 @@
-//! `gaitd-view`: a live 3D view of a running gaitd in the browser.
+//! `gaitd-view`: a live 3D view of a running gaitd in the browser, or of
+//! a recorded trace.
 //!
 //! A process of its own — the control loop never feels it: it reads the
 //! status and the events over iceoryx2 like any client, decimated to the
-//! view's rate, and streams them to Rerun's web viewer, which this process
-//! serves (the viewer's files over HTTP, the data over Rerun's gRPC proxy).
+//! view's rate ([`live`]), or a trace file the daemon wrote ([`replay`]),
+//! and streams them to Rerun's web viewer, which this process serves (the
+//! viewer's files over HTTP, the data over Rerun's gRPC proxy), or writes
+//! them to a Rerun recording (`.rrd`, `--save`) that Rerun's viewer opens.
 //! Open the address it prints; `gaitctl view` and `gaitctl demo --view`
 //! start it.
 //!
 //! What it shows is listed in [`scene`] and [`series`].
 
+mod frame;
+mod live;
+mod replay;
 mod scene;
 mod series;
 
 use clap::Parser;
-use gaitd_client::{Client, ConnectOptions};
+use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-/// Live 3D view of a running gaitd in the browser (Rerun's web viewer).
+/// Live 3D view of a running gaitd in the browser (Rerun's web viewer),
+/// or of a recorded trace; or either written to a Rerun recording.
 #[derive(Parser, Debug)]
 #[command(version)]
-struct Args {
-    /// Service-name prefix of the daemon [env: GAITD_PREFIX; default gaitd].
-    #[arg(long)]
-    prefix: Option<String>,
-    /// iceoryx2 config file [env: GAITD_IPC_CONFIG].
-    #[arg(long)]
-    ipc_config: Option<String>,
-    /// iceoryx2 root path [env: GAITD_IPC_ROOT].
-    #[arg(long)]
-    ipc_root: Option<String>,
-    /// iceoryx2 file prefix [env: GAITD_IPC_FILE_PREFIX].
-    #[arg(long)]
-    ipc_file_prefix: Option<String>,
+pub struct Args {
+    /// Where the daemon is: local (iceoryx2), or remote through its
+    /// gaitd-bridge (`--remote`), as for gaitctl.
+    #[command(flatten)]
+    pub conn: gaitd_client::cli::ConnArgs,
     /// Address the viewer's servers listen on (0.0.0.0 to be seen from
     /// other hosts).
     #[arg(long, default_value = "127.0.0.1")]
-    bind: String,
+    pub bind: String,
     /// HTTP port of the web viewer.
     #[arg(long, default_value_t = 9090)]
-    web_port: u16,
+    pub web_port: u16,
     /// Port of the data stream (Rerun's gRPC proxy) the viewer reads.
     #[arg(long, default_value_t = 9876)]
-    grpc_port: u16,
+    pub grpc_port: u16,
     /// Frames per second sent to the viewer (the status is sampled at this
     /// rate; events are all sent).
     #[arg(long, default_value_t = 30.0)]
-    rate: f64,
+    pub rate: f64,
     /// Friction angle of the cones drawn at the contacts, in degrees (the
     /// daemon's `model.friction_angle_deg`).
     #[arg(long, default_value_t = 20.0)]
-    friction_deg: f64,
-    /// How long to wait for the daemon, in seconds.
-    #[arg(long, default_value_t = 10.0)]
-    timeout: f64,
+    pub friction_deg: f64,
     /// Stop after this many frames (0: run until interrupted).
     #[arg(long, default_value_t = 0)]
-    frames: u64,
+    pub frames: u64,
     /// Print the frames sent so far every this many seconds (0: never).
     #[arg(long, default_value_t = 5.0)]
-    report_every: f64,
+    pub report_every: f64,
+    /// Show this trace instead of a running daemon: JSON lines (as the
+    /// daemon's `[daemon] trace_dir` or `gaitctl plan --out` write them) or
+    /// their MCAP recording (`gaitctl trace mcap`).
+    #[arg(long, value_name = "TRACE")]
+    pub replay: Option<PathBuf>,
+    /// Write the view to this Rerun recording (`.rrd`) instead of serving
+    /// it: a trace's whole view, or a live one's first `--frames` frames.
+    #[arg(long, value_name = "FILE.rrd")]
+    pub save: Option<PathBuf>,
 }
 
 fn main() -> ExitCode {
@@ -78,9 +83,62 @@ fn run(a: &Args) -> Result<(), String> {
     if !(a.rate.is_finite() && a.rate > 0.0 && a.rate <= 1000.0) {
         return Err(format!("--rate must be in (0, 1000] Hz, not {}", a.rate));
     }
-    let mut client = connect(a)?;
-    let rec = rerun::RecordingStreamBuilder::new("gaitd")
-        .with_blueprint(layout())
+    if a.save.is_some() && a.replay.is_none() && a.frames == 0 {
+        return Err("--save of a live view needs --frames N (the recording ends there)".into());
+    }
+    let builder = rerun::RecordingStreamBuilder::new("gaitd").with_blueprint(layout());
+    // What to show first: a missing daemon or a bad trace leaves no file.
+    let source = match &a.replay {
+        Some(path) => Source::Trace(trace_mcap::file::read(path)?),
+        None => Source::Daemon(Box::new(live::connect(a)?)),
+    };
+    let (rec, web) = match &a.save {
+        Some(path) => {
+            let rec = builder
+                .save(path)
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            (rec, None)
+        }
+        None => {
+            let (rec, web) = serve(builder, a)?;
+            (rec, Some(web))
+        }
+    };
+    match source {
+        Source::Daemon(client) => live::run(&rec, *client, a)?,
+        Source::Trace(trace) => {
+            let frames = replay::run(&rec, &trace, a.rate, a.friction_deg.to_radians());
+            let path = a.replay.as_deref().unwrap_or(std::path::Path::new(""));
+            println!("gaitd-view: {frames} frames from {}", path.display());
+        }
+    }
+    let _ = rec.flush_with_timeout(Duration::from_secs(10));
+    if let Some(path) = &a.save {
+        println!("gaitd-view: wrote {}", path.display());
+    } else if web.is_some() && a.replay.is_some() {
+        // The viewer reads the trace from this process: keep serving.
+        println!("gaitd-view: serving until interrupted");
+        loop {
+            std::thread::park();
+        }
+    }
+    Ok(())
+}
+
+/// What the view shows.
+enum Source {
+    /// A running daemon.
+    Daemon(Box<gaitd_client::Client>),
+    /// A recorded trace.
+    Trace(trace_mcap::file::Trace),
+}
+
+/// Serves the data stream and the web viewer; prints the address to open.
+fn serve(
+    builder: rerun::RecordingStreamBuilder,
+    a: &Args,
+) -> Result<(rerun::RecordingStream, Box<dyn std::any::Any>), String> {
+    let rec = builder
         .serve_grpc_opts(&a.bind, a.grpc_port, rerun::ServerOptions::default())
         .map_err(|e| {
             format!(
@@ -107,52 +165,8 @@ fn run(a: &Args) -> Result<(), String> {
         web.server_url(),
         percent_encode(&proxy)
     );
-    let mut scene = scene::Scene::new(a.friction_deg.to_radians());
-    let period = Duration::from_secs_f64(1.0 / a.rate);
-    let (mut frames, mut last_tick) = (0u64, None);
-    let mut next = Instant::now();
-    let mut report = Instant::now();
-    let mut quiet_since = Instant::now();
-    loop {
-        // A daemon that went away reads as silence: the view keeps what it
-        // showed and waits for it to come back.
-        let events: Vec<_> = client.events().map(Iterator::collect).unwrap_or_default();
-        for e in &events {
-            scene.event(&rec, e);
-        }
-        match client.latest_status().unwrap_or(None) {
-            Some(s) if Some(s.tick) != last_tick => {
-                last_tick = Some(s.tick);
-                scene.frame(&rec, &s);
-                frames += 1;
-                quiet_since = Instant::now();
-            }
-            // The daemon went away (or restarted): keep the view and wait
-            // for it.
-            _ if quiet_since.elapsed() > Duration::from_secs(2)
-                && client.ensure_connected(period).unwrap_or(false) =>
-            {
-                quiet_since = Instant::now();
-            }
-            _ => {}
-        }
-        if a.report_every > 0.0 && report.elapsed().as_secs_f64() >= a.report_every {
-            println!("gaitd-view: {frames} frames");
-            report = Instant::now();
-        }
-        if a.frames > 0 && frames >= a.frames {
-            println!("gaitd-view: {frames} frames");
-            let _ = rec.flush_with_timeout(Duration::from_secs(2));
-            return Ok(());
-        }
-        next += period;
-        let now = Instant::now();
-        if next > now {
-            std::thread::sleep(next - now);
-        } else {
-            next = now;
-        }
-    }
+    // The server stops when its handle is dropped.
+    Ok((rec, Box::new(web)))
 }
 
 /// The viewer's layout: the hand in 3D on the left; on the right the
@@ -186,18 +200,6 @@ fn layout() -> rerun::blueprint::Blueprint {
     // The views get the page; the side panels open with a click.
     .with_blueprint_panel(BlueprintPanel::from_state(PanelState::Collapsed))
     .with_selection_panel(SelectionPanel::from_state(PanelState::Collapsed))
-}
-
-/// Connects to the daemon, waiting up to `--timeout`.
-fn connect(a: &Args) -> Result<Client, String> {
-    let mut o = ConnectOptions::new()
-        .timeout(Duration::from_secs_f64(a.timeout.max(0.0)))
-        .node_name("gaitd-view");
-    o.ipc.service_prefix = a.prefix.clone();
-    o.ipc.iceoryx2_config = a.ipc_config.clone();
-    o.ipc.root_path = a.ipc_root.clone();
-    o.ipc.file_prefix = a.ipc_file_prefix.clone();
-    Client::connect(o).map_err(|e| format!("no gaitd to view: {e}"))
 }
 
 /// The viewer's `url=` argument: everything but ASCII letters and digits

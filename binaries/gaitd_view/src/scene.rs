@@ -1,5 +1,5 @@
-//! The hand in 3D, from one status (hand frame, metres; entity paths under
-//! `world/`):
+//! The hand in 3D, from one [`Frame`] (hand frame, metres; entity paths
+//! under `world/`):
 //!
 //! - `world/object`: the object's orientation as the plant measures it
 //!   (the commanded one until the plant reports it); under it the ball
@@ -14,15 +14,20 @@
 //!   normal), and `world/forces/commanded`, `world/forces/measured`: the
 //!   normal forces, pressing into the object (10 N as long as R).
 //!
-//! The ball's and fingertips' radii are read off the status (the contact
+//! - `world/ahead/tips`, `world/ahead/axes` (replays only: a trace knows
+//!   what comes next): the fingertips' paths and the paths of the object's
+//!   axes' tips over the next seconds, thin.
+//!
+//! The ball's and fingertips' radii are read off the frame (the contact
 //! lies on the object's surface, the tip centre r outside it), so the view
-//! needs no configuration but the friction angle.
+//! needs no configuration but the friction angle. Measured things are
+//! drawn only where the frame has them (a trace has none).
 
+use crate::frame::Frame;
 use crate::series;
+use gaitd_client::Event;
 use gaitd_client::describe::event_line;
-use gaitd_client::{Event, FingerPhase, Status};
 use rerun::{Color, RecordingStream};
-use shm_schema::status::measured;
 
 /// One colour per finger (f1, f2, f3).
 pub const FINGER_COLOURS: [[u8; 3]; 3] = [[66, 133, 244], [52, 168, 83], [171, 71, 188]];
@@ -69,42 +74,34 @@ impl Scene {
 
     /// One event, as a line of the `events` log.
     pub fn event(&mut self, rec: &RecordingStream, e: &Event) {
-        rec.set_duration_secs("daemon_time", e.time_ns as f64 * 1e-9);
         let level = match e.kind() {
             Ok(gaitd_client::EventKind::Fault) => "ERROR",
             Ok(gaitd_client::EventKind::Overrun | gaitd_client::EventKind::NearLimit) => "WARN",
             _ => "INFO",
         };
-        let _ = rec.log(
-            "events",
-            &rerun::TextLog::new(event_line(e)).with_level(level),
-        );
+        note(rec, e.time_ns as f64 * 1e-9, &event_line(e), level);
     }
 
-    /// One status: the 3D scene and the time series.
-    pub fn frame(&mut self, rec: &RecordingStream, s: &Status) {
-        rec.set_duration_secs("daemon_time", s.time_ns as f64 * 1e-9);
-        rec.set_time_sequence("tick", i64::try_from(s.tick).unwrap_or(i64::MAX));
+    /// One frame: the 3D scene and the time series.
+    pub fn frame(&mut self, rec: &RecordingStream, s: &Frame) {
+        rec.set_duration_secs(TIME, s.time);
+        if let Some(tick) = s.tick {
+            rec.set_time_sequence("tick", i64::try_from(tick).unwrap_or(i64::MAX));
+        }
         if self.radii.is_none() {
-            self.radii = radii(s);
+            self.radii = s.radii();
             if let Some((big_r, _)) = self.radii {
                 log_object_body(rec, big_r);
             }
         }
-        let measured_object = s.measured_mask & measured::OBJECT != 0;
-        let q = if measured_object {
-            s.measured_object_q
-        } else {
-            s.commanded_object_q
-        };
         let _ = rec.log(
             "world/object",
-            &rerun::Transform3D::from_rotation(quaternion(&q)),
+            &rerun::Transform3D::from_rotation(quaternion(&s.shown_object())),
         );
         let (big_r, r) = self.radii.unwrap_or((0.5, 0.1));
         let _ = rec.log(
             "world/commanded_axes",
-            &axes(&s.commanded_object_q, 1.25 * big_r, 0.004 * big_r),
+            &axes(&s.object, 1.25 * big_r, 0.004 * big_r),
         );
         self.tips(rec, s, r);
         self.contacts(rec, s, big_r);
@@ -115,17 +112,21 @@ impl Scene {
         series::log(rec, s);
     }
 
-    fn tips(&self, rec: &RecordingStream, s: &Status, r: f64) {
+    fn tips(&self, rec: &RecordingStream, s: &Frame, r: f64) {
         let colours: [Color; 3] = core::array::from_fn(finger_colour);
-        let commanded = s.fingers.iter().map(|f| v32(&f.commanded_tip_position));
+        let commanded = s.fingers.iter().map(|f| v32(&f.tip));
         let _ = rec.log(
             "world/tips/commanded",
             &rerun::Ellipsoids3D::from_centers_and_radii(commanded, [r as f32; 3])
                 .with_colors(colours)
                 .with_fill_mode(rerun::FillMode::Solid),
         );
-        if s.measured_mask & measured::TIPS != 0 {
-            let at = s.fingers.iter().map(|f| v32(&f.measured_tip_position));
+        let measured: Option<Vec<[f32; 3]>> = s
+            .fingers
+            .iter()
+            .map(|f| f.measured_tip.as_ref().map(v32))
+            .collect();
+        if let Some(at) = measured {
             let _ = rec.log(
                 "world/tips/measured",
                 &rerun::Ellipsoids3D::from_centers_and_radii(at, [1.02 * r as f32; 3])
@@ -135,14 +136,14 @@ impl Scene {
         }
     }
 
-    fn contacts(&mut self, rec: &RecordingStream, s: &Status, big_r: f64) {
+    fn contacts(&mut self, rec: &RecordingStream, s: &Frame, big_r: f64) {
         // 10 N of normal force as long as the object's radius.
         let scale = 0.1 * big_r;
         let (mut points, mut colours, mut cones, mut cone_colours) =
             (vec![], vec![], vec![], vec![]);
         let (mut origins, mut pushes, mut measured_pushes) = (vec![], vec![], vec![]);
         for (k, f) in s.fingers.iter().enumerate() {
-            if !touches(f.state) {
+            if !f.touching {
                 continue;
             }
             let c = f.contact_hand;
@@ -160,8 +161,10 @@ impl Scene {
             }
             origins.push(v32(&c));
             let push = |force: f64| v32(&n.map(|x| -x * force * scale));
-            pushes.push(push(f.commanded_normal_force));
-            measured_pushes.push(push(f.measured_normal_force));
+            pushes.push(push(f.force));
+            if let Some(m) = f.measured_force {
+                measured_pushes.push(push(m));
+            }
             let path = &mut self.paths[k];
             if path.len() >= PATH_POINTS {
                 path.drain(..PATH_POINTS / 4);
@@ -193,7 +196,7 @@ impl Scene {
                 .with_origins(origins.clone())
                 .with_colors([Color::from_rgb(230, 30, 30)]),
         );
-        if s.measured_mask & measured::FORCES != 0 {
+        if measured_pushes.len() == origins.len() && !origins.is_empty() {
             let _ = rec.log(
                 "world/forces/measured",
                 &rerun::Arrows3D::from_vectors(measured_pushes)
@@ -220,31 +223,49 @@ impl Scene {
     }
 }
 
+/// The path ahead: each fingertip's centre and each of the object's body
+/// axes' tips at the coming frames (hand frame), thin, in the finger's and
+/// the axis' colours.
+pub fn log_ahead(
+    rec: &RecordingStream,
+    tips: &[Vec<[f64; 3]>; 3],
+    axes: &[Vec<[f64; 3]>; 3],
+    big_r: f64,
+) {
+    let strips = |paths: &[Vec<[f64; 3]>; 3]| {
+        paths
+            .iter()
+            .map(|p| p.iter().map(v32).collect::<Vec<_>>())
+            .collect::<Vec<_>>()
+    };
+    let _ = rec.log(
+        "world/ahead/tips",
+        &rerun::LineStrips3D::new(strips(tips))
+            .with_colors(core::array::from_fn::<_, 3, _>(finger_colour))
+            .with_radii([0.003 * big_r as f32]),
+    );
+    let _ = rec.log(
+        "world/ahead/axes",
+        &rerun::LineStrips3D::new(strips(axes))
+            .with_colors(AXIS_COLOURS.map(|[r, g, b]| Color::from_rgb(r, g, b)))
+            .with_radii([0.003 * big_r as f32]),
+    );
+}
+
 /// Finger `k`'s colour.
 fn finger_colour(k: usize) -> Color {
     let [r, g, b] = FINGER_COLOURS[k];
     Color::from_rgb(r, g, b)
 }
 
-/// Whether a finger in phase `state` touches the object.
-fn touches(state: u32) -> bool {
-    matches!(
-        FingerPhase::try_from(state),
-        Ok(FingerPhase::Grasping | FingerPhase::Rolling)
-    )
-}
+/// The timeline every frame and note is logged on: the daemon's clock, or
+/// a trace's time.
+pub const TIME: &str = "daemon_time";
 
-/// The object's and fingertips' radii from a status where a finger
-/// touches: |contact| and |tip centre − contact|.
-pub fn radii(s: &Status) -> Option<(f64, f64)> {
-    s.fingers.iter().find(|f| touches(f.state)).and_then(|f| {
-        let c = f.contact_hand;
-        let t = f.commanded_tip_position;
-        let big_r = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
-        let d = [t[0] - c[0], t[1] - c[1], t[2] - c[2]];
-        let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        (big_r > 0.0 && r > 0.0).then_some((big_r, r))
-    })
+/// A line of the `events` log at `time` \[s\].
+pub fn note(rec: &RecordingStream, time: f64, text: &str, level: &str) {
+    rec.set_duration_secs(TIME, time);
+    let _ = rec.log("events", &rerun::TextLog::new(text).with_level(level));
 }
 
 /// The ball, its great circles and its axes (static, object frame).
@@ -330,13 +351,12 @@ fn perpendiculars(n: &[f64; 3]) -> ([f64; 3], [f64; 3]) {
 fn axes(q: &[f64; 4], length: f64, radius: f64) -> rerun::Arrows3D {
     let columns = rotation_columns(q);
     rerun::Arrows3D::from_vectors(columns.map(|c| v32(&c.map(|x| x * length))))
-        .with_colors([
-            Color::from_rgb(220, 40, 40),
-            Color::from_rgb(40, 180, 40),
-            Color::from_rgb(40, 90, 230),
-        ])
+        .with_colors(AXIS_COLOURS.map(|[r, g, b]| Color::from_rgb(r, g, b)))
         .with_radii([radius as f32])
 }
+
+/// The body axes' colours: x red, y green, z blue.
+const AXIS_COLOURS: [[u8; 3]; 3] = [[220, 40, 40], [40, 180, 40], [40, 90, 230]];
 
 /// The columns of the rotation matrix of unit quaternion `q` [w, x, y, z].
 pub fn rotation_columns(q: &[f64; 4]) -> [[f64; 3]; 3] {

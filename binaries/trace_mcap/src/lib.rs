@@ -14,9 +14,11 @@
 //! A message's log time is its sample's `t` in nanoseconds (the header's:
 //! the first sample's). The trace's own lines are copied byte for byte, so
 //! [`read()`] gives back exactly the lines [`write()`] was given, numbers and
-//! all. This crate is the only one that builds `mcap`: gaitctl uses it,
-//! the daemon and the client library do not.
+//! all. [`file::read`] reads a trace back whichever of the two it is in.
+//! This crate is the only one that builds `mcap`: gaitctl and gaitd-view
+//! use it, the daemon and the client library do not.
 
+pub mod file;
 mod scene;
 pub mod schema;
 

@@ -22,7 +22,9 @@
 //! - [`cli`]: `gaitctl --remote watch` and `reset`, a monitor's reset
 //!   refused, the TLS flags' mistakes as one-line messages;
 //! - [`python`]: `gaitd.remote.RemoteClient` sends a goal and reads status;
-//!   its link dropped with a command in flight, the daemon gets it once.
+//!   its link dropped with a command in flight, the daemon gets it once;
+//! - [`view`]: `gaitd-view --remote` records the view of a turning object
+//!   through the bridge.
 
 mod burst;
 mod cli;
@@ -35,3 +37,4 @@ mod python;
 mod reconnect;
 mod security;
 mod support;
+mod view;

@@ -68,9 +68,9 @@ impl Load {
         for i in 0..readers + writers {
             // Connect here so a failure is reported, then move the client's
             // options (a Client itself stays on its thread).
-            drop(conn.connect()?);
+            drop(conn.connect("gaitctl")?);
             let (conn, stop) = (conn.clone(), stop.clone());
-            threads.push(std::thread::spawn(move || match conn.connect() {
+            threads.push(std::thread::spawn(move || match conn.connect("gaitctl") {
                 Ok(c) if i < readers => read(c, &stop),
                 Ok(c) => write(c, &stop),
                 Err(_) => (0, 1),

@@ -184,7 +184,7 @@ pub fn run(conn: &ConnArgs, a: &Args) -> gaitd_client::Result<ExitCode> {
         plant::run(steps, a.pings, a.json)?;
         return Ok(ExitCode::SUCCESS);
     }
-    let mut c = conn.connect()?;
+    let mut c = conn.connect("gaitctl")?;
     if let Some(seconds) = a.soak {
         let warmup = a.warmup.unwrap_or((seconds / 10.0).min(120.0));
         return soak::run(

@@ -1,6 +1,7 @@
-//! Reading `gait-trajectory/1` traces (SPEC §10) back: for `plot` and for
-//! `plan --from TRACE` (start where a trace ended); JSON lines or their
-//! MCAP recording.
+//! Reading `gait-trajectory/1` traces (SPEC §10) back, from JSON lines or
+//! their MCAP recording (told apart by the first bytes): `gaitctl plot`,
+//! `gaitctl plan --from TRACE` (start where a trace ended) and
+//! `gaitd-view --replay` read them through [`read`].
 
 use std::io::{BufRead, Read};
 use std::path::Path;
@@ -35,6 +36,12 @@ pub struct TraceSample {
     pub fingers: [TraceFinger; 3],
     /// Force-closure slack (if recorded).
     pub fc_margin: Option<f64>,
+    /// Load margin \[N\] (if recorded and a grip holds the load).
+    pub load_margin: Option<f64>,
+    /// Angle still to turn to the goal \[rad\] (if recorded).
+    pub remaining_angle: Option<f64>,
+    /// What the hand is doing (if recorded): `gait::trace::phase_name`.
+    pub phase: Option<String>,
 }
 
 /// A whole trace.
@@ -48,6 +55,8 @@ pub struct Trace {
     pub workspace_half_angle_deg: f64,
     /// Finger base azimuths \[deg\] (default 0, 120, 240 if absent).
     pub finger_azimuth_deg: [f64; 3],
+    /// Control period \[s\] (if recorded).
+    pub dt: Option<f64>,
     /// The samples.
     pub samples: Vec<TraceSample>,
 }
@@ -83,11 +92,11 @@ pub fn read(path: &Path) -> Result<Trace, String> {
     let prefix = file
         .fill_buf()
         .map_err(|e| format!("{}: {e}", path.display()))?;
-    if trace_mcap::is_mcap(prefix) {
+    if crate::is_mcap(prefix) {
         let mut bytes = Vec::new();
         file.read_to_end(&mut bytes)
             .map_err(|e| format!("{}: {e}", path.display()))?;
-        let lines = trace_mcap::read(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+        let lines = crate::read(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
         let all = std::iter::once(lines.header)
             .chain(lines.samples)
             .map(Ok::<_, String>);
@@ -120,6 +129,7 @@ fn parse(
         workspace_half_angle_deg: h["workspace_half_angle_deg"].as_f64().unwrap_or(60.0),
         finger_azimuth_deg: arr::<3>(&h["finger_azimuth_deg"], "finger_azimuth_deg", 1)
             .unwrap_or([0.0, 120.0, 240.0]),
+        dt: h["dt"].as_f64(),
         samples: Vec::new(),
     };
     for (i, l) in lines {
@@ -152,6 +162,9 @@ fn parse(
             object: quat(&v["object_q"], "object_q", n)?,
             fingers: fs,
             fc_margin: v["fc_margin"].as_f64(),
+            load_margin: v["load_margin"].as_f64(),
+            remaining_angle: v["remaining_angle"].as_f64(),
+            phase: v["phase"].as_str().map(str::to_owned),
         });
     }
     if trace.samples.is_empty() {

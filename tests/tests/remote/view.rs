@@ -1,0 +1,74 @@
+//! `gaitd-view --remote`: the view of a daemon on another host, through its
+//! gaitd-bridge as a monitor, recorded (`--save`) while a goal turns the
+//! object; the recording, read back with Rerun's own decoder, has the
+//! frames asked for and shows the object turning.
+
+use crate::support::{Pki, T, TestBridge, run};
+use gaitd_client::{GoalSpec, Verdict};
+use gaitd_tests::{TestDaemon, workspace_bin};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+#[path = "../rerun_support/mod.rs"]
+mod rerun_support;
+
+/// Frames the view records (at 10 per second: 2 s of the turn).
+const FRAMES: usize = 20;
+
+#[test]
+fn gaitd_view_records_a_remote_daemon_through_its_bridge() {
+    let _one = crate::support::one_at_a_time();
+    let pki = Pki::new("view");
+    let d = TestDaemon::start("remote-view");
+    let b = TestBridge::start(&d, &pki, "");
+    // A full turn: about 8 s, longer than the view needs to connect and
+    // record.
+    let mut local = d.client();
+    let t = local
+        .reorient(&GoalSpec::turn([0.0, 0.0, 1.0], 6.2).unwrap(), T)
+        .unwrap();
+    assert_eq!(t.verdict, Verdict::Accepted);
+    // The view starts once the object turns (the plan comes first).
+    let t0 = Instant::now();
+    while local.wait_status(T).unwrap().goal.remaining_angle > 6.0 {
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "the goal does not move"
+        );
+    }
+    let rrd = d.dir.join("remote-view.rrd");
+    let (rc, out, err) = run(Command::new(workspace_bin("gaitd-view"))
+        .args(["--remote", &b.endpoint, "--pki"])
+        .arg(&pki.dir)
+        .args([
+            "--identity",
+            "dash",
+            "--prefix",
+            &b.prefix,
+            "--timeout",
+            "10",
+        ])
+        .args(["--rate", "10", "--report-every", "0"])
+        .args(["--frames", &FRAMES.to_string(), "--save"])
+        .arg(&rrd));
+    assert_eq!(rc, Some(0), "{out}{err}\n--- bridge log ---\n{}", b.log());
+    let rec = rerun_support::read(&rrd);
+    assert_eq!(rec.object.len(), FRAMES, "{out}");
+    let mut object = rec.object.clone();
+    object.sort_by_key(|(time, _)| *time);
+    let (q0, q1) = (object[0].1, object[FRAMES - 1].1);
+    let dot: f32 = (0..4).map(|i| q0[i] * q1[i]).sum();
+    let turned = 2.0 * f64::from(dot.abs().min(1.0)).acos();
+    println!("{out}remote view: {FRAMES} frames, the object turned {turned:.3} rad");
+    assert!(
+        turned > 0.1,
+        "the object did not turn in the recording: {turned} rad"
+    );
+    for e in [
+        "world/object/ball",
+        "world/tips/commanded",
+        "plots/tick/compute_us",
+    ] {
+        assert!(rec.entities.contains(e), "no {e} in {:?}", rec.entities);
+    }
+}
