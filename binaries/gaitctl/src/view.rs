@@ -84,36 +84,7 @@ pub fn start(conn: &ConnArgs, a: &Args, stdout: Stdio) -> Result<Child, String> 
         ));
     }
     let mut cmd = Command::new(&bin);
-    let flags = [
-        ("--prefix", &conn.prefix),
-        ("--ipc-config", &conn.ipc_config),
-        ("--ipc-root", &conn.ipc_root),
-        ("--ipc-file-prefix", &conn.ipc_file_prefix),
-        ("--remote", &conn.remote),
-        ("--identity", &conn.identity),
-    ];
-    for (flag, value) in flags {
-        if let Some(v) = value {
-            cmd.arg(flag).arg(v);
-        }
-    }
-    let files = [
-        ("--pki", &conn.pki),
-        ("--ca", &conn.ca),
-        ("--cert", &conn.cert),
-        ("--key", &conn.key),
-    ];
-    for (flag, value) in files {
-        if let Some(v) = value {
-            cmd.arg(flag).arg(v);
-        }
-    }
-    cmd.args(["--web-port", &a.web_port.to_string()])
-        .args(["--grpc-port", &a.grpc_port.to_string()])
-        .args(["--bind", &a.bind])
-        .args(["--rate", &a.rate.to_string()])
-        .args(["--timeout", &conn.timeout.to_string()])
-        .stdout(stdout);
+    cmd.args(view_args(conn, a)).stdout(stdout);
     // The view ends with this gaitctl, however it ends (a demo stopped by a
     // signal must not leave it holding the ports).
     // SAFETY: prctl is async-signal-safe; nothing else runs between fork
@@ -146,4 +117,96 @@ pub fn start(conn: &ConnArgs, a: &Args, stdout: Stdio) -> Result<Child, String> 
         std::thread::spawn(move || lines.for_each(drop));
     }
     Ok(child)
+}
+
+/// gaitd-view's arguments for the daemon of `conn` (local or remote: the
+/// same connection flags) and the view options `a`.
+fn view_args(conn: &ConnArgs, a: &Args) -> Vec<std::ffi::OsString> {
+    let mut out: Vec<std::ffi::OsString> = Vec::new();
+    let flags = [
+        ("--prefix", &conn.prefix),
+        ("--ipc-config", &conn.ipc_config),
+        ("--ipc-root", &conn.ipc_root),
+        ("--ipc-file-prefix", &conn.ipc_file_prefix),
+        ("--remote", &conn.remote),
+        ("--identity", &conn.identity),
+    ];
+    for (flag, value) in flags {
+        if let Some(v) = value {
+            out.extend([flag.into(), v.into()]);
+        }
+    }
+    let files = [
+        ("--pki", &conn.pki),
+        ("--ca", &conn.ca),
+        ("--cert", &conn.cert),
+        ("--key", &conn.key),
+    ];
+    for (flag, value) in files {
+        if let Some(v) = value {
+            out.extend([flag.into(), v.into()]);
+        }
+    }
+    for (flag, value) in [
+        ("--web-port", a.web_port.to_string()),
+        ("--grpc-port", a.grpc_port.to_string()),
+        ("--bind", a.bind.clone()),
+        ("--rate", a.rate.to_string()),
+        ("--timeout", conn.timeout.to_string()),
+    ] {
+        out.extend([flag.into(), value.into()]);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        conn: ConnArgs,
+    }
+
+    fn args_for(line: &[&str]) -> Vec<String> {
+        let cli = Cli::parse_from(std::iter::once("gaitctl").chain(line.iter().copied()));
+        view_args(&cli.conn, &Args::default())
+            .into_iter()
+            .map(|a| a.to_string_lossy().into_owned())
+            .collect()
+    }
+
+    #[test]
+    fn the_view_gets_the_same_connection_local_or_remote() {
+        let local = args_for(&["--prefix", "lab", "--ipc-root", "/run/gaitd/"]);
+        assert_eq!(
+            local[..4],
+            ["--prefix", "lab", "--ipc-root", "/run/gaitd/"].map(String::from)
+        );
+        assert!(!local.contains(&"--remote".to_owned()));
+        let remote = args_for(&[
+            "--remote",
+            "quic/robot:7460",
+            "--pki",
+            "pki",
+            "--identity",
+            "wallboard",
+            "--timeout",
+            "5",
+        ]);
+        let after = |flag: &str| {
+            let i = remote
+                .iter()
+                .position(|a| a == flag)
+                .unwrap_or_else(|| panic!("no {flag}: {remote:?}"));
+            remote[i + 1].clone()
+        };
+        assert_eq!(after("--remote"), "quic/robot:7460");
+        assert_eq!(after("--pki"), "pki");
+        assert_eq!(after("--identity"), "wallboard");
+        assert_eq!(after("--timeout"), "5");
+        assert_eq!(after("--web-port"), "9090");
+    }
 }

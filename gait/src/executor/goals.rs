@@ -4,6 +4,33 @@
 
 use super::*;
 
+/// The ids of the last [`RecentIds::KEPT`] goals taken: a goal id seen
+/// again is refused as a duplicate.
+#[derive(Debug, Default)]
+pub(super) struct RecentIds {
+    ids: [u64; RecentIds::KEPT],
+    len: usize,
+}
+
+impl RecentIds {
+    /// How many ids are kept.
+    const KEPT: usize = 16;
+
+    /// Whether `id` is new; if so, it is kept (the oldest dropped).
+    pub(super) fn remember(&mut self, id: u64) -> bool {
+        if self.ids[..self.len].contains(&id) {
+            return false;
+        }
+        if self.len < Self::KEPT {
+            self.len += 1;
+        } else {
+            self.ids.rotate_left(1);
+        }
+        self.ids[self.len - 1] = id;
+        true
+    }
+}
+
 impl Executor {
     pub(super) fn goal_event(&mut self, id: u64, state: GoalStage, reason: Reason) {
         self.events.push(ExecutorEvent::Goal { id, state, reason });
@@ -29,16 +56,7 @@ impl Executor {
     }
 
     pub(super) fn remember_id(&mut self, id: u64) -> bool {
-        if self.recent_ids[..self.recent_len].contains(&id) {
-            return false;
-        }
-        if self.recent_len < self.recent_ids.len() {
-            self.recent_len += 1;
-        } else {
-            self.recent_ids.rotate_left(1);
-        }
-        self.recent_ids[self.recent_len - 1] = id;
-        true
+        self.recent_ids.remember(id)
     }
 
     /// Takes a command (SPEC §6.4). Never blocks, never allocates.
@@ -303,5 +321,24 @@ impl Executor {
             .as_deref()
             .map_or(0.0, |p| p.steps.iter().map(step_rotation).sum());
         self.begin_step();
+    }
+}
+
+#[cfg(test)]
+mod recent_id_tests {
+    use super::RecentIds;
+
+    #[test]
+    fn an_id_is_a_duplicate_while_among_the_last_sixteen() {
+        let mut r = RecentIds::default();
+        assert!(r.remember(1));
+        assert!(!r.remember(1));
+        for id in 2..=16 {
+            assert!(r.remember(id));
+        }
+        assert!(!r.remember(1), "16 kept: the first is still there");
+        assert!(r.remember(17));
+        assert!(r.remember(1), "the first was dropped for the 17th");
+        assert!(!r.remember(17));
     }
 }

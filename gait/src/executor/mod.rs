@@ -27,9 +27,11 @@
 //! ever freed on the control thread.
 
 mod command;
+mod contact_watch;
 pub mod correction;
 pub mod feedback;
 mod goals;
+mod grips;
 pub mod guard;
 pub mod lifecycle;
 mod memo;
@@ -103,7 +105,6 @@ struct ActiveGoal {
 pub struct Executor {
     limits: LimitsConfig,
     checker: InvariantChecker,
-    grip: grip::GripModel,
     feedback: Feedback,
     /// Invariants near their limit in the measured state ([`guard`]).
     guard: guard::LimitGuard,
@@ -124,8 +125,8 @@ pub struct Executor {
     last_goal: Option<(u64, GoalStage, Reason)>,
     pending: Option<ActiveGoal>,
     request: Option<PlanRequest>,
-    recent_ids: [u64; 16],
-    recent_len: usize,
+    /// The last goal ids taken (duplicates are refused).
+    recent_ids: goals::RecentIds,
     gaits_done: u32,
     gaits_planned: u32,
     setpoint: Setpoint,
@@ -144,39 +145,23 @@ pub struct Executor {
     inertia: f64,
     /// Radius of the sphere of grasping fingertip centres, R + r \[m\].
     contact_radius: f64,
-    /// The last [`WRITTEN`] setpoint states written, a ring: a measurement
-    /// that reflects an older setpoint ([`Measurement::age`]) is compared
-    /// with the one it reflects.
-    written: [HandState; WRITTEN],
-    /// Where the next written setpoint goes in `written`.
-    written_next: usize,
-    /// How the setpoints in `written` were commanded beyond their plan.
-    written_adjustment: [feedback::Adjustment; WRITTEN],
-    /// The setpoint state the last measurement reflected.
-    prev_reflected: HandState,
-    /// How `prev_reflected` was commanded beyond its plan.
-    prev_reflected_adjustment: feedback::Adjustment,
+    /// The setpoints written, for the measurements that reflect them.
+    written: written::Written,
     /// The correction of the commanded grasp ([`correction`]).
     correction: correction::Correction,
     /// Fingertips placed where the object is measured ([`placement`]).
     placement: placement::Placement,
     /// The control period \[s\].
     dt: f64,
-    /// Ticks in a row each grasping contact was measured not touching.
-    contact_missing: [u32; 3],
-    /// Ticks after which a grasping contact measured not touching is lost.
-    contact_grace: u32,
-    /// Normal force below which a measured contact does not touch \[N\].
-    min_contact_force: f64,
+    /// Grasping contacts the plant measures as missing.
+    contacts: contact_watch::ContactWatch,
     events: ExecutorEvents,
     report: TickReport,
     tick: u64,
     /// Invariants of the last checked setpoint state.
     invariants: memo::Memo<HandState, Result<InvariantReport, StateError>>,
-    /// Grip of the last (state, torque, carrying set) ([`grip::GripKey`]).
-    grips: memo::Memo<grip::GripKey, grip::Grip>,
-    /// Grip of the set a handover goes to, for the last (state, torque).
-    grips_to: memo::Memo<grip::GripKey, grip::Grip>,
+    /// The grip forces of the setpoint.
+    grips: grips::Grips,
     /// Bit mask of the fingers that carry the load ([`grip`]).
     carrying: u8,
     /// Grasping fingers of the last setpoint (bit mask).
@@ -266,7 +251,6 @@ impl Executor {
         Ok(Self {
             limits: config.limits,
             checker,
-            grip: grip::GripModel::new(config),
             feedback: Feedback::new(&config.feedback, config.model.object_radius),
             guard: guard::LimitGuard::new(config),
             runner,
@@ -281,8 +265,7 @@ impl Executor {
             last_goal: None,
             pending: None,
             request: None,
-            recent_ids: [0; 16],
-            recent_len: 0,
+            recent_ids: goals::RecentIds::default(),
             gaits_done: 0,
             gaits_planned: 0,
             setpoint: sp,
@@ -295,11 +278,7 @@ impl Executor {
             object_acceleration: Vector3::zeros(),
             inertia: 0.4 * config.load.object_mass * config.model.object_radius.powi(2),
             contact_radius: config.model.object_radius + config.model.fingertip_radius,
-            written: [start; WRITTEN],
-            written_next: 0,
-            written_adjustment: [feedback::Adjustment::NONE; WRITTEN],
-            prev_reflected: start,
-            prev_reflected_adjustment: feedback::Adjustment::NONE,
+            written: written::Written::new(start),
             correction: correction::Correction::new(
                 config.feedback.orientation_gain,
                 config.feedback.max_correction_deg.to_radians(),
@@ -309,9 +288,10 @@ impl Executor {
                 config.model.object_radius + config.model.fingertip_radius,
             ),
             dt,
-            contact_missing: [0; 3],
-            contact_grace: config.feedback.contact_grace_ticks,
-            min_contact_force: config.feedback.min_contact_force,
+            contacts: contact_watch::ContactWatch::new(
+                config.feedback.contact_grace_ticks,
+                config.feedback.min_contact_force,
+            ),
             events: ExecutorEvents::default(),
             report: TickReport {
                 tick: 0,
@@ -332,8 +312,7 @@ impl Executor {
             },
             tick: 0,
             invariants: memo::Memo::new(),
-            grips: memo::Memo::new(),
-            grips_to: memo::Memo::new(),
+            grips: grips::Grips::new(grip::GripModel::new(config)),
             carrying: grip::grasp_mask(&start),
             grasp_prev: grip::grasp_mask(&start),
             handover: None,
@@ -493,9 +472,8 @@ impl Executor {
         // measurement is compared with the one it reflected (a measurement
         // held or repeated reflects the same setpoint: no motion expected).
         let age = measurement.map_or(0, |m| m.age as usize);
-        let cmd = self.written(age);
-        let adjusted = self.written_adjustment(age);
-        let prev_cmd = self.prev_reflected;
+        let (cmd, adjusted) = self.written.at(age);
+        let (prev_cmd, prev_adjusted) = *self.written.reflected();
         if self.phase != Mode::SafeHold {
             match self.feedback.check(
                 measurement,
@@ -503,7 +481,7 @@ impl Executor {
                 &prev_cmd,
                 self.prev_measurement.as_ref(),
                 &self.drift.map_or(UnitQuaternion::identity(), |d| d.offset),
-                (&adjusted, &self.prev_reflected_adjustment),
+                (&adjusted, &prev_adjusted),
             ) {
                 Ok(err) => {
                     error = err;
@@ -528,8 +506,7 @@ impl Executor {
         if let Some(m) = measurement {
             self.check_contacts(&cmd, m);
             self.prev_measurement = Some(*m);
-            self.prev_reflected = cmd;
-            self.prev_reflected_adjustment = adjusted;
+            self.written.set_reflected((cmd, adjusted));
             self.measured_at = self.tick;
         }
         // Only a hand under control corrects (not in safe hold), and only
@@ -560,19 +537,10 @@ impl Executor {
     /// a measured force below `feedback.min_contact_force`) for
     /// `feedback.contact_grace_ticks` ticks in a row is lost: a fault.
     fn check_contacts(&mut self, cmd: &HandState, m: &Measurement) {
-        for k in 0..cmd.fingers.len() {
-            let f = &m.fingers[k];
-            let touching = f.contact && f.normal_force.is_none_or(|n| n >= self.min_contact_force);
-            if cmd.fingers[k].mode != crate::FingerMode::Grasping || touching {
-                self.contact_missing[k] = 0;
-                continue;
-            }
-            self.contact_missing[k] += 1;
-            if self.contact_missing[k] >= self.contact_grace {
-                self.contact_missing[k] = 0;
-                let cause = Cause::new(FaultKind::ContactLost, Source::Measurement);
-                self.handle(cause, k as u8, Some(m));
-            }
+        let lost = self.contacts.lost(cmd, m);
+        for k in (0..lost.len()).filter(|&k| lost[k]) {
+            let cause = Cause::new(FaultKind::ContactLost, Source::Measurement);
+            self.handle(cause, k as u8, Some(m));
         }
     }
 

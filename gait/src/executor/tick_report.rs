@@ -99,31 +99,16 @@ impl Executor {
             _ => 0.0,
         };
         r.fault = self.fault;
-        let model = &self.grip;
         let torque = self.object_acceleration * self.inertia;
-        let state = self.setpoint.state;
-        let carrying = self.carrying;
-        let from = self
+        let handover = self.handover.map(|h| (h.to, h.elapsed / h.duration));
+        let g = self
             .grips
-            .get(grip::grip_key(&state, &torque, carrying), |_| {
-                model.carried(&state, &torque, carrying)
-            });
-        let g = match self.handover {
-            Some(h) => {
-                let to = self
-                    .grips_to
-                    .get(grip::grip_key(&state, &torque, h.to), |_| {
-                        model.carried(&state, &torque, h.to)
-                    });
-                grip::GripModel::blend(&from, &to, grip::ramp(h.elapsed / h.duration))
-            }
-            None => from,
-        };
+            .at(&self.setpoint.state, &torque, self.carrying, handover);
         let r = &mut self.report;
         r.grip = g.normal;
         r.grip_capped = g.capped;
         r.grip_peak = g.peak;
-        r.load_margin = model.hold().max_grip() - g.peak;
+        r.load_margin = self.grips.max_grip() - g.peak;
     }
 }
 
