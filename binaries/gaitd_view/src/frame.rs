@@ -148,20 +148,25 @@ impl Frame {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use nalgebra::{UnitQuaternion, Vector3};
     use trace_mcap::file::TraceFinger;
 
-    fn trace() -> Trace {
+    /// A trace of the paper's hand (R 0.5, r 0.1, 1 kHz) with `samples`.
+    pub(crate) fn trace_of(samples: Vec<TraceSample>) -> Trace {
         Trace {
             object_radius: 0.5,
             fingertip_radius: 0.1,
             workspace_half_angle_deg: 60.0,
             finger_azimuth_deg: [0.0, 120.0, 240.0],
             dt: Some(0.001),
-            samples: vec![],
+            samples,
         }
+    }
+
+    fn trace() -> Trace {
+        trace_of(vec![])
     }
 
     fn sample(object: UnitQuaternion<f64>, contact: [bool; 3]) -> TraceSample {

@@ -104,13 +104,8 @@ mod tests {
             grip: 1.0,
             roll: 0.0,
         };
-        Trace {
-            object_radius: 0.5,
-            fingertip_radius: 0.1,
-            workspace_half_angle_deg: 60.0,
-            finger_azimuth_deg: [0.0, 120.0, 240.0],
-            dt: Some(0.001),
-            samples: times
+        crate::frame::tests::trace_of(
+            times
                 .iter()
                 .map(|&t| TraceSample {
                     t,
@@ -122,7 +117,7 @@ mod tests {
                     phase: None,
                 })
                 .collect(),
-        }
+        )
     }
 
     #[test]
