@@ -289,6 +289,14 @@ fn a_recorded_goal_opens_in_rerun() {
     ] {
         assert!(rec.entities.contains(e), "no {e} in {:?}", rec.entities);
     }
+    // A line in the events log for every change of the samples' phase
+    // (also between two frames).
+    let phases = ticks
+        .iter()
+        .map(|v| v["phase"].as_str().unwrap_or_default())
+        .collect::<Vec<_>>();
+    let changes = 1 + phases.windows(2).filter(|w| w[0] != w[1]).count();
+    assert_eq!(rec.rows.get("events"), Some(&changes), "{phases:?}");
     // A trace has no measurements: nothing measured is drawn.
     assert!(!rec.entities.contains("world/tips/measured"));
 }

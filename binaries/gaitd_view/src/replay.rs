@@ -61,14 +61,17 @@ pub fn run(rec: &RecordingStream, trace: &Trace, rate: f64, friction: f64) -> u6
     let shown = shown(trace, rate);
     // Where the axes' tips are drawn: as long as the live view's body axes.
     let axis_length = 1.4 * trace.object_radius;
-    for (j, &i) in shown.iter().enumerate() {
-        let s = &trace.samples[i];
+    // Every change of activity, also between two frames.
+    for s in &trace.samples {
         if let Some(p) = s.phase.as_deref()
             && phase != Some(p)
         {
             note(rec, s.t, &format!("{:.3} s: {p}", s.t), "INFO");
             phase = Some(p);
         }
+    }
+    for (j, &i) in shown.iter().enumerate() {
+        let s = &trace.samples[i];
         scene.frame(rec, &Frame::from_sample(trace, s));
         let next = &shown[ahead(trace, &shown, j)];
         let tips: [Vec<[f64; 3]>; 3] = core::array::from_fn(|k| {
@@ -157,5 +160,38 @@ mod tests {
         assert_eq!(super::shown(&trace(&[0.0, 0.1, 0.2]), 30.0), vec![0, 1, 2]);
         assert_eq!(super::shown(&trace(&[0.0]), 30.0), vec![0]);
         assert!(super::shown(&trace(&[]), 30.0).is_empty());
+    }
+
+    #[test]
+    fn every_change_of_activity_is_a_line_also_between_two_frames() {
+        // 1 kHz for 0.2 s at 30 frames per second; "lift" lasts one sample,
+        // between two frames.
+        let times: Vec<f64> = (0..200).map(|i| i as f64 * 0.001).collect();
+        let mut t = trace(&times);
+        for (i, s) in t.samples.iter_mut().enumerate() {
+            let p = match i {
+                0..50 => "rotate",
+                50 => "lift",
+                _ => "place",
+            };
+            s.phase = Some(p.to_owned());
+        }
+        assert!(!super::shown(&t, 30.0).contains(&50));
+        let (rec, storage) = rerun::RecordingStreamBuilder::new("test")
+            .memory()
+            .expect("a recording in memory");
+        run(&rec, &t, 30.0, 0.35);
+        rec.flush_blocking().expect("flushed");
+        let lines: usize = storage
+            .take()
+            .iter()
+            .filter_map(|m| match m {
+                rerun::log::LogMsg::ArrowMsg(_, a) => rerun::log::Chunk::from_arrow_msg(a).ok(),
+                _ => None,
+            })
+            .filter(|c| c.entity_path().to_string().trim_start_matches('/') == "events")
+            .map(|c| c.num_rows())
+            .sum();
+        assert_eq!(lines, 3, "rotate, lift, place");
     }
 }

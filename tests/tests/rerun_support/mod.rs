@@ -4,13 +4,15 @@
 
 use rerun::external::re_log_encoding::Decoder;
 use rerun::log::{Chunk, LogMsg};
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 /// What the tests look at in a recording.
 pub struct Recording {
     /// Every entity with data (blueprint aside).
     pub entities: BTreeSet<String>,
+    /// Rows logged per entity (temporal data; blueprint aside).
+    pub rows: BTreeMap<String, usize>,
     /// `world/object`'s rotations ([x, y, z, w]) with their time \[ns\].
     pub object: Vec<(i64, [f32; 4])>,
 }
@@ -20,6 +22,7 @@ pub fn read(path: &Path) -> Recording {
     let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
     let mut rec = Recording {
         entities: BTreeSet::new(),
+        rows: BTreeMap::new(),
         object: vec![],
     };
     let quat = rerun::archetypes::Transform3D::descriptor_quaternion().component;
@@ -46,6 +49,9 @@ pub fn read(path: &Path) -> Recording {
                     rec.object.push((time, r.0.0));
                 }
             }
+        }
+        if !chunk.is_static() {
+            *rec.rows.entry(entity.clone()).or_default() += chunk.num_rows();
         }
         rec.entities.insert(entity);
     }
