@@ -122,29 +122,25 @@ pub fn start(conn: &ConnArgs, a: &Args, stdout: Stdio) -> Result<Child, String> 
 /// gaitd-view's arguments for the daemon of `conn` (local or remote: the
 /// same connection flags) and the view options `a`.
 fn view_args(conn: &ConnArgs, a: &Args) -> Vec<std::ffi::OsString> {
+    use std::ffi::OsStr;
     let mut out: Vec<std::ffi::OsString> = Vec::new();
+    let text = |v: &Option<String>| v.as_deref().map(OsStr::new).map(OsStr::to_owned);
+    let path = |v: &Option<PathBuf>| v.as_deref().map(|p| p.as_os_str().to_owned());
     let flags = [
-        ("--prefix", &conn.prefix),
-        ("--ipc-config", &conn.ipc_config),
-        ("--ipc-root", &conn.ipc_root),
-        ("--ipc-file-prefix", &conn.ipc_file_prefix),
-        ("--remote", &conn.remote),
-        ("--identity", &conn.identity),
+        ("--prefix", text(&conn.prefix)),
+        ("--ipc-config", text(&conn.ipc_config)),
+        ("--ipc-root", text(&conn.ipc_root)),
+        ("--ipc-file-prefix", text(&conn.ipc_file_prefix)),
+        ("--remote", text(&conn.remote)),
+        ("--identity", text(&conn.identity)),
+        ("--pki", path(&conn.pki)),
+        ("--ca", path(&conn.ca)),
+        ("--cert", path(&conn.cert)),
+        ("--key", path(&conn.key)),
     ];
     for (flag, value) in flags {
         if let Some(v) = value {
-            out.extend([flag.into(), v.into()]);
-        }
-    }
-    let files = [
-        ("--pki", &conn.pki),
-        ("--ca", &conn.ca),
-        ("--cert", &conn.cert),
-        ("--key", &conn.key),
-    ];
-    for (flag, value) in files {
-        if let Some(v) = value {
-            out.extend([flag.into(), v.into()]);
+            out.extend([flag.into(), v]);
         }
     }
     for (flag, value) in [

@@ -89,7 +89,7 @@ fn run(a: &Args) -> Result<(), String> {
     let builder = rerun::RecordingStreamBuilder::new("gaitd").with_blueprint(layout());
     // What to show first: a missing daemon or a bad trace leaves no file.
     let source = match &a.replay {
-        Some(path) => Source::Trace(trace_mcap::file::read(path)?),
+        Some(path) => Source::Trace(trace_mcap::file::read(path)?, path),
         None => Source::Daemon(Box::new(live::connect(a)?)),
     };
     let (rec, web) = match &a.save {
@@ -106,9 +106,8 @@ fn run(a: &Args) -> Result<(), String> {
     };
     match source {
         Source::Daemon(client) => live::run(&rec, *client, a)?,
-        Source::Trace(trace) => {
+        Source::Trace(trace, path) => {
             let frames = replay::run(&rec, &trace, a.rate, a.friction_deg.to_radians());
-            let path = a.replay.as_deref().unwrap_or(std::path::Path::new(""));
             println!("gaitd-view: {frames} frames from {}", path.display());
         }
     }
@@ -126,11 +125,11 @@ fn run(a: &Args) -> Result<(), String> {
 }
 
 /// What the view shows.
-enum Source {
+enum Source<'a> {
     /// A running daemon.
     Daemon(Box<gaitd_client::Client>),
-    /// A recorded trace.
-    Trace(trace_mcap::file::Trace),
+    /// A recorded trace, and its file.
+    Trace(trace_mcap::file::Trace, &'a std::path::Path),
 }
 
 /// Serves the data stream and the web viewer; prints the address to open.

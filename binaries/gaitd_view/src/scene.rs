@@ -196,7 +196,9 @@ impl Scene {
                 .with_origins(origins.clone())
                 .with_colors([Color::from_rgb(230, 30, 30)]),
         );
-        if measured_pushes.len() == origins.len() && !origins.is_empty() {
+        // Forces are measured for every finger or for none (the status's
+        // mask); logged whenever measured, so that none left clears them.
+        if s.fingers.iter().any(|f| f.measured_force.is_some()) {
             let _ = rec.log(
                 "world/forces/measured",
                 &rerun::Arrows3D::from_vectors(measured_pushes)
