@@ -2,61 +2,23 @@
 //! hold, reset), preemption, stops and plan hand-over. The per-tick motion
 //! is in the parent module.
 
+use super::goal_slots::ActiveGoal;
 use super::*;
 
-/// The ids of the last [`RecentIds::KEPT`] goals taken: a goal id seen
-/// again is refused as a duplicate.
-#[derive(Debug, Default)]
-pub(super) struct RecentIds {
-    ids: [u64; RecentIds::KEPT],
-    len: usize,
-}
-
-impl RecentIds {
-    /// How many ids are kept.
-    const KEPT: usize = 16;
-
-    /// Whether `id` is new; if so, it is kept (the oldest dropped).
-    pub(super) fn remember(&mut self, id: u64) -> bool {
-        if self.ids[..self.len].contains(&id) {
-            return false;
-        }
-        if self.len < Self::KEPT {
-            self.len += 1;
-        } else {
-            self.ids.rotate_left(1);
-        }
-        self.ids[self.len - 1] = id;
-        true
-    }
-}
-
 impl Executor {
-    pub(super) fn goal_event(&mut self, id: u64, state: GoalStage, reason: Reason) {
-        self.events.push(ExecutorEvent::Goal { id, state, reason });
-        if state.is_terminal() {
-            self.last_goal = Some((id, state, reason));
-        }
-    }
-
     pub(super) fn set_goal_state(&mut self, state: GoalStage) {
-        if let Some(g) = self.goal.as_mut() {
-            g.state = state;
-            let id = g.id;
-            self.goal_event(id, state, Reason::None);
-        }
+        self.goals.set_state(&mut self.events, state);
     }
 
     /// Ends the active goal.
     pub(super) fn end_goal(&mut self, state: GoalStage, reason: Reason) {
-        if let Some(g) = self.goal.take() {
-            self.goal_event(g.id, state, reason);
-        }
+        self.goals.end(&mut self.events, state, reason);
         self.replans = 0;
     }
 
-    pub(super) fn remember_id(&mut self, id: u64) -> bool {
-        self.recent_ids.remember(id)
+    /// Ends the goal waiting for the motion to stop, never started.
+    pub(super) fn end_pending(&mut self, state: GoalStage, reason: Reason) {
+        self.goals.end_pending(&mut self.events, state, reason);
     }
 
     /// Takes a command (SPEC §6.4). Never blocks, never allocates.
@@ -64,7 +26,7 @@ impl Executor {
         match cmd {
             ExecutorCommand::Goal { id, target, limits } => self.new_goal(id, target, limits),
             ExecutorCommand::Cancel => {
-                if self.goal.is_none() && self.pending.is_none() {
+                if self.goals.active().is_none() && self.goals.pending().is_none() {
                     return ExecutorAnswer::Rejected(Reason::None);
                 }
                 self.request_stop(AfterStop::Hold(Reason::CancelCommand));
@@ -103,7 +65,7 @@ impl Executor {
         if self.phase == Mode::SafeHold {
             return ExecutorAnswer::Rejected(Reason::FaultActive);
         }
-        if !self.remember_id(id) {
+        if !self.goals.remember(id) {
             return ExecutorAnswer::Rejected(Reason::DuplicateId);
         }
         let goal = ActiveGoal {
@@ -113,11 +75,10 @@ impl Executor {
             limits,
             state: GoalStage::Accepted,
         };
-        self.goal_event(id, GoalStage::Accepted, Reason::None);
+        self.goals
+            .event(&mut self.events, id, GoalStage::Accepted, Reason::None);
         self.replans = 0;
-        if let Some(p) = self.pending.take() {
-            self.goal_event(p.id, GoalStage::Preempted, Reason::NewerGoal);
-        }
+        self.end_pending(GoalStage::Preempted, Reason::NewerGoal);
         match self.phase {
             Mode::Holding | Mode::Planning => {
                 if self.phase == Mode::Planning {
@@ -125,12 +86,12 @@ impl Executor {
                     // dropped as stale when it arrives.
                     self.end_goal(GoalStage::Preempted, Reason::NewerGoal);
                 }
-                self.goal = Some(goal);
+                self.goals.activate(goal);
                 self.begin_planning();
             }
             Mode::Moving | Mode::Stopping => {
                 self.end_goal(GoalStage::Preempted, Reason::NewerGoal);
-                self.pending = Some(goal);
+                self.goals.defer(goal);
                 self.request_stop(AfterStop::Replan);
             }
             Mode::SafeHold => {}
@@ -142,11 +103,11 @@ impl Executor {
         self.phase = Mode::Planning;
         self.set_goal_state(GoalStage::Planning);
         let from = self.setpoint.state.object;
-        if let Some(g) = self.goal.as_mut() {
+        if let Some(g) = self.goals.active_mut() {
             g.end = g.target.resolve(&from);
         }
-        if let Some(g) = self.goal {
-            self.request = Some(PlanRequest {
+        if let Some(g) = self.goals.active() {
+            self.goals.ask(PlanRequest {
                 goal: g.id,
                 start: self.setpoint.state,
                 target: g.target,
@@ -168,7 +129,7 @@ impl Executor {
                 self.after_stop = then;
                 self.phase = Mode::Stopping;
                 // A gait, or a handover under way, finishes first.
-                let finishing = self.handover.is_some()
+                let finishing = self.carrying.handover().is_some()
                     || self
                         .current_step()
                         .is_some_and(|s| matches!(s.kind, StepKind::Place | StepKind::Lift));
@@ -192,13 +153,12 @@ impl Executor {
         // Rotation the interrupted plan still had to make.
         let left = self.planned_rotation_left();
         if self.drift.is_some() && !self.rebase() {
-            self.step = 0;
+            self.progress.rewind();
             return;
         }
         match then {
             AfterStop::Replan => {
-                if let Some(g) = self.pending.take() {
-                    self.goal = Some(g);
+                if self.goals.promote() {
                     self.begin_planning();
                 } else {
                     self.phase = Mode::Holding;
@@ -206,15 +166,13 @@ impl Executor {
             }
             AfterStop::Hold(reason) => {
                 self.end_goal(GoalStage::Canceled, reason);
-                if let Some(p) = self.pending.take() {
-                    self.goal_event(p.id, GoalStage::Canceled, reason);
-                }
+                self.end_pending(GoalStage::Canceled, reason);
                 self.phase = Mode::Holding;
             }
             AfterStop::Fault => self.phase = Mode::SafeHold,
             AfterStop::Recover => self.replan_after_drift(Some(left)),
         }
-        self.step = 0;
+        self.progress.rewind();
     }
 
     pub(super) fn reset(&mut self) -> ExecutorAnswer {
@@ -261,7 +219,7 @@ impl Executor {
         id: u64,
         result: Result<Box<Plan>, PlanError>,
     ) -> Option<Box<Plan>> {
-        let current = self.phase == Mode::Planning && self.goal.is_some_and(|g| g.id == id);
+        let current = self.phase == Mode::Planning && self.goals.is_active(id);
         if current && self.drift.is_some() {
             // Drifted while planning: the plan starts from the old estimate.
             if self.rebase() {
@@ -279,7 +237,7 @@ impl Executor {
             }
             Ok(plan) if !current => Some(plan),
             Ok(plan) => {
-                let old = self.plan.replace(plan);
+                let old = self.progress.replace(plan);
                 self.start_plan();
                 old
             }
@@ -289,7 +247,7 @@ impl Executor {
     /// The planner could not take the request for goal `id` (its queue is
     /// full): the goal is aborted rather than left waiting.
     pub fn plan_unavailable(&mut self, id: u64) {
-        let current = self.phase == Mode::Planning && self.goal.is_some_and(|g| g.id == id);
+        let current = self.phase == Mode::Planning && self.goals.is_active(id);
         if current {
             self.end_goal(GoalStage::Aborted, Reason::PlannerBusy);
             self.phase = Mode::Holding;
@@ -297,48 +255,16 @@ impl Executor {
     }
 
     pub(super) fn start_plan(&mut self) {
-        let Some((gaits, empty)) = self
-            .plan
-            .as_deref()
-            .map(|p| (p.summary.gaits, p.steps.is_empty()))
-        else {
+        if self.progress.plan().is_none() {
             return;
-        };
-        self.gaits_done = 0;
-        self.gaits_planned = gaits;
-        self.step = 0;
-        if empty {
+        }
+        if !self.progress.start(self.dt) {
             self.end_goal(GoalStage::Succeeded, Reason::None);
             self.phase = Mode::Holding;
             return;
         }
         self.phase = Mode::Moving;
         self.set_goal_state(GoalStage::Executing);
-        // (Bounded: one pass over the plan's steps, once per plan.)
-        self.time_after_step = self.time_on_ticks(0);
-        self.rotation_after_step = self
-            .plan
-            .as_deref()
-            .map_or(0.0, |p| p.steps.iter().map(step_rotation).sum());
         self.begin_step();
-    }
-}
-
-#[cfg(test)]
-mod recent_id_tests {
-    use super::RecentIds;
-
-    #[test]
-    fn an_id_is_a_duplicate_while_among_the_last_sixteen() {
-        let mut r = RecentIds::default();
-        assert!(r.remember(1));
-        assert!(!r.remember(1));
-        for id in 2..=16 {
-            assert!(r.remember(id));
-        }
-        assert!(!r.remember(1), "16 kept: the first is still there");
-        assert!(r.remember(17));
-        assert!(r.remember(1), "the first was dropped for the 17th");
-        assert!(!r.remember(17));
     }
 }

@@ -26,10 +26,12 @@
 //! plan it is given and hands back the one it replaces, so that no plan is
 //! ever freed on the control thread.
 
+mod carrying;
 mod command;
 mod contact_watch;
 pub mod correction;
 pub mod feedback;
+mod goal_slots;
 mod goals;
 mod grips;
 pub mod guard;
@@ -38,6 +40,7 @@ mod memo;
 pub mod placement;
 mod plant;
 pub mod policy;
+mod progress;
 pub mod recovery;
 pub mod runner;
 mod tick_report;
@@ -58,7 +61,6 @@ pub use lifecycle::{ExecutorEvent, ExecutorEvents, FaultKind, GoalStage, Reason}
 use policy::{Cause, Decision, FaultPolicy, Source};
 use runner::StepRunner;
 pub use tick_report::TickReport;
-use tick_report::step_on_ticks;
 pub use written::WRITTEN;
 
 /// The gait state machine's coarse state (module docs).
@@ -90,16 +92,6 @@ enum AfterStop {
     Recover,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct ActiveGoal {
-    id: u64,
-    target: GoalTarget,
-    /// The orientation the goal ends at (resolved when planning starts).
-    end: UnitQuaternion<f64>,
-    limits: LimitsConfig,
-    state: GoalStage,
-}
-
 /// The executor (module docs).
 #[derive(Debug)]
 pub struct Executor {
@@ -109,26 +101,16 @@ pub struct Executor {
     /// Invariants near their limit in the measured state ([`guard`]).
     guard: guard::LimitGuard,
     runner: StepRunner,
-    plan: Option<Box<Plan>>,
-    step: usize,
-    /// The goal the current step was begun for (it still finishes for it
-    /// when a newer goal preempts it mid-gait).
-    step_goal: u64,
-    /// Planned durations left after the current step.
-    time_after_step: f64,
+    /// The plan and how far along it ([`progress`]).
+    progress: progress::Progress,
     phase: Mode,
     after_stop: AfterStop,
     /// A stop is wanted but the current step (a placement or lift) finishes
     /// first.
     stop_after_step: bool,
-    goal: Option<ActiveGoal>,
-    last_goal: Option<(u64, GoalStage, Reason)>,
-    pending: Option<ActiveGoal>,
-    request: Option<PlanRequest>,
-    /// The last goal ids taken (duplicates are refused).
-    recent_ids: goals::RecentIds,
-    gaits_done: u32,
-    gaits_planned: u32,
+    /// The active goal, one waiting, the last ended, the plan request
+    /// ([`goal_slots`]).
+    goals: goal_slots::GoalSlots,
     setpoint: Setpoint,
     prev_setpoint: Setpoint,
     prev_measurement: Option<Measurement>,
@@ -137,8 +119,6 @@ pub struct Executor {
     fault: Option<(FaultKind, u8)>,
     /// In safe hold: still braking along the interrupted step.
     braking: bool,
-    /// Object rotation the plan still has to do after the current step \[rad\].
-    rotation_after_step: f64,
     /// Commanded object angular acceleration [rad/s²].
     object_acceleration: Vector3<f64>,
     /// Object moment of inertia (solid sphere) [kg m²].
@@ -162,12 +142,9 @@ pub struct Executor {
     invariants: memo::Memo<HandState, Result<InvariantReport, StateError>>,
     /// The grip forces of the setpoint.
     grips: grips::Grips,
-    /// Bit mask of the fingers that carry the load ([`grip`]).
-    carrying: u8,
-    /// Grasping fingers of the last setpoint (bit mask).
-    grasp_prev: u8,
-    /// A handover in progress at the end of the current step.
-    handover: Option<HandoverPhase>,
+    /// The fingers that carry the load, and the handover between two
+    /// such sets ([`carrying`]).
+    carrying: carrying::Carrying,
     /// Epoch of the object estimate (bumped on every re-base).
     epoch: u32,
     /// A drift waiting for the motion to rest to re-base (module
@@ -177,19 +154,6 @@ pub struct Executor {
     replans: u32,
     /// What every detected cause leads to ([`policy`]).
     policy: FaultPolicy,
-}
-
-/// The grip passing from one carrying set to another, object still.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct HandoverPhase {
-    /// Time since the motion ended \[s\].
-    elapsed: f64,
-    /// Its length \[s\].
-    duration: f64,
-    /// Carrying set before.
-    from: u8,
-    /// Carrying set after.
-    to: u8,
 }
 
 /// A still setpoint at `state`.
@@ -220,14 +184,6 @@ fn invariant_fault(v: crate::hand::Violation) -> (FaultKind, u8) {
     (kind, finger)
 }
 
-/// The object rotation a step makes \[rad\].
-fn step_rotation(step: &Step) -> f64 {
-    match step.motion {
-        Motion::Rotate { angle, .. } => angle,
-        _ => 0.0,
-    }
-}
-
 /// Which finger a step concerns, for events (255: none in particular).
 fn step_finger(step: &Step) -> u8 {
     step.finger().map_or(NOT_A_FINGER, |f| f as u8)
@@ -254,27 +210,17 @@ impl Executor {
             feedback: Feedback::new(&config.feedback, config.model.object_radius),
             guard: guard::LimitGuard::new(config),
             runner,
-            plan: None,
-            step: 0,
-            step_goal: 0,
-            time_after_step: 0.0,
+            progress: progress::Progress::default(),
             phase: Mode::Holding,
             after_stop: AfterStop::Hold(Reason::None),
             stop_after_step: false,
-            goal: None,
-            last_goal: None,
-            pending: None,
-            request: None,
-            recent_ids: goals::RecentIds::default(),
-            gaits_done: 0,
-            gaits_planned: 0,
+            goals: goal_slots::GoalSlots::default(),
             setpoint: sp,
             prev_setpoint: sp,
             prev_measurement: None,
             measured_at: 0,
             fault: None,
             braking: false,
-            rotation_after_step: 0.0,
             object_acceleration: Vector3::zeros(),
             inertia: 0.4 * config.load.object_mass * config.model.object_radius.powi(2),
             contact_radius: config.model.object_radius + config.model.fingertip_radius,
@@ -313,9 +259,7 @@ impl Executor {
             tick: 0,
             invariants: memo::Memo::new(),
             grips: grips::Grips::new(grip::GripModel::new(config)),
-            carrying: grip::grasp_mask(&start),
-            grasp_prev: grip::grasp_mask(&start),
-            handover: None,
+            carrying: carrying::Carrying::new(grip::grasp_mask(&start)),
             epoch: 0,
             drift: None,
             replans: 0,
@@ -342,12 +286,12 @@ impl Executor {
 
     /// The plan being executed, if any.
     pub fn plan(&self) -> Option<&Plan> {
-        self.plan.as_deref()
+        self.progress.plan()
     }
 
     /// Index of the running step.
     pub fn step_index(&self) -> usize {
-        self.step
+        self.progress.index()
     }
 
     /// Next queued event.
@@ -363,7 +307,7 @@ impl Executor {
     /// The goal whose plan the executor waits for, if any.
     pub fn planning_for(&self) -> Option<u64> {
         if self.phase == Mode::Planning {
-            self.goal.map(|g| g.id)
+            self.goals.active().map(|g| g.id)
         } else {
             None
         }
@@ -371,18 +315,7 @@ impl Executor {
 
     /// The plan request left for the planner, if any.
     pub fn take_plan_request(&mut self) -> Option<PlanRequest> {
-        self.request.take()
-    }
-
-    /// The plan's steps from `first` on, as long as they run on ticks.
-    fn time_on_ticks(&self, first: usize) -> f64 {
-        self.plan.as_deref().map_or(0.0, |p| {
-            p.steps
-                .iter()
-                .skip(first)
-                .map(|s| step_on_ticks(s, self.dt))
-                .sum()
-        })
+        self.goals.take_request()
     }
 
     /// Step trajectories the trajectory generator calculated on this
@@ -394,25 +327,21 @@ impl Executor {
     }
 
     fn current_step(&self) -> Option<&Step> {
-        self.plan.as_deref().and_then(|p| p.steps.get(self.step))
+        self.progress.current()
     }
 
     fn begin_step(&mut self) {
-        let limits = self.goal.map_or(self.limits, |g| g.limits);
-        let Some(plan) = self.plan.as_deref() else {
+        let active = self.goals.active();
+        let limits = active.map_or(self.limits, |g| g.limits);
+        let goal = active.map_or(0, |g| g.id);
+        let index = self.progress.index() as u32;
+        let Some((step, profile)) = self.progress.begin(self.dt, goal) else {
             return;
         };
-        let Some(step) = plan.steps.get(self.step) else {
-            return;
-        };
-        let profile = plan.profiles.get(self.step).and_then(Option::as_ref);
         self.runner.start(step, &limits, profile);
-        self.time_after_step = (self.time_after_step - step_on_ticks(step, self.dt)).max(0.0);
-        self.rotation_after_step = (self.rotation_after_step - step_rotation(step)).max(0.0);
-        self.step_goal = self.goal.map_or(0, |g| g.id);
         let event = ExecutorEvent::Step {
-            id: self.step_goal,
-            index: self.step as u32,
+            id: goal,
+            index,
             kind: step.kind,
             finger: step_finger(step),
         };
@@ -445,12 +374,10 @@ impl Executor {
         self.fault = Some((kind, finger));
         self.events.push(ExecutorEvent::Fault { kind, finger });
         self.end_goal(GoalStage::Aborted, Reason::Fault);
-        if let Some(p) = self.pending.take() {
-            self.goal_event(p.id, GoalStage::Aborted, Reason::Fault);
-        }
+        self.end_pending(GoalStage::Aborted, Reason::Fault);
         let moving = matches!(self.phase, Mode::Moving | Mode::Stopping);
         // A handover stops where it is: every touching finger carries.
-        self.handover = None;
+        self.carrying.abandon_handover();
         self.phase = Mode::SafeHold;
         self.after_stop = AfterStop::Fault;
         self.stop_after_step = false;
@@ -556,17 +483,13 @@ impl Executor {
             self.object_acceleration = Vector3::zeros();
             return;
         }
-        if let Some(h) = self.handover.as_mut() {
+        if let Some(over) = self.carrying.advance_handover(self.dt) {
             // At rest while the grip passes; then the step ends.
-            h.elapsed += self.dt;
             self.setpoint = rest(self.setpoint.state);
             self.object_acceleration = Vector3::zeros();
-            if h.elapsed < h.duration - 1e-12 {
-                return;
+            if over {
+                self.end_of_step(false);
             }
-            self.carrying = h.to;
-            self.handover = None;
-            self.end_of_step(false);
             return;
         }
         let status = match self.runner.advance() {
@@ -615,12 +538,7 @@ impl Executor {
         {
             // The motion is done; the grip passes before the step ends.
             self.object_acceleration = Vector3::zeros();
-            self.handover = Some(HandoverPhase {
-                elapsed: 0.0,
-                duration: h.duration,
-                from: self.carrying,
-                to: h.target(self.carrying),
-            });
+            self.carrying.begin_handover(&h);
             return;
         }
         self.end_of_step(stopped_early);
@@ -633,13 +551,11 @@ impl Executor {
             return;
         };
         if !stopped_early {
-            if matches!(kind, StepKind::Place | StepKind::Lift) {
-                self.gaits_done += 1;
-            }
+            self.progress.finished(kind);
             let finger = self.current_step().map_or(NOT_A_FINGER, step_finger);
             self.events.push(ExecutorEvent::StepDone {
-                id: self.step_goal,
-                index: self.step as u32,
+                id: self.progress.step_goal(),
+                index: self.progress.index() as u32,
                 kind,
                 finger,
             });
@@ -652,15 +568,9 @@ impl Executor {
             self.finish_stop(self.after_stop);
             return;
         }
-        self.step += 1;
-        let done = self
-            .plan
-            .as_deref()
-            .is_none_or(|p| self.step >= p.steps.len());
-        if done {
+        if !self.progress.next() {
             self.end_goal(GoalStage::Succeeded, Reason::None);
             self.phase = Mode::Holding;
-            self.step = 0;
             return;
         }
         self.begin_step();
@@ -690,10 +600,8 @@ impl Executor {
         }
     }
 
-    /// Keeps the carrying set ([`grip`]) in step with the setpoint: a
-    /// finger that leaves carries nothing; a finger that touches carries
-    /// at once unless the running step hands the grip over to it; at rest
-    /// every touching finger carries.
+    /// Keeps the carrying set ([`carrying`]) in step with the setpoint;
+    /// the running step's handover names the finger that waits for it.
     fn update_carrying(&mut self) {
         let grasp = grip::grasp_mask(&self.setpoint.state);
         let moving = matches!(self.phase, Mode::Moving | Mode::Stopping);
@@ -704,14 +612,6 @@ impl Executor {
         } else {
             0
         };
-        let joined = grasp & !self.grasp_prev;
-        // (A spin mark lasts while its finger touches.)
-        self.carrying = (self.carrying | (joined & !pending)) & (grasp | grasp << 3);
-        if self.handover.is_none()
-            && (!moving || (self.carrying & grip::CARRY_BITS).count_ones() < 2)
-        {
-            self.carrying = grasp;
-        }
-        self.grasp_prev = grasp;
+        self.carrying.update(grasp, moving, pending);
     }
 }

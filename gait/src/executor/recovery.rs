@@ -54,7 +54,11 @@ impl Executor {
             finger,
             offset: self.setpoint.state.object.inverse() * m.object,
         });
-        let id = self.goal.or(self.pending).map_or(0, |g| g.id);
+        let id = self
+            .goals
+            .active()
+            .or(self.goals.pending())
+            .map_or(0, |g| g.id);
         let replan = self.replans;
         self.events.push(if cause == FaultKind::ContactDrift {
             ExecutorEvent::Drift { id, finger, replan }
@@ -139,7 +143,7 @@ impl Executor {
     /// \[rad\] (`None`: no plan had started, all of the turn is left).
     pub(super) fn replan_after_drift(&mut self, left: Option<f64>) {
         let from = self.setpoint.state.object;
-        let Some(g) = self.goal.as_mut() else {
+        let Some(g) = self.goals.active_mut() else {
             self.phase = Mode::Holding;
             return;
         };

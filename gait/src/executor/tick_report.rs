@@ -49,16 +49,13 @@ impl Executor {
     /// Object rotation the plan still has to make from the running step's
     /// current position \[rad\].
     pub(super) fn planned_rotation_left(&self) -> f64 {
-        let in_step = self.current_step().map_or(0.0, |s| {
-            (step_rotation(s) - self.runner.state().position[0]).max(0.0)
-        });
-        self.rotation_after_step + in_step
+        self.progress.rotation_left(self.runner.state().position[0])
     }
 
     pub(super) fn fill_report(&mut self) {
         // How much the object still has to turn: along the plan while it
         // runs (a full turn counts in full), else the way to the goal.
-        let remaining = match (self.phase, self.goal) {
+        let remaining = match (self.phase, self.goals.active()) {
             (_, None) => 0.0,
             (Mode::Moving | Mode::Stopping, Some(_)) => self.planned_rotation_left(),
             (_, Some(g)) => match g.target {
@@ -74,19 +71,15 @@ impl Executor {
         r.setpoint = self.placement.apply(&self.correction.apply(&self.setpoint));
         r.phase = self.phase;
         r.step_kind = match self.phase {
-            Mode::Moving | Mode::Stopping => self
-                .plan
-                .as_deref()
-                .and_then(|p| p.steps.get(self.step))
-                .map(|s| s.kind),
+            Mode::Moving | Mode::Stopping => self.progress.current().map(|s| s.kind),
             _ => None,
         };
-        r.goal = match self.goal {
-            Some(g) => Some((g.id, g.state, Reason::None)),
-            None => self.last_goal,
-        };
-        r.gaits = (self.gaits_done, self.gaits_planned);
-        let hold_left = match (self.handover, self.current_step().and_then(|s| s.handover)) {
+        r.goal = self.goals.reported();
+        r.gaits = self.progress.gaits();
+        let hold_left = match (
+            self.carrying.handover(),
+            self.current_step().and_then(|s| s.handover),
+        ) {
             (Some(h), _) => on_ticks(h.duration - h.elapsed, self.dt),
             (None, Some(h)) => on_ticks(h.duration, self.dt),
             (None, None) => 0.0,
@@ -94,16 +87,18 @@ impl Executor {
         let motion_left = on_ticks(self.runner.time_left(), self.dt);
         let r = &mut self.report;
         r.eta = match self.phase {
-            Mode::Moving => self.time_after_step + motion_left + hold_left,
+            Mode::Moving => self.progress.time_after_step() + motion_left + hold_left,
             Mode::Stopping => motion_left + hold_left,
             _ => 0.0,
         };
         r.fault = self.fault;
         let torque = self.object_acceleration * self.inertia;
-        let handover = self.handover.map(|h| (h.to, h.elapsed / h.duration));
-        let g = self
-            .grips
-            .at(&self.setpoint.state, &torque, self.carrying, handover);
+        let g = self.grips.at(
+            &self.setpoint.state,
+            &torque,
+            self.carrying.set(),
+            self.carrying.blend(),
+        );
         let r = &mut self.report;
         r.grip = g.normal;
         r.grip_capped = g.capped;
