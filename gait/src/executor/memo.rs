@@ -2,7 +2,7 @@
 //!
 //! At rest (holding, planning, safe hold) the commanded hand state is the
 //! same every tick, and so are its invariant report and grip forces (SPEC
-//! §6.1 step 3); recomputing them was half of a resting tick's compute.
+//! §6.1 step 3): a resting tick reuses them instead of recomputing.
 //! The key is compared with `==`. At rest the state is an exact copy of the
 //! last one, so a hit means identical bits; the only equal-but-different
 //! keys are states differing in the sign of a zero, for which a reused
