@@ -2,7 +2,7 @@
 //! daemon (pure: bytes in, a verdict out).
 //!
 //! In order: the key names a known identity that is an operator and a known
-//! command; the encoding is `application/octet-stream;gaitd::Command.v4`
+//! command; the encoding is `application/octet-stream;gaitd::Command.v5`
 //! (the schema version); the payload is exactly 144 bytes; the command's
 //! kind is the one the key names; the bytes pass
 //! [`Command::validate`](shm_schema::Command::validate). The `client_id` is

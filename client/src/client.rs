@@ -207,6 +207,11 @@ impl Client {
         Ok(c)
     }
 
+    /// The iceoryx2 configuration the connection was opened with.
+    pub(crate) fn iceoryx2_config(&self) -> &Config {
+        &self.config
+    }
+
     /// Whether this client talks to gaitd through a bridge.
     pub fn is_remote(&self) -> bool {
         !matches!(self.conn, Transport::Local(_))

@@ -73,6 +73,7 @@ pub mod describe;
 mod error;
 mod goal;
 mod options;
+mod plan_paths;
 pub mod plant;
 pub mod remote;
 mod remote_options;
@@ -81,9 +82,10 @@ pub use client::{Client, GoalTicket, Outcome, monotonic_ns};
 pub use error::{Error, Result};
 pub use goal::{GoalSpec, quat_from_axis_angle};
 pub use options::ConnectOptions;
+pub use plan_paths::PlanPaths;
 pub use remote::{RemoteError, RemoteOptions, TlsFiles};
 pub use shm_schema::{
     self, Answer, Command, DEFAULT_PREFIX, DaemonState, Event, EventKind, FaultCode, FingerPhase,
-    GoalFrame, GoalState, GraspState, LimitKind, LimitOrder, Phase, ReasonCode, SCHEMA_VERSION,
-    ServiceNames, Status, Verdict,
+    GoalFrame, GoalState, GraspState, LimitKind, LimitOrder, PathPoint, Phase, PlanPath,
+    ReasonCode, SCHEMA_VERSION, ServiceNames, Status, Verdict,
 };

@@ -10,9 +10,10 @@
 #[path = "support/ipc_rig.rs"]
 mod ipc_rig;
 
-use gait::executor::{Mode, PlanRequest};
+use gait::executor::Mode;
 use gait::planner::{Plan, PlanError};
 use gaitd::control::gait_controller::GaitPlanner;
+use gaitd::control::gait_controller::GoalPlanRequest;
 use gaitd::control::plan_thread::{BackgroundPlanner, Wanted};
 use ipc_rig::Namespace;
 use shm_schema::{Command, GoalFrame};
@@ -28,10 +29,10 @@ struct Gated {
 }
 
 impl BackgroundPlanner for Gated {
-    type Request = PlanRequest;
+    type Request = GoalPlanRequest;
     type Plan = Plan;
     type Error = PlanError;
-    fn plan(&mut self, r: &PlanRequest, wanted: &Wanted) -> Result<Plan, PlanError> {
+    fn plan(&mut self, r: &GoalPlanRequest, wanted: &Wanted) -> Result<Plan, PlanError> {
         self.entered.fetch_add(1, Ordering::AcqRel);
         while !self.open.load(Ordering::Acquire) {
             std::thread::sleep(Duration::from_millis(1));

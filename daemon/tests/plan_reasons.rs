@@ -8,8 +8,8 @@
 #[path = "support/ipc_rig.rs"]
 mod ipc_rig;
 
-use gait::executor::PlanRequest;
 use gait::planner::{Plan, PlanError};
+use gaitd::control::gait_controller::GoalPlanRequest;
 use gaitd::control::plan_thread::{BackgroundPlanner, Wanted};
 use ipc_rig::{Namespace, gait_loop_with};
 use shm_schema::{Command, EventKind, GoalFrame, GoalState, NO_FINGER, ReasonCode};
@@ -18,10 +18,10 @@ use shm_schema::{Command, EventKind, GoalFrame, GoalState, NO_FINGER, ReasonCode
 struct Failing(PlanError);
 
 impl BackgroundPlanner for Failing {
-    type Request = PlanRequest;
+    type Request = GoalPlanRequest;
     type Plan = Plan;
     type Error = PlanError;
-    fn plan(&mut self, _: &PlanRequest, _: &Wanted) -> Result<Plan, PlanError> {
+    fn plan(&mut self, _: &GoalPlanRequest, _: &Wanted) -> Result<Plan, PlanError> {
         Err(self.0)
     }
 }

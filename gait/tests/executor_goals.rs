@@ -166,3 +166,60 @@ fn step_trajectories_come_with_the_plan() {
     assert_eq!(adopted.len(), calculated.len());
     assert!(adopted == calculated, "the setpoints differ");
 }
+
+/// A plan's preview (`planner::preview`) is where the executor takes the
+/// hand: undisturbed, its setpoint k ticks after the plan arrives is the
+/// preview's point at k periods, every tick to the end.
+#[test]
+fn a_plans_preview_is_where_the_executor_takes_the_hand() {
+    use gait::executor::{Executor, Mode};
+    use gait::planner::preview;
+    use gait::sim::Measurement;
+    let cfg = HandConfig::default();
+    let dt = 1e-3;
+    let planner = gait::planner::Planner::new(&cfg).unwrap();
+    let start = HandState::paper_start(&cfg);
+    let mut exec = Executor::new(&cfg, dt, start).unwrap();
+    exec.command(ExecutorCommand::Goal {
+        id: 1,
+        target: GoalTarget::Rotation {
+            axis: Vector3::new(1.0, -1.0, 2.0),
+            angle: 2.0,
+        },
+        limits: None,
+    });
+    let mut at = start;
+    let mut plan = None;
+    let (mut k, mut compared, mut worst) = (0u32, 0, 0.0f64);
+    for _ in 0..200_000 {
+        let r = *exec.tick(Some(&Measurement::of(&at)));
+        at = r.setpoint.state;
+        if let Some(p) = &plan {
+            k += 1;
+            let ahead = preview::point_at(p, dt, f64::from(k) * dt);
+            let mut err = ahead.object.angle_to(&at.object);
+            for (f, tip) in at.fingers.iter().zip(ahead.tips) {
+                err = err.max((f.center - tip).norm());
+            }
+            worst = worst.max(err);
+            compared += 1;
+            if r.phase == Mode::Holding {
+                let end = preview::duration(p, dt);
+                assert!(
+                    (f64::from(k) * dt - end).abs() < 0.5 * dt,
+                    "the goal ended at tick {k}, the preview at {end} s"
+                );
+                break;
+            }
+        }
+        if let Some(req) = exec.take_plan_request() {
+            let p = req.plan(&planner).expect("planned");
+            plan = Some(p.clone());
+            drop(exec.deliver_plan(req.goal, Ok(Box::new(p))));
+        }
+    }
+    let steps = plan.as_ref().map_or(0, |p| p.steps.len());
+    assert!(steps >= 5, "a plan with gaits: {steps} steps");
+    assert!(compared > 1000, "{compared} ticks compared");
+    assert!(worst < 1e-9, "the preview is {worst} off the setpoints");
+}

@@ -9,8 +9,8 @@
 //!   [`Command::validate`] into a [`ValidCommand`] or a [`ReasonCode`];
 //! - daemon → client: [`Answer`] (`answers`, one per command, matched by
 //!   `client_id` and `request_id`), [`Status`] (every tick, latest value),
-//!   [`Event`] (with history), and wake-up notifications on the `notify`
-//!   event service.
+//!   [`Event`] (with history), [`PlanPath`] (`plan`, each plan's path, for
+//!   views), and wake-up notifications on the `notify` event service.
 //!
 //! Commands and answers use publish-subscribe, not iceoryx2's
 //! request-response: in 0.10 `Server::receive` allocates per request, and
@@ -18,7 +18,7 @@
 //!
 //! Every payload is `#[repr(C)]`, `Copy`, `ZeroCopySend`, fixed size with
 //! explicit padding and a versioned iceoryx2 type name
-//! (`gaitd::Status.v4`): iceoryx2 compares name, size and alignment when a
+//! (`gaitd::Status.v5`): iceoryx2 compares name, size and alignment when a
 //! service opens, so a client of another schema version cannot open the
 //! services instead of misreading memory. Enums travel as `u32` codes
 //! decoded with `TryFrom<u32>` ([`codes`]). The byte layout of every field is
@@ -33,6 +33,7 @@ pub mod command;
 pub mod event;
 pub mod ipc;
 pub mod layout;
+pub mod plan_path;
 pub mod plant;
 pub mod status;
 
@@ -47,6 +48,7 @@ pub use command::{
     check_unit_quaternion, limit_bit,
 };
 pub use event::Event;
+pub use plan_path::{PATH_POINTS, PathError, PathPoint, PlanPath};
 pub use plant::{
     PlantCommand, PlantFingerCommand, PlantFingerMeasurement, PlantMeasurement, command_flags,
     measurement_valid, plant_state,
@@ -59,11 +61,16 @@ pub use iceoryx2;
 
 /// Version of the payload layout. It is part of every payload's type name, so
 /// a client built against another version fails to open the services.
-pub const SCHEMA_VERSION: u32 = 4;
+pub const SCHEMA_VERSION: u32 = 5;
 
 /// What each schema version changed, newest first (rendered into
 /// `LAYOUT.md`; a test checks the newest entry is [`SCHEMA_VERSION`]).
 pub const SCHEMA_CHANGES: &[(u32, &str)] = &[
+    (
+        5,
+        "the `plan` service: `PlanPath` (with `PathPoint`), where each plan the \
+         daemon makes takes the hand, published when it is made.",
+    ),
     (
         4,
         "`ReasonCode` `PlanTimeout` (35), `NoFreshMeasurement` (36), `NotAtRest` (37); \
@@ -137,6 +144,9 @@ pub struct ServiceNames {
     pub events: String,
     /// daemon → clients wake-ups (event service).
     pub notify: String,
+    /// daemon → clients each plan's [`PlanPath`], latest value
+    /// (publish-subscribe).
+    pub plan: String,
     /// daemon → plant [`PlantCommand`]s (publish-subscribe).
     pub plant_command: String,
     /// plant → daemon [`PlantMeasurement`]s (publish-subscribe).
@@ -159,6 +169,7 @@ impl ServiceNames {
             status: format!("{prefix}/status"),
             events: format!("{prefix}/events"),
             notify: format!("{prefix}/notify"),
+            plan: format!("{prefix}/plan"),
             plant_command: format!("{prefix}/plant/command"),
             plant_measurement: format!("{prefix}/plant/measurement"),
             plant_commanded: format!("{prefix}/plant/commanded"),
@@ -180,6 +191,7 @@ mod tests {
         assert_eq!(n.status, "test-1/status");
         assert_eq!(n.events, "test-1/events");
         assert_eq!(n.notify, "test-1/notify");
+        assert_eq!(n.plan, "test-1/plan");
         assert_eq!(n.version, "test-1/version");
     }
 

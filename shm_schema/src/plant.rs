@@ -81,10 +81,10 @@ pub mod plant_state {
 
 /// One fingertip's setpoint.
 ///
-/// Type name `gaitd::PlantFingerCommand.v4`, 152 bytes, alignment 8.
+/// Type name `gaitd::PlantFingerCommand.v5`, 152 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantFingerCommand.v4")]
+#[type_name("gaitd::PlantFingerCommand.v5")]
 pub struct PlantFingerCommand {
     /// [`PlantFingerMode`] code.
     pub mode: u32,
@@ -108,10 +108,10 @@ pub struct PlantFingerCommand {
 
 /// The daemon's setpoint for the plant, one per tick.
 ///
-/// Type name `gaitd::PlantCommand.v4`, 560 bytes, alignment 8.
+/// Type name `gaitd::PlantCommand.v5`, 560 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantCommand.v4")]
+#[type_name("gaitd::PlantCommand.v5")]
 pub struct PlantCommand {
     /// The daemon's session id (random per daemon start).
     pub session: u64,
@@ -138,10 +138,10 @@ pub struct PlantCommand {
 
 /// One fingertip as measured.
 ///
-/// Type name `gaitd::PlantFingerMeasurement.v4`, 128 bytes, alignment 8.
+/// Type name `gaitd::PlantFingerMeasurement.v5`, 128 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantFingerMeasurement.v4")]
+#[type_name("gaitd::PlantFingerMeasurement.v5")]
 pub struct PlantFingerMeasurement {
     /// 1: the fingertip touches the object; 0: it does not.
     pub contact: u32,
@@ -163,10 +163,10 @@ pub struct PlantFingerMeasurement {
 
 /// What the plant measured, one per plant step (lockstep) or sample.
 ///
-/// Type name `gaitd::PlantMeasurement.v4`, 512 bytes, alignment 8.
+/// Type name `gaitd::PlantMeasurement.v5`, 512 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantMeasurement.v4")]
+#[type_name("gaitd::PlantMeasurement.v5")]
 pub struct PlantMeasurement {
     /// Session id of the last command applied (0 before the first one).
     pub session: u64,

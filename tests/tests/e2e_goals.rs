@@ -164,3 +164,60 @@ fn a_goal_over_the_planning_budget_ends_in_plan_timeout() {
         );
     }
 }
+
+/// Each plan's path is published before it runs, and the hand goes where
+/// it says: graded on the measured object, tick by tick as the statuses
+/// come, and at the end.
+#[test]
+fn the_plans_path_is_where_the_measured_hand_goes() {
+    use gaitd_client::PlanPath;
+    // The default configuration: 1 kHz, object turns at most 1 rad/s.
+    const DT: f64 = 1e-3;
+    const MAX_RATE: f64 = 1.0;
+    let d = TestDaemon::start("path");
+    let mut c = d.client();
+    let mut paths = c.plan_paths().expect("the plan service");
+    let t = c
+        .reorient(&GoalSpec::turn([1.0, -1.0, 2.0], 2.0).unwrap(), T)
+        .unwrap();
+    assert_eq!(t.verdict, Verdict::Accepted);
+    let mut path: Option<PlanPath> = None;
+    let (mut compared, mut worst) = (0, 0.0f64);
+    let last = loop {
+        let s = c.wait_status(T).unwrap();
+        if path.is_none()
+            && let Some(p) = paths.latest().unwrap()
+            && p.goal_id == t.goal_id
+        {
+            path = Some(*p);
+        }
+        let executing = s.goal.state == GoalState::Executing.code();
+        if let (Some(p), true) = (&path, executing) {
+            // The point the hand is at, if one is within half a tick.
+            let now = p.duration - s.goal.eta;
+            let points = &p.points[..p.count as usize];
+            if let Some(q) = points.iter().find(|q| (q.t - now).abs() < 0.5 * DT) {
+                // The measurement answers the tick before: the hand is at
+                // most a tick and a half of turning away.
+                worst = worst.max(angle(s.measured_object_q, q.object_q));
+                compared += 1;
+            }
+        }
+        if GoalState::try_from(s.goal.state).is_ok_and(|g| g.is_terminal()) {
+            break s;
+        }
+    };
+    let p = path.expect("a path for the goal");
+    assert_eq!((p.client_id, p.instance), (c.client_id(), last.instance));
+    assert!(p.count as usize == gaitd_client::shm_schema::PATH_POINTS);
+    eprintln!("{compared} statuses on the path's points, worst {worst:.2e} rad");
+    assert!(compared >= 20, "{compared} statuses on the path's points");
+    assert!(worst <= 1.5 * DT * MAX_RATE, "{worst} rad off the path");
+    let end = c.wait_status(T).unwrap();
+    let final_point = p.points[p.count as usize - 1];
+    assert!(
+        angle(end.measured_object_q, final_point.object_q) < 1e-6,
+        "the path ends where the hand does"
+    );
+    assert_eq!(paths.refused(), 0);
+}

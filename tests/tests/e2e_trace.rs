@@ -300,3 +300,42 @@ fn a_recorded_goal_opens_in_rerun() {
     // A trace has no measurements: nothing measured is drawn.
     assert!(!rec.entities.contains("world/tips/measured"));
 }
+
+/// The live view draws the path ahead of a running plan, from the
+/// daemon's plan paths: recorded with `gaitd-view --save` while a turn
+/// runs, read back with Rerun's decoder.
+#[test]
+fn the_live_view_draws_the_path_ahead_of_a_running_plan() {
+    let d = gaitd_tests::TestDaemon::start("view-ahead");
+    let mut c = d.client();
+    let t = c
+        .reorient(
+            &gaitd_client::GoalSpec::turn([0.0, 0.0, 1.0], 6.2).unwrap(),
+            std::time::Duration::from_secs(5),
+        )
+        .unwrap();
+    assert_eq!(t.verdict, gaitd_client::Verdict::Accepted);
+    let rrd = d.dir.join("live.rrd");
+    let out = std::process::Command::new(gaitd_tests::workspace_bin("gaitd-view"))
+        .args(["--prefix", &d.prefix, "--ipc-root"])
+        .arg(format!("{}/", d.root.display()))
+        .args(["--ipc-file-prefix", &d.file_prefix, "--timeout", "10"])
+        .args(["--rate", "10", "--report-every", "0", "--frames", "40"])
+        .arg("--save")
+        .arg(&rrd)
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{said}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rec = rerun_support::read(&rrd);
+    let ahead = rec.rows.get("world/ahead/tips").copied().unwrap_or(0);
+    println!("{said}live view: 40 frames, {ahead} with the path ahead");
+    // 4 s of a turn of about 8 s: most frames are while it executes (the
+    // first come while it is planned).
+    assert!(ahead >= 20, "{ahead} frames drew the path ahead");
+    assert!(rec.entities.contains("world/ahead/axes"));
+}

@@ -1,10 +1,12 @@
 //! The view of a running daemon: its status sampled at the view's rate,
-//! every event, until `--frames` or the end of the process.
+//! every event, and the path ahead from the daemon's plan paths
+//! ([`crate::plan_ahead`]), until `--frames` or the end of the process.
 
 use crate::Args;
 use crate::frame::Frame;
-use crate::scene::Scene;
-use gaitd_client::Client;
+use crate::plan_ahead;
+use crate::scene::{Scene, log_ahead};
+use gaitd_client::{Client, PlanPaths};
 use rerun::RecordingStream;
 use std::time::{Duration, Instant};
 
@@ -15,9 +17,20 @@ pub fn connect(a: &Args) -> Result<Client, String> {
         .map_err(|e| format!("no gaitd to view: {e}"))
 }
 
+/// The daemon's plan paths, if it publishes them (a remote daemon's do
+/// not come through its bridge: said once, and the view goes on without).
+fn plan_paths(client: &Client) -> Option<PlanPaths> {
+    client
+        .plan_paths()
+        .map_err(|e| println!("gaitd-view: no path ahead: {e}"))
+        .ok()
+}
+
 /// Frames from `client` into `rec`.
 pub fn run(rec: &RecordingStream, mut client: Client, a: &Args) -> Result<(), String> {
     let mut scene = Scene::new(a.friction_deg.to_radians());
+    let mut paths = plan_paths(&client);
+    let (mut reconnects, mut drawn) = (client.reconnects(), false);
     let period = Duration::from_secs_f64(1.0 / a.rate);
     let (mut frames, mut last_tick) = (0u64, None);
     let mut next = Instant::now();
@@ -33,7 +46,27 @@ pub fn run(rec: &RecordingStream, mut client: Client, a: &Args) -> Result<(), St
         match client.latest_status().unwrap_or(None) {
             Some(s) if Some(s.tick) != last_tick => {
                 last_tick = Some(s.tick);
-                scene.frame(rec, &Frame::from_status(&s));
+                let frame = Frame::from_status(&s);
+                scene.frame(rec, &frame);
+                if client.reconnects() != reconnects {
+                    // A restarted daemon: its plan service is a new one.
+                    reconnects = client.reconnects();
+                    paths = plan_paths(&client);
+                }
+                // (The object's radius, where a fingertip touches it.)
+                let big_r = frame.radii().map_or(0.0, |(big_r, _)| big_r);
+                let path = paths.as_mut().and_then(|p| p.latest().ok().flatten());
+                match path.and_then(|p| plan_ahead::ahead(p, &s, 1.4 * big_r)) {
+                    Some((tips, axes)) => {
+                        log_ahead(rec, &tips, &axes, big_r);
+                        drawn = true;
+                    }
+                    None if drawn => {
+                        log_ahead(rec, &Default::default(), &Default::default(), big_r);
+                        drawn = false;
+                    }
+                    None => {}
+                }
                 frames += 1;
                 quiet_since = Instant::now();
             }

@@ -14,6 +14,7 @@
 
 mod frame;
 mod live;
+mod plan_ahead;
 mod replay;
 mod scene;
 mod series;

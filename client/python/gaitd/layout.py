@@ -1,4 +1,4 @@
-"""The payloads, codes and constants of the gaitd shared-memory schema v4, for ctypes.
+"""The payloads, codes and constants of the gaitd shared-memory schema v5, for ctypes.
 
 Generated from the ``shm_schema`` crate (``shm_schema/src/layout/python.rs``) by
 ``cargo test -p shm_schema`` (set ``GAITD_BLESS=1`` to rewrite it); a test fails when this
@@ -14,7 +14,7 @@ import enum
 from typing import ClassVar
 
 #: Version of the payload layout (part of every type name).
-SCHEMA_VERSION = 4
+SCHEMA_VERSION = 5
 #: The iceoryx2 release the daemon is built with; resource names are
 #: version-tagged, so the Python bindings must be exactly this version.
 ICEORYX2_VERSION = "0.10.0"
@@ -51,7 +51,7 @@ class Payload(ctypes.Structure):
 class MotionLimits(Payload):
     """Velocity, acceleration and jerk limit overrides of one motion kind."""
 
-    _type_name = "gaitd::MotionLimits.v4"
+    _type_name = "gaitd::MotionLimits.v5"
     _fields_ = [
         # unit/s: velocity limit, > 0 when set
         ("velocity", f64),
@@ -65,7 +65,7 @@ class MotionLimits(Payload):
 class Command(Payload):
     """client → daemon: a goal, cancel, hold or reset."""
 
-    _type_name = "gaitd::Command.v4"
+    _type_name = "gaitd::Command.v5"
     _fields_ = [
         # CommandKind: what is asked
         ("kind", u32),
@@ -95,7 +95,7 @@ class Command(Payload):
 class Answer(Payload):
     """daemon → client: one per command, matched by client_id + request_id."""
 
-    _type_name = "gaitd::Answer.v4"
+    _type_name = "gaitd::Answer.v5"
     _fields_ = [
         # echo of the command's client_id
         ("client_id", u64),
@@ -121,7 +121,7 @@ class Answer(Payload):
 class GoalStatus(Payload):
     """The current goal and its progress (part of :class:`Status`)."""
 
-    _type_name = "gaitd::GoalStatus.v4"
+    _type_name = "gaitd::GoalStatus.v5"
     _fields_ = [
         # current or last goal, 0 = none
         ("goal_id", u64),
@@ -152,7 +152,7 @@ class GoalStatus(Payload):
 class FingerStatus(Payload):
     """One finger in the status: commanded and measured."""
 
-    _type_name = "gaitd::FingerStatus.v4"
+    _type_name = "gaitd::FingerStatus.v5"
     _fields_ = [
         # FingerPhase: finger state
         ("state", u32),
@@ -190,7 +190,7 @@ class FingerStatus(Payload):
 class Timing(Payload):
     """Loop timing statistics (part of :class:`Status`)."""
 
-    _type_name = "gaitd::Timing.v4"
+    _type_name = "gaitd::Timing.v5"
     _fields_ = [
         # ns: loop period
         ("period_ns", u64),
@@ -231,7 +231,7 @@ class Timing(Payload):
 class Status(Payload):
     """daemon → clients, every tick (latest value)."""
 
-    _type_name = "gaitd::Status.v4"
+    _type_name = "gaitd::Status.v5"
     _fields_ = [
         # tick: tick counter since start
         ("tick", u64),
@@ -295,7 +295,7 @@ class Status(Payload):
 class Event(Payload):
     """daemon → clients, with history: goal transitions, gaits, faults."""
 
-    _type_name = "gaitd::Event.v4"
+    _type_name = "gaitd::Event.v5"
     _fields_ = [
         # sequence number, from 1, no gaps
         ("seq", u64),
@@ -329,10 +329,52 @@ class Event(Payload):
     ]
 
 
+class PathPoint(Payload):
+    """The hand at one instant of a plan (part of :class:`PlanPath`)."""
+
+    _type_name = "gaitd::PathPoint.v5"
+    _fields_ = [
+        # s: time since the plan's first tick
+        ("t", f64),
+        # [w,x,y,z]: object orientation (object → hand frame)
+        ("object_q", f64 * 4),
+        # m: fingertip sphere centres, hand frame, per finger
+        ("tip_position", f64 * 3 * 3),
+        # bits: bit k: finger k grasps
+        ("touching", u32),
+        # padding, 0
+        ("reserved", u32),
+    ]
+
+
+class PlanPath(Payload):
+    """daemon → clients: where each plan takes the hand (latest value)."""
+
+    _type_name = "gaitd::PlanPath.v5"
+    _fields_ = [
+        # daemon instance id
+        ("instance", u64),
+        # the goal it was planned for
+        ("goal_id", u64),
+        # that goal's client
+        ("client_id", u64),
+        # plans of this instance, from 1 (a goal planned again gets a larger one)
+        ("sequence", u64),
+        # s: how long the plan runs (the last point's time)
+        ("duration", f64),
+        # points used, 1-256
+        ("count", u32),
+        # padding, 0
+        ("reserved", u32),
+        # PathPoint[256]: equal intervals from the plan's first tick to its end; past `count`: 0
+        ("points", PathPoint * 256),
+    ]
+
+
 class PlantFingerCommand(Payload):
     """One fingertip's setpoint (part of :class:`PlantCommand`)."""
 
-    _type_name = "gaitd::PlantFingerCommand.v4"
+    _type_name = "gaitd::PlantFingerCommand.v5"
     _fields_ = [
         # PlantFingerMode: what the fingertip does
         ("mode", u32),
@@ -358,7 +400,7 @@ class PlantFingerCommand(Payload):
 class PlantCommand(Payload):
     """daemon → plant, every tick."""
 
-    _type_name = "gaitd::PlantCommand.v4"
+    _type_name = "gaitd::PlantCommand.v5"
     _fields_ = [
         # daemon session id, random per start
         ("session", u64),
@@ -388,7 +430,7 @@ class PlantCommand(Payload):
 class PlantFingerMeasurement(Payload):
     """One fingertip as measured (part of :class:`PlantMeasurement`)."""
 
-    _type_name = "gaitd::PlantFingerMeasurement.v4"
+    _type_name = "gaitd::PlantFingerMeasurement.v5"
     _fields_ = [
         # 0/1: 1 = touching the object
         ("contact", u32),
@@ -412,7 +454,7 @@ class PlantFingerMeasurement(Payload):
 class PlantMeasurement(Payload):
     """plant → daemon, one per plant step."""
 
-    _type_name = "gaitd::PlantMeasurement.v4"
+    _type_name = "gaitd::PlantMeasurement.v5"
     _fields_ = [
         # session of the last command applied, 0 = none yet
         ("session", u64),
@@ -452,6 +494,8 @@ PAYLOADS: tuple[type[Payload], ...] = (
     FingerStatus,
     Timing,
     Event,
+    PlanPath,
+    PathPoint,
     PlantCommand,
     PlantFingerCommand,
     PlantMeasurement,

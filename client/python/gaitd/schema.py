@@ -64,8 +64,10 @@ from .layout import (
     MeasuredMask,
     MotionLimits,
     Notify,
+    PathPoint,
     Payload,
     Phase,
+    PlanPath,
     PlantCommand,
     PlantFault,
     PlantFingerCommand,
@@ -118,8 +120,10 @@ __all__ = [
     "MeasuredMask",
     "MotionLimits",
     "Notify",
+    "PathPoint",
     "Payload",
     "Phase",
+    "PlanPath",
     "PlantCommand",
     "PlantFault",
     "PlantFingerCommand",
@@ -225,6 +229,11 @@ class ServiceNames:
         return f"{self.prefix}/notify"
 
     @property
+    def plan(self) -> str:
+        """daemon → clients each plan's path (latest value)."""
+        return f"{self.prefix}/plan"
+
+    @property
     def plant_command(self) -> str:
         """daemon → plant commands."""
         return f"{self.prefix}/plant/command"
@@ -257,6 +266,7 @@ _SERVICES: tuple[tuple[str, str, str | None], ...] = (
     ("status", "publish-subscribe", "Status"),
     ("events", "publish-subscribe", "Event"),
     ("notify", "event", None),
+    ("plan", "publish-subscribe", "PlanPath"),
     ("plant/command", "publish-subscribe", "PlantCommand"),
     ("plant/measurement", "publish-subscribe", "PlantMeasurement"),
     ("plant/commanded", "event", None),

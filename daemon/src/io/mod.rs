@@ -4,8 +4,10 @@
 //!
 //! - [`ipc`]: iceoryx2 services and ports.
 //! - [`outbox`]: the writer thread: publishes status, answers and events.
+//! - [`plan_paths`]: each plan's path, published by the planner thread.
 //! - [`tracer`]: goal traces (`gait-trajectory/1`) written off the loop.
 
 pub mod ipc;
 pub mod outbox;
+pub mod plan_paths;
 pub mod tracer;

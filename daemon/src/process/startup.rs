@@ -26,6 +26,7 @@ use crate::control::gait_controller::{GaitController, GaitPlanner};
 use crate::control::plan_thread::{self, PlannerThread};
 use crate::io::ipc::{self, IpcError};
 use crate::io::outbox::{self, Outbox, Writer, WriterSettings};
+use crate::io::plan_paths::PathPublisher;
 use crate::io::tracer::{self, TraceError, TraceSettings, TraceWriter};
 use crate::plant::external::ExternalPlant;
 use crate::plant::ports::PlantInput;
@@ -114,6 +115,8 @@ pub struct IpcUp {
     pub planner_bell: Arc<Doorbell>,
     /// An external plant's ports for the loop thread (`[plant] kind = "shm"`).
     pub plant: Option<ipc::PlantInPorts>,
+    /// The `plan` service, until the planner thread takes it.
+    pub plan_service: Option<ipc::PlanPathService>,
 }
 
 /// Step 1: the node, every service, the loop's command subscriber and the
@@ -172,6 +175,7 @@ pub fn open_ipc(cfg: &DaemonConfig) -> Result<IpcUp, StartupError> {
         shared,
         planner_bell,
         plant,
+        plan_service: Some(services.plan),
     })
 }
 
@@ -203,7 +207,7 @@ pub struct Background {
 /// §7.2), the trace thread.
 pub fn start_background(
     cfg: &DaemonConfig,
-    ipc: &IpcUp,
+    ipc: &mut IpcUp,
     instance: u64,
 ) -> Result<Background, StartupError> {
     let housekeeping = housekeeping::spawn(HousekeepingSetup {
@@ -237,6 +241,9 @@ pub fn start_background(
     planning.prepare_from(gait::HandState::paper_start(&cfg.hand()));
     if let Some(n) = &notes {
         planning.keep_notes(n.clone());
+    }
+    if let Some(service) = ipc.plan_service.take() {
+        planning.publish_paths(PathPublisher::new(service, instance));
     }
     let (mut link, planner) = plan_thread::spawn(planning, PLANNER_QUEUE, move || {
         let _ = rt::pin_current_thread(&cpus);
@@ -417,11 +424,11 @@ impl std::fmt::Debug for Daemon {
 impl Daemon {
     /// Steps 1–5 (module docs); the calling thread becomes the loop thread.
     pub fn start(cfg: &DaemonConfig) -> Result<Self, StartupError> {
-        let ipc = open_ipc(cfg)?;
+        let mut ipc = open_ipc(cfg)?;
         lock_memory(cfg);
         let sd = sd_notify::Notifier::from_env().map_err(StartupError::NotifySocket)?;
         let instance = crate::new_instance_id();
-        let bg = start_background(cfg, &ipc, instance)?;
+        let bg = start_background(cfg, &mut ipc, instance)?;
         let ports = (ipc.commands, ipc.outbox, ipc.shared, ipc.plant);
         let runtime = build_loop(cfg, ports, bg.controller, instance, sd.is_some())?;
         become_loop_thread(cfg, &ipc.writer);

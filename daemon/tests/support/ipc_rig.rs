@@ -288,7 +288,7 @@ pub fn gait_loop_with<P>(
 ) -> GaitLoop
 where
     P: gaitd::control::plan_thread::BackgroundPlanner<
-            Request = gait::executor::PlanRequest,
+            Request = gaitd::control::gait_controller::GoalPlanRequest,
             Plan = gait::planner::Plan,
             Error = gait::planner::PlanError,
         >,

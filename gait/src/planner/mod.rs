@@ -38,6 +38,7 @@ pub mod goal;
 pub mod hand_model;
 pub mod load;
 pub mod plan;
+pub mod preview;
 pub mod route;
 pub mod search;
 pub mod timing;

@@ -437,5 +437,53 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                 ),
             ],
         ),
+        layout::<PlanPath>(
+            "PlanPath",
+            vec![
+                f!(PlanPath, instance, "", "daemon instance id"),
+                f!(PlanPath, goal_id, "", "the goal it was planned for"),
+                f!(PlanPath, client_id, "", "that goal's client"),
+                f!(
+                    PlanPath,
+                    sequence,
+                    "",
+                    "plans of this instance, from 1 (a goal planned again gets a larger one)"
+                ),
+                f!(
+                    PlanPath,
+                    duration,
+                    "s",
+                    "how long the plan runs (the last point's time)"
+                ),
+                f!(PlanPath, count, "", "points used, 1-256"),
+                f!(PlanPath, reserved, "", "padding, 0"),
+                f!(
+                    PlanPath,
+                    points,
+                    "PathPoint[256]",
+                    "equal intervals from the plan's first tick to its end; past `count`: 0"
+                ),
+            ],
+        ),
+        layout::<PathPoint>(
+            "PathPoint",
+            vec![
+                f!(PathPoint, t, "s", "time since the plan's first tick"),
+                f!(
+                    PathPoint,
+                    object_q,
+                    "[w,x,y,z]",
+                    "object orientation (object → hand frame)"
+                ),
+                f!(
+                    PathPoint,
+                    tip_position,
+                    "m",
+                    "fingertip sphere centres, hand frame, per finger"
+                ),
+                f!(PathPoint, touching, "bits", "bit k: finger k grasps"),
+                f!(PathPoint, reserved, "", "padding, 0"),
+            ],
+        ),
     ]
 }

@@ -37,6 +37,7 @@ pub fn layout_markdown() -> String {
          | `{}` | publish-subscribe | `Status` | every tick, history 1, latest value |\n\
          | `{}` | publish-subscribe | `Event` | with history |\n\
          | `{}` | event | — | wake-ups, ids below |\n\
+         | `{}` | publish-subscribe | `PlanPath` | each plan's path, when it is made; history 1, latest value |\n\
          | `{}` | publish-subscribe | `PlantCommand` | daemon → plant, every tick |\n\
          | `{}` | publish-subscribe | `PlantMeasurement` | plant → daemon |\n\
          | `{}` | event | — | daemon → plant: a command was published (id 1) |\n\
@@ -47,6 +48,7 @@ pub fn layout_markdown() -> String {
         names.status,
         names.events,
         names.notify,
+        names.plan,
         names.plant_command,
         names.plant_measurement,
         names.plant_commanded,
@@ -69,7 +71,7 @@ pub fn layout_markdown() -> String {
     );
     s.push_str(
         "## Schema versions\n\n\
-         Every payload's type name carries the version (`gaitd::Status.v4`): a client of\n\
+         Every payload's type name carries the version (`gaitd::Status.v5`): a client of\n\
          another version cannot open the services (iceoryx2 answers `IncompatibleTypes`).\n\
          So a client first opens the event service `version` (no payload type: any\n\
          version opens it) and reads its attributes: `gaitd.schema`, the daemon's\n\

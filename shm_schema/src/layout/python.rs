@@ -42,6 +42,14 @@ const SUMMARIES: &[(&str, &str)] = &[
         "Event",
         "daemon → clients, with history: goal transitions, gaits, faults.",
     ),
+    (
+        "PlanPath",
+        "daemon → clients: where each plan takes the hand (latest value).",
+    ),
+    (
+        "PathPoint",
+        "The hand at one instant of a plan (part of :class:`PlanPath`).",
+    ),
     ("PlantCommand", "daemon → plant, every tick."),
     (
         "PlantFingerCommand",
@@ -101,12 +109,14 @@ fn comment(s: &mut String, indent: &str, prefix: &str, text: &str) {
 }
 
 /// The ctypes type of a Rust field type: `u32`, `[f64; 4]` → `f64 * 4`,
-/// `[FingerStatus; 3]` → `FingerStatus * 3`, `MotionLimits`.
+/// `[FingerStatus; 3]` → `FingerStatus * 3`, `[[f64; 3]; 3]` →
+/// `f64 * 3 * 3` (ctypes reads it as `(f64 * 3) * 3`), `MotionLimits`.
 fn ctype(ty: &str) -> String {
     match ty.strip_prefix('[').and_then(|t| t.strip_suffix(']')) {
         Some(array) => {
+            // The outer length is after the last `; `.
             let (elem, n) = array
-                .split_once("; ")
+                .rsplit_once("; ")
                 .unwrap_or_else(|| panic!("array type {ty}"));
             format!("{} * {n}", ctype(elem))
         }
@@ -410,4 +420,18 @@ pub fn python_layout() -> String {
         plant_state::ALL
     );
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ctype;
+
+    #[test]
+    fn arrays_of_arrays_become_ctypes_arrays_of_arrays() {
+        assert_eq!(ctype("u32"), "u32");
+        assert_eq!(ctype("[f64; 4]"), "f64 * 4");
+        assert_eq!(ctype("[FingerStatus; 3]"), "FingerStatus * 3");
+        assert_eq!(ctype("[[f64; 3]; 3]"), "f64 * 3 * 3");
+        assert_eq!(ctype("[[f64; 3]; 256]"), "f64 * 3 * 256");
+    }
 }

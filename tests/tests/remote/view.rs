@@ -71,4 +71,7 @@ fn gaitd_view_records_a_remote_daemon_through_its_bridge() {
     ] {
         assert!(rec.entities.contains(e), "no {e} in {:?}", rec.entities);
     }
+    // Plan paths stay in shared memory: the view says so and goes on.
+    assert!(out.contains("no path ahead"), "{out}");
+    assert!(!rec.entities.contains("world/ahead/tips"));
 }

@@ -26,6 +26,7 @@ use crate::control::controller::{
     ClientTarget, ControlCommand, ControlOutput, Controller, MeasuredReport, TickContext,
 };
 use crate::control::plan_thread::{BackgroundPlanner, PlannerLink, Wanted};
+use crate::io::plan_paths::PathPublisher;
 use crate::io::tracer::{PlanNote, PlanNotes, TraceRecorder};
 use crate::plant::external::ExternalPlant;
 use crate::plant::{Hand, PlantSample};
@@ -58,6 +59,8 @@ pub struct GaitPlanner {
     planner: gait::planner::Planner,
     budget: Option<Duration>,
     notes: Option<Arc<PlanNotes>>,
+    /// Where each plan's path goes (the `plan` service), if anywhere.
+    paths: Option<PathPublisher>,
     /// The state to prepare planning from, before the first request.
     prepare_from: Option<HandState>,
 }
@@ -69,6 +72,7 @@ impl GaitPlanner {
             planner,
             budget,
             notes: None,
+            paths: None,
             prepare_from: None,
         }
     }
@@ -85,7 +89,26 @@ impl GaitPlanner {
     pub fn keep_notes(&mut self, notes: Arc<PlanNotes>) {
         self.notes = Some(notes);
     }
+
+    /// From now on each plan's path is published with `paths`, for views.
+    pub fn publish_paths(&mut self, paths: PathPublisher) {
+        self.paths = Some(paths);
+    }
 }
+
+/// A plan request as the planner thread gets it: the executor's, and the
+/// client's (client id, goal id) of its goal, which the plan's published
+/// path names.
+#[derive(Debug, Clone, Copy)]
+pub struct GoalPlanRequest {
+    /// The executor's request.
+    pub request: PlanRequest,
+    /// The goal's client and the client's goal id (`(0, 0)`: none known).
+    pub wire: (u64, u64),
+}
+
+/// The gait controller's link to its planner thread.
+pub type GaitPlannerLink = PlannerLink<GoalPlanRequest, Plan, PlanError>;
 
 /// The planner's stop: the request is no longer wanted, or its wall-clock
 /// budget is spent.
@@ -107,7 +130,7 @@ impl Stop for Deadline<'_> {
 }
 
 impl BackgroundPlanner for GaitPlanner {
-    type Request = PlanRequest;
+    type Request = GoalPlanRequest;
     type Plan = Plan;
     type Error = PlanError;
     fn prepare(&mut self) {
@@ -120,7 +143,8 @@ impl BackgroundPlanner for GaitPlanner {
             );
         }
     }
-    fn plan(&mut self, r: &PlanRequest, wanted: &Wanted) -> Result<Plan, PlanError> {
+    fn plan(&mut self, goal: &GoalPlanRequest, wanted: &Wanted) -> Result<Plan, PlanError> {
+        let r = &goal.request;
         let mut stop = Deadline {
             until: self.budget.map(|b| Instant::now() + b),
             wanted,
@@ -135,6 +159,9 @@ impl BackgroundPlanner for GaitPlanner {
                 effort: p.summary.effort,
                 planning_ms: started.elapsed().as_secs_f64() * 1e3,
             });
+        }
+        if let (Some(paths), Ok(p)) = (&mut self.paths, &plan) {
+            paths.publish(p, r.dt, goal.wire);
         }
         plan
     }
@@ -192,7 +219,7 @@ impl GaitController {
     pub fn new(
         config: &HandConfig,
         dt: f64,
-        link: PlannerLink<PlanRequest, Plan, PlanError>,
+        link: GaitPlannerLink,
     ) -> Result<Self, gait::ConfigError> {
         let start = HandState::paper_start(config);
         Self::with_hand(
@@ -210,7 +237,7 @@ impl GaitController {
     pub fn new_external(
         config: &HandConfig,
         dt: f64,
-        link: PlannerLink<PlanRequest, Plan, PlanError>,
+        link: GaitPlannerLink,
         plant: ExternalPlant,
     ) -> Result<Self, gait::ConfigError> {
         let lockstep = plant.lockstep();
@@ -227,7 +254,7 @@ impl GaitController {
     fn with_hand(
         config: &HandConfig,
         dt: f64,
-        link: PlannerLink<PlanRequest, Plan, PlanError>,
+        link: GaitPlannerLink,
         hand: Hand,
     ) -> Result<Self, gait::ConfigError> {
         let start = HandState::paper_start(config);
@@ -431,7 +458,7 @@ impl Controller for GaitController {
     }
 
     fn tick(&mut self, ctx: &mut TickContext<'_>, out: &mut ControlOutput) {
-        self.planning.pump(&mut self.exec, true);
+        self.planning.pump(&mut self.exec, &self.ids, true);
         let (m, fresh) = match self.reading.take() {
             Some(r) => r,
             None => self.read_plant(&PlantSample::default(), ctx.now),
@@ -446,7 +473,7 @@ impl Controller for GaitController {
             });
         }
         let r = *self.exec.tick(m.as_ref());
-        self.planning.pump(&mut self.exec, false);
+        self.planning.pump(&mut self.exec, &self.ids, false);
         self.forward_events(ctx, r.remaining_angle);
         self.record_trace(&r);
         self.output(&r, out);

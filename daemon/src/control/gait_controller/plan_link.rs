@@ -4,9 +4,10 @@
 //! Nothing is allocated or freed here: plans only move. A plan the retire
 //! ring cannot take yet waits in a small fixed table for the next tick.
 
-use crate::control::plan_thread::PlannerLink;
-use gait::executor::{Executor, PlanRequest};
-use gait::planner::{Plan, PlanError};
+use super::goal_ids::GoalIds;
+use super::{GaitPlannerLink, GoalPlanRequest};
+use gait::executor::Executor;
+use gait::planner::Plan;
 
 /// Plan requests in flight (sequence number → executor goal).
 const REQUEST_SLOTS: usize = 8;
@@ -15,7 +16,7 @@ const RETIRE_SLOTS: usize = 4;
 
 /// The planner link of the gait controller (module docs).
 pub struct PlanShuttle {
-    link: PlannerLink<PlanRequest, Plan, PlanError>,
+    link: GaitPlannerLink,
     /// Sequence number and executor goal of each request in flight.
     requests: [(u64, u64); REQUEST_SLOTS],
     /// Plans waiting for room in the retire ring.
@@ -40,7 +41,7 @@ impl std::fmt::Debug for PlanShuttle {
 
 impl PlanShuttle {
     /// Over `link`.
-    pub fn new(link: PlannerLink<PlanRequest, Plan, PlanError>) -> Self {
+    pub fn new(link: GaitPlannerLink) -> Self {
         Self {
             link,
             requests: [(0, 0); REQUEST_SLOTS],
@@ -91,13 +92,14 @@ impl PlanShuttle {
     /// delivered by the first pump of a tick (`at_tick_start`), which the
     /// loop held until they were ready: a plan requested at tick N arrives
     /// at tick N + 1 however fast the planner is. Never waits.
-    pub fn pump(&mut self, exec: &mut Executor, at_tick_start: bool) {
+    pub fn pump(&mut self, exec: &mut Executor, ids: &GoalIds, at_tick_start: bool) {
         for k in 0..RETIRE_SLOTS {
             let p = self.retiring[k].take();
             self.retire(p);
         }
         if let Some(req) = exec.take_plan_request() {
-            match self.link.submit(req) {
+            let wire = ids.wire(req.goal);
+            match self.link.submit(GoalPlanRequest { request: req, wire }) {
                 Ok(seq) => {
                     self.requests[(seq as usize) % REQUEST_SLOTS] = (seq, req.goal);
                     self.in_flight += 1;

@@ -32,8 +32,8 @@ use iceoryx2::service::builder::event::EventCreateError;
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeCreateError;
 use shm_schema::ipc::IpcSettingsError;
 use shm_schema::{
-    Answer, Command, EVENT_ID_DAEMON_DEAD, EVENT_ID_MAX, Event, PlantCommand, PlantMeasurement,
-    ServiceNames, Status,
+    Answer, Command, EVENT_ID_DAEMON_DEAD, EVENT_ID_MAX, Event, PlanPath, PlantCommand,
+    PlantMeasurement, ServiceNames, Status,
 };
 use tracing::{info, warn};
 
@@ -183,6 +183,9 @@ type EventSvc = iceoryx2::service::port_factory::event::PortFactory<Ipc>;
 /// An event service of the daemon's.
 pub type EventService = EventSvc;
 
+/// The `plan` service: each plan's path (the planner thread publishes).
+pub type PlanPathService = PubSub<PlanPath>;
+
 /// The daemon's services. iceoryx2 ports cannot move between threads but
 /// services can: each thread builds its own ports from these.
 #[derive(Debug)]
@@ -194,6 +197,8 @@ pub struct DaemonServices {
     pub commands: PubSub<Command>,
     /// Services the writer thread publishes on.
     pub out: OutServices,
+    /// Plan paths (the planner thread publishes).
+    pub plan: PlanPathService,
     /// plant → daemon services (an external plant only).
     pub plant_in: Option<PlantInServices>,
     /// Service names.
@@ -415,6 +420,8 @@ pub fn create_services(
         ipc.event_history as usize,
         ipc.event_buffer as usize,
     )?;
+    // The latest plan's path; a view that opens later gets it at once.
+    let plan = out_service::<PlanPath>(node, &names.plan, clients, nodes, 1, 1)?;
 
     let n = &names.notify;
     let sn = service_name(n)?;
@@ -452,6 +459,7 @@ pub fn create_services(
             notify,
             plant,
         },
+        plan,
         plant_in,
         names,
     })
