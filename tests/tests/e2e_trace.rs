@@ -302,8 +302,9 @@ fn a_recorded_goal_opens_in_rerun() {
 }
 
 /// The live view draws the path ahead of a running plan, from the
-/// daemon's plan paths: recorded with `gaitd-view --save` while a turn
-/// runs, read back with Rerun's decoder.
+/// daemon's plan paths, also when it opens after the plan was made:
+/// recorded with `gaitd-view --save` while a turn runs, read back with
+/// Rerun's decoder.
 #[test]
 fn the_live_view_draws_the_path_ahead_of_a_running_plan() {
     let d = gaitd_tests::TestDaemon::start("view-ahead");
@@ -315,6 +316,17 @@ fn the_live_view_draws_the_path_ahead_of_a_running_plan() {
         )
         .unwrap();
     assert_eq!(t.verdict, gaitd_client::Verdict::Accepted);
+    // The view opens mid-plan: the daemon published the path before.
+    let t0 = std::time::Instant::now();
+    while c
+        .wait_status(std::time::Duration::from_secs(5))
+        .unwrap()
+        .goal
+        .remaining_angle
+        > 6.0
+    {
+        assert!(t0.elapsed().as_secs() < 30, "the goal does not move");
+    }
     let rrd = d.dir.join("live.rrd");
     let out = std::process::Command::new(gaitd_tests::workspace_bin("gaitd-view"))
         .args(["--prefix", &d.prefix, "--ipc-root"])
@@ -334,8 +346,7 @@ fn the_live_view_draws_the_path_ahead_of_a_running_plan() {
     let rec = rerun_support::read(&rrd);
     let ahead = rec.rows.get("world/ahead/tips").copied().unwrap_or(0);
     println!("{said}live view: 40 frames, {ahead} with the path ahead");
-    // 4 s of a turn of about 8 s: most frames are while it executes (the
-    // first come while it is planned).
+    // 4 s of a turn of about 8 s, all while it executes.
     assert!(ahead >= 20, "{ahead} frames drew the path ahead");
     assert!(rec.entities.contains("world/ahead/axes"));
 }

@@ -47,6 +47,9 @@ pub trait BackgroundPlanner: Send + 'static {
     /// every plan would begin with (default: none). A request that comes
     /// meanwhile waits for it.
     fn prepare(&mut self) {}
+    /// Runs on the planner thread whenever it has no request, at least
+    /// every 100 ms (default: nothing).
+    fn idle(&mut self) {}
 }
 
 /// No request is wanted (the loop waits for no plan).
@@ -212,6 +215,7 @@ pub fn spawn<Pl: BackgroundPlanner>(
                     }
                     continue;
                 }
+                planner.idle();
                 std::thread::park_timeout(Duration::from_millis(100));
             }
         })?;

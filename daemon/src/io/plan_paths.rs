@@ -7,6 +7,7 @@
 use crate::io::ipc::{Ipc, PlanPathService};
 use gait::planner::{Plan, preview};
 use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::update_connections::UpdateConnections;
 use shm_schema::{PATH_POINTS, PathPoint, PlanPath};
 use std::cell::RefCell;
 
@@ -64,6 +65,18 @@ impl PathPublisher {
             instance,
             sequence: 0,
         }
+    }
+
+    /// Hands the latest path to subscribers that came since it was
+    /// published (iceoryx2 delivers a service's history to new
+    /// subscribers only when the publisher sends or is told to): a view
+    /// that opens mid-plan gets it.
+    pub fn connect_late_joiners(&self) {
+        PORT.with(|port| {
+            if let Some(p) = port.borrow().as_ref() {
+                let _ = p.update_connections();
+            }
+        });
     }
 
     /// Publishes where `plan` takes the hand (see [`plan_path`]). False if

@@ -133,6 +133,12 @@ impl BackgroundPlanner for GaitPlanner {
     type Request = GoalPlanRequest;
     type Plan = Plan;
     type Error = PlanError;
+    fn idle(&mut self) {
+        if let Some(paths) = &self.paths {
+            paths.connect_late_joiners();
+        }
+    }
+
     fn prepare(&mut self) {
         if let Some(start) = self.prepare_from.take() {
             let t = Instant::now();
