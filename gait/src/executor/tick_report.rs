@@ -3,6 +3,7 @@
 //! load margin (SPEC §1.3 I1').
 
 use super::*;
+use crate::planner::timing::on_ticks;
 
 /// Everything a status message needs after a tick (SPEC §7.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -105,13 +106,6 @@ impl Executor {
         r.grip_peak = g.peak;
         r.load_margin = self.grips.max_grip() - g.peak;
     }
-}
-
-/// A time `t` as the control loop runs it: whole periods `dt`, the last
-/// one reached or passed (a motion ends on the first tick at or after its
-/// end; a handover likewise).
-pub(super) fn on_ticks(t: f64, dt: f64) -> f64 {
-    (t / dt - 1e-9).ceil().max(0.0) * dt
 }
 
 /// How long a step runs on ticks: its motion, then its handover, each to

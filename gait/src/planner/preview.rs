@@ -6,6 +6,7 @@
 
 use super::Plan;
 use super::plan::{MAX_DOFS, Step};
+use super::timing::on_ticks;
 use crate::hand_state::{FINGERS, FingerMode};
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -20,12 +21,6 @@ pub struct PathPoint {
     pub tips: [Vector3<f64>; FINGERS],
     /// Bit k set: finger k grasps.
     pub touching: u8,
-}
-
-/// A time as the control loop runs it: whole periods `dt`, the last one
-/// reached or passed.
-fn on_ticks(t: f64, dt: f64) -> f64 {
-    (t / dt - 1e-9).ceil().max(0.0) * dt
 }
 
 /// How long step `i` of `plan` moves and then holds for its handover

@@ -202,3 +202,10 @@ pub fn step_profiles(steps: &[Step], limits: &LimitsConfig, dt: f64) -> Vec<Opti
         })
         .collect()
 }
+
+/// A time `t` as the control loop runs it: whole periods `dt`, the last
+/// one reached or passed (a motion ends on the first tick at or after its
+/// end; a handover likewise).
+pub fn on_ticks(t: f64, dt: f64) -> f64 {
+    (t / dt - 1e-9).ceil().max(0.0) * dt
+}
