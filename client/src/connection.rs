@@ -144,7 +144,17 @@ impl Connection {
             .create::<Ipc>()
             .map_err(|e| ipc_err("node")(&e))?;
         loop {
-            match Self::try_open(&node, &names)? {
+            let attempt = match Self::try_open(&node, &names) {
+                // A daemon that is still creating its services (iceoryx2:
+                // HangsInCreation, IsMarkedForDestruction) opens on a
+                // later try; the last reason is the answer at the deadline.
+                Err(Error::Open { .. }) if Instant::now() < deadline => {
+                    std::thread::sleep(RETRY);
+                    continue;
+                }
+                other => other?,
+            };
+            match attempt {
                 Attempt::Done(ports) => {
                     let (commands, answers, status, events, listener) = ports;
                     return Ok(Self {

@@ -89,7 +89,8 @@ impl ConnectOptions {
         self
     }
 
-    /// Connect timeout.
+    /// Connect timeout: how long `Client::connect` retries while the
+    /// daemon's services are missing, still being created or full.
     pub fn timeout(mut self, t: Duration) -> Self {
         self.timeout = t;
         self

@@ -318,6 +318,34 @@ fn no_daemon_is_a_clear_error() {
     );
 }
 
+/// A client that finds every slot taken waits for one until its timeout
+/// (as it waits for a daemon that is still creating its services), and
+/// the reason it gives up names the limit.
+#[test]
+fn a_client_waits_for_a_free_slot_within_its_timeout() {
+    let mut d = TestDaemon::new("slots", "");
+    let cfg = std::fs::read_to_string(d.config_path()).expect("config");
+    let cfg = cfg.replacen("[ipc]\n", "[ipc]\nmax_clients = 1\n", 1);
+    std::fs::write(d.config_path(), cfg).expect("config");
+    d.spawn();
+    let first = d.client();
+    let err = gaitd_client::Client::connect(d.options().timeout(Duration::from_millis(300)))
+        .err()
+        .expect("a second client while the only slot is taken");
+    assert!(
+        err.to_string().contains("max_clients"),
+        "the reason names the limit: {err}"
+    );
+    let opts = d.options().timeout(Duration::from_secs(20));
+    let second = std::thread::spawn(move || gaitd_client::Client::connect(opts).map(|_| ()));
+    std::thread::sleep(Duration::from_millis(500));
+    drop(first);
+    second
+        .join()
+        .expect("no panic")
+        .expect("the second client connects once the first has left");
+}
+
 /// `gaitctl bench` runs end to end (small counts; figures are not asserted).
 #[test]
 fn gaitctl_bench_reports_every_figure() {

@@ -74,6 +74,10 @@ class SchemaMismatch(ClientError):
     """The daemon's services carry another schema version (type name, size or alignment)."""
 
 
+# iceoryx2 open errors that a later try may not meet.
+_TRANSIENT_OPEN = ("DoesNotExist", "HangsInCreation", "IsMarkedForDestruction")
+
+
 def daemon_schema(node: Any, names: ServiceNames) -> tuple[str, str] | None:
     """The daemon's (schema, build) from its ``version`` service, None without one.
 
@@ -148,7 +152,9 @@ class Iceoryx2Transport(Transport):
                             f"service {name} does not carry {payload.type_name()} "
                             f"(the daemon speaks another schema version)"
                         ) from e
-                    if "DoesNotExist" not in text or ipc.monotonic_ns() >= deadline:
+                    # Missing, or still being created by a starting daemon.
+                    transient = any(w in text for w in _TRANSIENT_OPEN)
+                    if not transient or ipc.monotonic_ns() >= deadline:
                         raise NoDaemon(
                             f"no gaitd with prefix {self.settings.service_prefix!r} under "
                             f"{self.settings.root_path} ({name}: {text})"
