@@ -56,3 +56,58 @@ fn the_exact_tier_accepts_more_pairs_and_only_pairs_that_hold() {
         "the exact tier accepts no pair the sufficient test refuses"
     );
 }
+
+/// A pair turned as far as `PairLoad::exit` allows holds the load at every
+/// sample of the turn, by the same test at the turned contacts — the test
+/// the plan's check applies (its disturbance directions are fixed in the
+/// hand frame, not in the pair's). With gravity and without it (the
+/// disturbance alone), exact tier on.
+#[test]
+fn a_pair_holds_at_every_sample_of_the_turn_its_exit_allows() {
+    let limit = std::f64::consts::FRAC_PI_2;
+    for gravity in [true, false] {
+        let mut cfg = HandConfig::default();
+        if !gravity {
+            cfg.load.gravity = [0.0; 3];
+        }
+        let exact = PairLoad::new(&cfg).with_exact(&cfg);
+        let mut rng = ChaCha8Rng::seed_from_u64(29);
+        let (mut tried, mut turned, mut samples) = (0, 0, 0);
+        while tried < 300 {
+            let n1 = unit(&mut rng);
+            let n2 = unit(&mut rng);
+            if n1.dot(&n2) > (140f64).to_radians().cos() {
+                continue;
+            }
+            tried += 1;
+            let axis = unit(&mut rng);
+            let exit = exact.exit(&n1, &n2, &axis, limit);
+            if exit <= 0.0 {
+                continue;
+            }
+            turned += 1;
+            // The check's density: every 3°, and the end.
+            let n = (exit / 3f64.to_radians()).ceil() as usize;
+            for k in 0..=n {
+                let t = exit * k as f64 / n.max(1) as f64;
+                let q = nalgebra::UnitQuaternion::from_axis_angle(
+                    &nalgebra::Unit::new_normalize(axis),
+                    t,
+                );
+                samples += 1;
+                assert!(
+                    exact.holds(&(q * n1), &(q * n2), Some(&axis)),
+                    "gravity {gravity}: the pair's exit is {:.2}° but it does not hold at \
+                     {:.2}° ({n1:?}, {n2:?}, axis {axis:?})",
+                    exit.to_degrees(),
+                    t.to_degrees()
+                );
+            }
+        }
+        println!("gravity {gravity}: {tried} pairs, {turned} turn at all, {samples} samples held");
+        assert!(
+            turned >= 30,
+            "too few pairs turn to test anything: {turned}"
+        );
+    }
+}

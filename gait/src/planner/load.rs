@@ -34,7 +34,11 @@
 //! (tested: `gait/tests/planner_load.rs`). It costs a few dozen flops, so
 //! the search evaluates it for every candidate pair; along a rotation by t
 //! about k the weight turns by −t in the pair's frame, and
-//! [`PairLoad::exit`] steps t to the first angle where the test fails.
+//! [`PairLoad::exit`] steps t to the first angle where the test fails
+//! (where the exact tier stands behind it, that tier is asked at the
+//! turned contacts, as the plan's check asks it: the disturbance's
+//! icosahedron is fixed in the hand frame, so a turned pair meets it
+//! turned).
 //!
 //! # The exact check of a plan ([`check_steps`])
 //! Every step is sampled (rotations every [`ROTATION_SAMPLE`], rolls 8
@@ -47,7 +51,7 @@
 
 use nalgebra::Vector3;
 
-use super::geometry::{Sinusoid, any_perpendicular};
+use super::geometry::{Sinusoid, any_perpendicular, rotation};
 use super::plan::{Motion, Step};
 use crate::HandConfig;
 use crate::grasp::grip::{CARRY_BITS, Grip, GripModel, grasp_mask};
@@ -376,9 +380,11 @@ impl PairLoad {
             let (sin, cos) = t.sin_cos();
             let c = waves.map(|w| w.a + w.b * cos + w.c * sin);
             self.slack_in(&p, c[0], c[1], c[2], true) >= 0.0 || {
-                // The weight in the hand frame, turned by −t about the axis.
-                let w = p.axes[0] * c[0] + p.axes[1] * c[1] + p.axes[2] * c[2];
-                self.exact_holds(n1, n2, &w, Some(axis))
+                // The exact model's disturbance vertices are fixed in the
+                // hand frame, as in the plan's check: turn the contacts,
+                // not the weight.
+                let q = rotation(axis, t);
+                self.exact_holds(&(q * n1), &(q * n2), &self.weight, Some(axis))
             }
         };
         scan_exit(limit, EXIT_STEP, ok)
