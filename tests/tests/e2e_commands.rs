@@ -329,9 +329,10 @@ fn a_client_waits_for_a_free_slot_within_its_timeout() {
     std::fs::write(d.config_path(), cfg).expect("config");
     d.spawn();
     let first = d.client();
-    let err = gaitd_client::Client::connect(d.options().timeout(Duration::from_millis(300)))
-        .err()
-        .expect("a second client while the only slot is taken");
+    let Err(err) = gaitd_client::Client::connect(d.options().timeout(Duration::from_millis(300)))
+    else {
+        panic!("a second client while the only slot is taken");
+    };
     assert!(
         err.to_string().contains("max_clients"),
         "the reason names the limit: {err}"
