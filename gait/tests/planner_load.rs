@@ -442,3 +442,55 @@ fn planning_under_load_is_deterministic() {
         assert_eq!(a, b, "same inputs, different plans");
     }
 }
+
+/// Every way the fingertips offer to roll a pair apart from a three-finger
+/// grasp under load passes the plan's check as built (SPEC §1.3 I1' at
+/// every sample: while two roll, the three carry the load as hard
+/// contacts): the search is never handed an opening the check refuses.
+/// Three-finger grasps made as the search makes them: a random two-finger
+/// state, the free finger placed at one of its candidates.
+#[test]
+fn every_roll_apart_offered_under_load_passes_the_check() {
+    use gait::planner::Unbounded;
+    use gait::planner::fingertips::Fingertips;
+    use gait::planner::hand_model::{Action, HandModel, RegraspFor};
+    let cfg = HandConfig::default();
+    let hand = Fingertips::new(&cfg).for_pass(true, false);
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    let (mut states, mut offers) = (0, 0);
+    while states < 150 {
+        let two = planning::random_two_finger_state(&mut rng, &cfg);
+        let (_, n) = two.grasping();
+        assert_eq!(n, 2);
+        let free = (0..3)
+            .find(|&k| two.fingers[k].mode == gait::FingerMode::Free)
+            .expect("a free finger");
+        let cands = hand.candidates(free);
+        let c = cands[states * 7 % cands.len()];
+        let mut three = two;
+        let (touch, _) = hand.touch_for(free, &c, &Vector3::z());
+        hand.place(&mut three, free, &c, touch);
+        states += 1;
+        for lift in 0..3 {
+            let why = RegraspFor::OpenPair { lift };
+            for o in hand.regrasps(&three, why, &mut Unbounded) {
+                let actions = [Action::Regrasp {
+                    regrasp: o.regrasp,
+                    why,
+                }];
+                let Ok(steps) = hand.build(&three, &actions) else {
+                    continue;
+                };
+                offers += 1;
+                if let Err(v) = hand.check(&three, &steps) {
+                    panic!(
+                        "an opening for finger {lift} fails the check at step {} (F* {:.2} N): {three:?}",
+                        v.step, v.peak
+                    );
+                }
+            }
+        }
+    }
+    println!("{states} three-finger grasps: {offers} openings offered, each held");
+    assert!(offers >= 20, "too few openings to test anything: {offers}");
+}

@@ -67,7 +67,7 @@ pub fn open(
 ) -> Vec<Opened> {
     let mut out = Vec::new();
     for want in holding_extras(g, load, grip, hand, lose, extra) {
-        match roll_apart(g, timing, hand, lose, want) {
+        match roll_apart(g, timing, load.active().then_some(grip), hand, lose, want) {
             Some(s) if pair_holds(g, load, grip, &s.hand, lose) => out.push(s),
             // Beyond a great-circle roll's reach (the fingertip
             // hemisphere): rolling paths of several legs.
@@ -464,10 +464,12 @@ fn opening(
 }
 
 /// Rolls the two fingers other than `lose` apart to a force-closure angle
-/// (plus `extra`). `None` if an invariant would break.
+/// (plus `extra`). `None` if an invariant would break — with `grip`, the
+/// load held by the three at every sample too.
 fn roll_apart(
     g: &Geometry,
     timing: &DurationModel,
+    grip: Option<&GripModel>,
     hand: &HandState,
     lose: usize,
     extra: f64,
@@ -502,6 +504,11 @@ fn roll_apart(
         let s = dofs.length.map(|l| l * lam);
         let state = step.eval(&s, &[0.0; 3]).state;
         if !roll_state_ok(g, &state, [i, j]) {
+            return None;
+        }
+        // Under load the three carry it while two roll: as hard contacts,
+        // as the plan's check has them (`load::check_steps`).
+        if grip.is_some_and(|m| !m.triple(&state, Accel::None).feasible) {
             return None;
         }
     }
