@@ -62,7 +62,7 @@ use crate::hand_state::HandState;
 pub const ROTATION_SAMPLE: f64 = 3.0 * std::f64::consts::PI / 180.0;
 
 /// Samples per roll step in the exact check.
-const ROLL_SAMPLES: usize = 8;
+pub(crate) const ROLL_SAMPLES: usize = 8;
 
 /// Step of [`PairLoad::exit`]'s scan \[rad\] (5°), refined by bisection
 /// to 0.02°.

@@ -16,7 +16,7 @@ use nalgebra::Vector3;
 
 use super::super::collision;
 use super::super::geometry::{Geometry, angle_between, rotation};
-use super::super::load::PairLoad;
+use super::super::load::{self, PairLoad};
 use super::super::plan::{GreatCircleRoll, Motion, Step, StepKind};
 use super::super::timing::DurationModel;
 use super::super::zigzag::ZigzagCache;
@@ -45,6 +45,8 @@ pub struct Opened {
 /// Number of samples along a roll at which its invariants are checked (on
 /// top of the exact end-point checks).
 const ROLL_SAMPLES: usize = 64;
+// The plan check's samples are among these (the load is tested at them).
+const _: () = assert!(ROLL_SAMPLES.is_multiple_of(load::ROLL_SAMPLES));
 
 /// The ways to roll the two fingers other than `lose` apart so that `lose`
 /// can lift (empty if none was found). Under load (SPEC §1.3 I1') the pair
@@ -507,8 +509,10 @@ fn roll_apart(
             return None;
         }
         // Under load the three carry it while two roll: as hard contacts,
-        // as the plan's check has them (`load::check_steps`).
-        if grip.is_some_and(|m| !m.triple(&state, Accel::None).feasible) {
+        // at the samples of the plan's check (`load::check_steps`).
+        if sample.is_multiple_of(ROLL_SAMPLES / load::ROLL_SAMPLES)
+            && grip.is_some_and(|m| !m.triple(&state, Accel::None).feasible)
+        {
             return None;
         }
     }
