@@ -1,6 +1,7 @@
 //! daemon → remote clients: status (downsampled, latest value, dropped
-//! rather than queued) and events (advanced publisher: a cache for late
-//! joiners, sequence numbers and heartbeats for miss detection), and the
+//! rather than queued), events (advanced publisher: a cache for late
+//! joiners, sequence numbers and heartbeats for miss detection), each
+//! plan's path (advanced publisher caching the latest, for views), and the
 //! daemon's liveliness token while a fresh status comes in.
 //!
 //! Runs on its own thread with its own `gaitd_client::Client` (iceoryx2
@@ -10,7 +11,7 @@
 
 use crate::config::Config;
 use gaitd_client::remote::protocol as proto;
-use gaitd_client::{Client, ConnectOptions, DaemonState, Error};
+use gaitd_client::{Client, ConnectOptions, DaemonState, Error, PlanPaths};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 use zenoh::Wait;
@@ -35,12 +36,13 @@ pub fn local_options(cfg: &Config, node_name: &str) -> ConnectOptions {
     o
 }
 
-/// The bridge's two publishers, declared before its liveliness token so
-/// that a client that sees the bridge finds the event cache to query.
+/// The bridge's publishers, declared before its liveliness token so that
+/// a client that sees the bridge finds the event cache to query.
 pub struct Publishers<'a> {
     session: &'a zenoh::Session,
     status: zenoh::pubsub::Publisher<'a>,
     events: zenoh_ext::AdvancedPublisher<'a>,
+    plan: zenoh_ext::AdvancedPublisher<'a>,
 }
 
 impl<'a> Publishers<'a> {
@@ -77,11 +79,44 @@ impl<'a> Publishers<'a> {
                     gaitd_client::remote::zenoh_text(e)
                 )
             })?;
+        // The latest path only: a view that joins mid-plan gets it.
+        let plan = session
+            .declare_publisher(proto::plan_key(prefix))
+            .encoding(Encoding::from(proto::encoding_of(proto::PLAN_SCHEMA)))
+            .congestion_control(CongestionControl::Block)
+            .cache(CacheConfig::default().max_samples(1))
+            .wait()
+            .map_err(|e| {
+                anyhow::anyhow!(
+                    "declaring the plan path publisher: {}",
+                    gaitd_client::remote::zenoh_text(e)
+                )
+            })?;
         Ok(Self {
             session,
             status,
             events,
+            plan,
         })
+    }
+}
+
+/// Forwards the daemon's newest plan path if it is one not forwarded yet
+/// (`last`: its instance and sequence).
+fn forward_path(
+    paths: &mut PlanPaths,
+    last: &mut (u64, u64),
+    plan: &zenoh_ext::AdvancedPublisher<'_>,
+) {
+    let Ok(Some(p)) = paths.latest() else {
+        return;
+    };
+    if (p.instance, p.sequence) == *last {
+        return;
+    }
+    *last = (p.instance, p.sequence);
+    if let Err(e) = plan.put(p.to_bytes().to_vec()).wait() {
+        tracing::warn!("plan path publish: {e}");
     }
 }
 
@@ -91,7 +126,10 @@ pub fn run(cfg: &Config, publishers: Publishers<'_>, stop: &AtomicBool) -> anyho
         session,
         status: status_pub,
         events: events_pub,
+        plan: plan_pub,
     } = publishers;
+    let mut paths: Option<PlanPaths> = None;
+    let mut last_path = (0, 0);
     let prefix = &cfg.zenoh.key_prefix;
     let period = cfg.status_period();
     let opts = local_options(cfg, "gaitd-bridge");
@@ -109,6 +147,10 @@ pub fn run(cfg: &Config, publishers: Publishers<'_>, stop: &AtomicBool) -> anyho
                         "connected to gaitd"
                     );
                     waiting_logged = false;
+                    paths = c
+                        .plan_paths()
+                        .map_err(|e| tracing::warn!("no plan paths: {e}"))
+                        .ok();
                     daemon = Some(c);
                 }
                 Err(e) => {
@@ -155,6 +197,9 @@ pub fn run(cfg: &Config, publishers: Publishers<'_>, stop: &AtomicBool) -> anyho
             }
             Err(e) => tracing::warn!("events: {e}"),
         }
+        if let Some(p) = paths.as_mut() {
+            forward_path(p, &mut last_path, &plan_pub);
+        }
         let alive = c.daemon_alive().unwrap_or(false);
         if alive && token.is_none() {
             match session
@@ -171,6 +216,8 @@ pub fn run(cfg: &Config, publishers: Publishers<'_>, stop: &AtomicBool) -> anyho
             if let Err(e) = c.reconnect(CONNECT) {
                 tracing::debug!("reconnect: {e}");
             }
+            // A restarted daemon's plan service is a new one.
+            paths = c.plan_paths().ok();
         }
     }
     tracing::info!(forwarded, "status forwarding stopped");

@@ -32,7 +32,9 @@ pub fn access_control(cfg: &Config) -> Value {
     let read_keys = json!([
         format!("{p}/status"),
         format!("{p}/events"),
-        format!("{p}/events/@adv/**")
+        format!("{p}/events/@adv/**"),
+        format!("{p}/plan"),
+        format!("{p}/plan/@adv/**")
     ]);
     let alive_keys = json!([format!("{p}/alive/*"), format!("{p}/events/@adv/**")]);
     let mut rules = vec![
@@ -41,7 +43,8 @@ pub fn access_control(cfg: &Config) -> Value {
         json!({"id": "read-out", "messages": ["put"], "flows": ["egress"],
                "permission": "allow", "key_exprs": read_keys}),
         json!({"id": "history-in", "messages": ["query"], "flows": ["ingress"],
-               "permission": "allow", "key_exprs": [format!("{p}/events/@adv/**")]}),
+               "permission": "allow",
+               "key_exprs": [format!("{p}/events/@adv/**"), format!("{p}/plan/@adv/**")]}),
         json!({"id": "history-out", "messages": ["reply", "declare_queryable"], "flows": ["egress"],
                "permission": "allow", "key_exprs": read_keys}),
         json!({"id": "alive-in", "messages": ["declare_liveliness_subscriber", "liveliness_query"],

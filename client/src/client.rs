@@ -212,6 +212,15 @@ impl Client {
         &self.config
     }
 
+    /// A remote connection's plan paths.
+    #[cfg(feature = "remote")]
+    pub(crate) fn remote_plans(&self) -> Option<crate::remote::transport::RemotePlans> {
+        match &self.conn {
+            Transport::Remote(r) => Some(r.plans()),
+            _ => None,
+        }
+    }
+
     /// Whether this client talks to gaitd through a bridge.
     pub fn is_remote(&self) -> bool {
         !matches!(self.conn, Transport::Local(_))

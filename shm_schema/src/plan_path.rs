@@ -62,6 +62,29 @@ pub struct PlanPath {
 const _: () = assert!(core::mem::size_of::<PlanPath>() == 30_768);
 const _: () = assert!(core::mem::align_of::<PlanPath>() == 8);
 
+impl PlanPath {
+    /// Size of the payload in bytes.
+    pub const SIZE: usize = 30_768;
+
+    /// The payload that `bytes` encode (e.g. as received from a bridge).
+    /// Every bit pattern is a `PlanPath` (integers and floats only, no
+    /// implicit padding); check it with [`PlanPath::checked`] before use.
+    pub fn from_bytes(bytes: &[u8; Self::SIZE]) -> Self {
+        // SAFETY: repr(C), exactly SIZE bytes of integers and floats without
+        // implicit padding: any bytes are a valid value; read_unaligned
+        // accepts the byte array's alignment of 1.
+        unsafe { core::ptr::read_unaligned(bytes.as_ptr().cast::<PlanPath>()) }
+    }
+
+    /// The payload's bytes as they travel (native endianness, as in shared
+    /// memory).
+    pub fn to_bytes(&self) -> [u8; Self::SIZE] {
+        // SAFETY: same layout facts as in `from_bytes`; no padding means no
+        // uninitialised bytes are read.
+        unsafe { core::mem::transmute::<PlanPath, [u8; Self::SIZE]>(*self) }
+    }
+}
+
 impl Default for PlanPath {
     fn default() -> Self {
         Self {
@@ -183,5 +206,13 @@ mod tests {
         let mut p = path();
         p.points[3].t = f64::NAN;
         assert!(p.checked().is_ok());
+    }
+
+    #[test]
+    fn bytes_round_trip() {
+        let mut p = path();
+        p.points[1].tip_position[2] = [0.1, -0.2, 0.3];
+        p.sequence = 7;
+        assert_eq!(PlanPath::from_bytes(&p.to_bytes()), p);
     }
 }

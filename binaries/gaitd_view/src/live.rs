@@ -17,8 +17,8 @@ pub fn connect(a: &Args) -> Result<Client, String> {
         .map_err(|e| format!("no gaitd to view: {e}"))
 }
 
-/// The daemon's plan paths, if it publishes them (a remote daemon's do
-/// not come through its bridge: said once, and the view goes on without).
+/// The daemon's plan paths, if it publishes them (if not — a daemon of
+/// another build — said once, and the view goes on without).
 fn plan_paths(client: &Client) -> Option<PlanPaths> {
     client
         .plan_paths()

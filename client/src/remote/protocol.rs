@@ -40,6 +40,8 @@ pub const ANSWER_SCHEMA: &str = "gaitd::Answer.v5";
 pub const STATUS_SCHEMA: &str = "gaitd::Status.v5";
 /// Schema of an [`Event`](shm_schema::Event).
 pub const EVENT_SCHEMA: &str = "gaitd::Event.v5";
+/// Schema of a [`PlanPath`](shm_schema::PlanPath).
+pub const PLAN_SCHEMA: &str = "gaitd::PlanPath.v5";
 /// Schema of a [`Refusal`] (an error reply from the bridge).
 pub const REFUSAL_SCHEMA: &str = "gaitd-bridge::Refusal.v1";
 
@@ -54,6 +56,11 @@ pub fn status_key(prefix: &str) -> String {
 /// `P/events`.
 pub fn events_key(prefix: &str) -> String {
     format!("{prefix}/events")
+}
+
+/// `P/plan`: each plan's path (the bridge caches the latest).
+pub fn plan_key(prefix: &str) -> String {
+    format!("{prefix}/plan")
 }
 
 /// `P/alive/bridge`.

@@ -18,7 +18,7 @@ type Result<T> = std::result::Result<T, RemoteError>;
 use super::protocol::{self as proto, Refusal};
 use super::tls::{self, Endpoint};
 use crate::remote_options::RemoteOptions;
-use shm_schema::{Answer, Event, Status};
+use shm_schema::{Answer, Event, PlanPath, Status};
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
@@ -73,6 +73,10 @@ struct InboxState {
     linked: bool,
     /// Times it went down.
     link_drops: u64,
+    /// The newest valid plan path the bridge forwarded.
+    plan: Option<Box<PlanPath>>,
+    /// Plan paths that did not decode or failed their check.
+    plans_refused: u64,
 }
 
 /// Shared between Zenoh's callbacks and the client's thread.
@@ -114,6 +118,30 @@ fn payload_of<'a>(
         return Err(format!("{} bytes, expected {size} for {schema}", b.len()));
     }
     Ok(b)
+}
+
+fn decode_plan(sample: &Sample) -> Option<PlanPath> {
+    let b = payload_of(
+        sample.encoding(),
+        sample.payload(),
+        proto::PLAN_SCHEMA,
+        PlanPath::SIZE,
+    )
+    .ok()?;
+    let p = PlanPath::from_bytes(b.as_ref().try_into().ok()?);
+    p.checked().is_ok().then_some(p)
+}
+
+/// The plan paths a remote connection receives (the latest kept).
+#[derive(Debug, Clone)]
+pub(crate) struct RemotePlans(Arc<Inbox>);
+
+impl RemotePlans {
+    /// The newest valid path, and how many were refused.
+    pub(crate) fn latest(&self) -> (Option<PlanPath>, u64) {
+        let st = self.0.lock();
+        (st.plan.as_deref().copied(), st.plans_refused)
+    }
 }
 
 fn decode_status(sample: &Sample) -> Option<Status> {
@@ -284,6 +312,7 @@ pub(crate) struct RemoteConnection {
     seen_generation: u64,
     _status: zenoh::pubsub::Subscriber<()>,
     events: EventSubscription,
+    _plan: zenoh_ext::AdvancedSubscriber<()>,
     _alive: zenoh::pubsub::Subscriber<()>,
     _transports: zenoh::session::TransportEventsListener<()>,
     _token: zenoh::liveliness::LivelinessToken,
@@ -447,6 +476,24 @@ impl RemoteConnection {
 
         let events = EventSubscription::declare(&session, prefix, &inbox)?;
 
+        // The latest plan path, from the bridge's cache at once.
+        let ib = inbox.clone();
+        let plan = {
+            use zenoh_ext::{AdvancedSubscriberBuilderExt, HistoryConfig};
+            session
+                .declare_subscriber(proto::plan_key(prefix))
+                .history(HistoryConfig::default().max_samples(1))
+                .callback(move |sample| {
+                    let p = decode_plan(&sample);
+                    ib.update(|st| match p {
+                        Some(p) => st.plan = Some(Box::new(p)),
+                        None => st.plans_refused += 1,
+                    });
+                })
+                .wait()
+                .map_err(zerr)?
+        };
+
         let ib = inbox.clone();
         let bridge_key = proto::bridge_token_key(prefix);
         let daemon_key = proto::daemon_token_key(prefix);
@@ -510,6 +557,7 @@ impl RemoteConnection {
             seen_generation: 0,
             _status: status,
             events,
+            _plan: plan,
             _alive: alive,
             _transports: transports,
             _token: token,
@@ -575,6 +623,10 @@ impl RemoteConnection {
     /// Events of the daemon's current sequence this client never received
     /// (holes no later event filled), or Zenoh's count of samples it
     /// reported missed, whichever is more.
+    pub(crate) fn plans(&self) -> RemotePlans {
+        RemotePlans(self.inbox.clone())
+    }
+
     pub fn missed_events(&self) -> u64 {
         let s = self.inbox.lock();
         s.continuity.missing().max(s.missed_events)

@@ -71,7 +71,13 @@ fn gaitd_view_records_a_remote_daemon_through_its_bridge() {
     ] {
         assert!(rec.entities.contains(e), "no {e} in {:?}", rec.entities);
     }
-    // Plan paths stay in shared memory: the view says so and goes on.
-    assert!(out.contains("no path ahead"), "{out}");
-    assert!(!rec.entities.contains("world/ahead/tips"));
+    // The plan's path comes through the bridge too (its cache holds the
+    // latest, so a view that joins mid-plan has it): the path ahead is
+    // drawn while the goal executes.
+    let ahead = rec.rows.get("world/ahead/tips").copied().unwrap_or(0);
+    println!("remote view: {ahead} frames with the path ahead");
+    assert!(
+        ahead >= FRAMES / 2,
+        "{ahead} of {FRAMES} frames drew the path ahead"
+    );
 }
