@@ -101,22 +101,46 @@ impl<'a> Publishers<'a> {
     }
 }
 
-/// Forwards the daemon's newest plan path if it is one not forwarded yet
-/// (`last`: its instance and sequence).
-fn forward_path(
-    paths: &mut PlanPaths,
-    last: &mut (u64, u64),
-    plan: &zenoh_ext::AdvancedPublisher<'_>,
-) {
-    let Ok(Some(p)) = paths.latest() else {
-        return;
-    };
-    if (p.instance, p.sequence) == *last {
-        return;
+/// How often the latest plan path is sent again while nothing newer comes:
+/// a view whose history query missed the bridge's cache (a query that
+/// reached the bridge before its cache was declared to the client, or that
+/// Zenoh dropped) has it within this time.
+const PATH_REPEAT: Duration = Duration::from_secs(1);
+
+/// The daemon's plan paths, forwarded: each new one at once, the latest
+/// again every [`PATH_REPEAT`].
+struct PathForwarder {
+    paths: PlanPaths,
+    /// Instance and sequence of the last path sent, and when.
+    last: Option<((u64, u64), Instant)>,
+}
+
+impl PathForwarder {
+    fn new(paths: PlanPaths) -> Self {
+        Self { paths, last: None }
     }
-    *last = (p.instance, p.sequence);
-    if let Err(e) = plan.put(p.to_bytes().to_vec()).wait() {
-        tracing::warn!("plan path publish: {e}");
+
+    fn pump(&mut self, now: Instant, plan: &zenoh_ext::AdvancedPublisher<'_>) {
+        let Ok(Some(p)) = self.paths.latest() else {
+            return;
+        };
+        let id = (p.instance, p.sequence);
+        let fresh = self.last.is_none_or(|(last, _)| last != id);
+        if !fresh && self.last.is_some_and(|(_, at)| now < at + PATH_REPEAT) {
+            return;
+        }
+        if fresh {
+            tracing::info!(
+                goal = p.goal_id,
+                sequence = p.sequence,
+                points = p.count,
+                "forwarding a plan path"
+            );
+        }
+        self.last = Some((id, now));
+        if let Err(e) = plan.put(p.to_bytes().to_vec()).wait() {
+            tracing::warn!("plan path publish: {e}");
+        }
     }
 }
 
@@ -128,8 +152,7 @@ pub fn run(cfg: &Config, publishers: Publishers<'_>, stop: &AtomicBool) -> anyho
         events: events_pub,
         plan: plan_pub,
     } = publishers;
-    let mut paths: Option<PlanPaths> = None;
-    let mut last_path = (0, 0);
+    let mut paths: Option<PathForwarder> = None;
     let prefix = &cfg.zenoh.key_prefix;
     let period = cfg.status_period();
     let opts = local_options(cfg, "gaitd-bridge");
@@ -150,7 +173,8 @@ pub fn run(cfg: &Config, publishers: Publishers<'_>, stop: &AtomicBool) -> anyho
                     paths = c
                         .plan_paths()
                         .map_err(|e| tracing::warn!("no plan paths: {e}"))
-                        .ok();
+                        .ok()
+                        .map(PathForwarder::new);
                     daemon = Some(c);
                 }
                 Err(e) => {
@@ -198,7 +222,7 @@ pub fn run(cfg: &Config, publishers: Publishers<'_>, stop: &AtomicBool) -> anyho
             Err(e) => tracing::warn!("events: {e}"),
         }
         if let Some(p) = paths.as_mut() {
-            forward_path(p, &mut last_path, &plan_pub);
+            p.pump(Instant::now(), &plan_pub);
         }
         let alive = c.daemon_alive().unwrap_or(false);
         if alive && token.is_none() {
@@ -217,7 +241,7 @@ pub fn run(cfg: &Config, publishers: Publishers<'_>, stop: &AtomicBool) -> anyho
                 tracing::debug!("reconnect: {e}");
             }
             // A restarted daemon's plan service is a new one.
-            paths = c.plan_paths().ok();
+            paths = c.plan_paths().ok().map(PathForwarder::new);
         }
     }
     tracing::info!(forwarded, "status forwarding stopped");

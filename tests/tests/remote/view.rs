@@ -78,6 +78,72 @@ fn gaitd_view_records_a_remote_daemon_through_its_bridge() {
     println!("remote view: {ahead} frames with the path ahead");
     assert!(
         ahead >= FRAMES / 2,
-        "{ahead} of {FRAMES} frames drew the path ahead"
+        "{ahead} of {FRAMES} frames drew the path ahead\n--- bridge log ---\n{}",
+        b.log()
     );
+}
+
+/// A subscriber that joins mid-plan without asking for history (a plain
+/// Zenoh subscriber on `P/plan`, PROTOCOL.md) still gets the plan's path:
+/// the bridge sends the latest again every second while nothing newer
+/// comes.
+#[test]
+fn a_subscriber_without_history_gets_the_latest_path_within_a_second() {
+    use gaitd_client::remote::protocol as proto;
+    use gaitd_client::remote::tls;
+    use gaitd_client::shm_schema::PlanPath;
+    use std::sync::{Arc, Mutex};
+    use zenoh::Wait;
+    let _one = crate::support::one_at_a_time();
+    let pki = Pki::new("plan-repeat");
+    let d = TestDaemon::start("remote-plan-repeat");
+    let b = TestBridge::start(&d, &pki, "");
+    let mut local = d.client();
+    let t = local
+        .reorient(&GoalSpec::turn([0.0, 0.0, 1.0], 6.2).unwrap(), T)
+        .unwrap();
+    assert_eq!(t.verdict, Verdict::Accepted);
+    let t0 = Instant::now();
+    while local.wait_status(T).unwrap().goal.remaining_angle > 6.0 {
+        assert!(
+            t0.elapsed() < Duration::from_secs(30),
+            "the goal does not move"
+        );
+    }
+    let goal = local.wait_status(T).unwrap().goal.goal_id;
+    let ep = tls::parse_endpoint(&b.endpoint).unwrap();
+    let opts = gaitd_client::RemoteOptions::new(&b.endpoint, pki.files("dash"));
+    let session = zenoh::open(tls::client_config(&ep, &opts, T).unwrap())
+        .wait()
+        .unwrap();
+    let got: Arc<Mutex<Vec<PlanPath>>> = Arc::default();
+    let sink = got.clone();
+    let _sub = session
+        .declare_subscriber(proto::plan_key(&b.prefix))
+        .callback(move |s| {
+            let bytes = s.payload().to_bytes();
+            if let Ok(b) = <&[u8; PlanPath::SIZE]>::try_from(bytes.as_ref()) {
+                sink.lock().unwrap().push(PlanPath::from_bytes(b));
+            }
+        })
+        .wait()
+        .unwrap();
+    let joined = Instant::now();
+    std::thread::sleep(Duration::from_millis(2500));
+    let got = got.lock().unwrap().clone();
+    println!(
+        "a plain subscriber got {} path samples in {:?}",
+        got.len(),
+        joined.elapsed()
+    );
+    assert!(
+        got.len() >= 2,
+        "{} path samples in 2.5 s (the latest is repeated every second)\n--- bridge log ---\n{}",
+        got.len(),
+        b.log()
+    );
+    for p in &got {
+        assert!(p.checked().is_ok(), "a path that fails its check");
+        assert_eq!(p.goal_id, goal, "the path of another goal");
+    }
 }
