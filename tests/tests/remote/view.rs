@@ -15,27 +15,55 @@ mod rerun_support;
 /// Frames the view records (at 10 per second: 2 s of the turn).
 const FRAMES: usize = 20;
 
+/// A daemon with its bridge, turning the object a full turn (about 8 s,
+/// longer than a view needs to connect and record), past its plan: the
+/// object has begun to turn.
+struct Turning {
+    _one: std::sync::MutexGuard<'static, ()>,
+    pki: Pki,
+    d: TestDaemon,
+    b: TestBridge,
+    local: gaitd_client::Client,
+}
+
+impl Turning {
+    fn start(tag: &str) -> Self {
+        let one = crate::support::one_at_a_time();
+        let pki = Pki::new(tag);
+        let d = TestDaemon::start(&format!("remote-{tag}"));
+        let b = TestBridge::start(&d, &pki, "");
+        let mut local = d.client();
+        let t = local
+            .reorient(&GoalSpec::turn([0.0, 0.0, 1.0], 6.2).unwrap(), T)
+            .unwrap();
+        assert_eq!(t.verdict, Verdict::Accepted);
+        let t0 = Instant::now();
+        while local.wait_status(T).unwrap().goal.remaining_angle > 6.0 {
+            assert!(
+                t0.elapsed() < Duration::from_secs(30),
+                "the goal does not move"
+            );
+        }
+        Self {
+            _one: one,
+            pki,
+            d,
+            b,
+            local,
+        }
+    }
+}
+
 #[test]
 fn gaitd_view_records_a_remote_daemon_through_its_bridge() {
-    let _one = crate::support::one_at_a_time();
-    let pki = Pki::new("view");
-    let d = TestDaemon::start("remote-view");
-    let b = TestBridge::start(&d, &pki, "");
-    // A full turn: about 8 s, longer than the view needs to connect and
-    // record.
-    let mut local = d.client();
-    let t = local
-        .reorient(&GoalSpec::turn([0.0, 0.0, 1.0], 6.2).unwrap(), T)
-        .unwrap();
-    assert_eq!(t.verdict, Verdict::Accepted);
-    // The view starts once the object turns (the plan comes first).
-    let t0 = Instant::now();
-    while local.wait_status(T).unwrap().goal.remaining_angle > 6.0 {
-        assert!(
-            t0.elapsed() < Duration::from_secs(30),
-            "the goal does not move"
-        );
-    }
+    // The local client stays connected: its goal turns on.
+    let Turning {
+        _one,
+        pki,
+        d,
+        b,
+        local: _local,
+    } = Turning::start("view");
     let rrd = d.dir.join("remote-view.rrd");
     let (rc, out, err) = run(Command::new(workspace_bin("gaitd-view"))
         .args(["--remote", &b.endpoint, "--pki"])
@@ -94,22 +122,13 @@ fn a_subscriber_without_history_gets_the_latest_path_within_a_second() {
     use gaitd_client::shm_schema::PlanPath;
     use std::sync::{Arc, Mutex};
     use zenoh::Wait;
-    let _one = crate::support::one_at_a_time();
-    let pki = Pki::new("plan-repeat");
-    let d = TestDaemon::start("remote-plan-repeat");
-    let b = TestBridge::start(&d, &pki, "");
-    let mut local = d.client();
-    let t = local
-        .reorient(&GoalSpec::turn([0.0, 0.0, 1.0], 6.2).unwrap(), T)
-        .unwrap();
-    assert_eq!(t.verdict, Verdict::Accepted);
-    let t0 = Instant::now();
-    while local.wait_status(T).unwrap().goal.remaining_angle > 6.0 {
-        assert!(
-            t0.elapsed() < Duration::from_secs(30),
-            "the goal does not move"
-        );
-    }
+    let Turning {
+        _one,
+        pki,
+        d: _d,
+        b,
+        mut local,
+    } = Turning::start("plan-repeat");
     let goal = local.wait_status(T).unwrap().goal.goal_id;
     let ep = tls::parse_endpoint(&b.endpoint).unwrap();
     let opts = gaitd_client::RemoteOptions::new(&b.endpoint, pki.files("dash"));
