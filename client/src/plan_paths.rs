@@ -53,9 +53,6 @@ impl Client {
                 refused: 0,
             });
         }
-        if self.is_remote() {
-            return Err(Error::Invalid("plan paths need the `remote` feature here"));
-        }
         let node = NodeBuilder::new()
             .config(self.iceoryx2_config())
             .signal_handling_mode(SignalHandlingMode::Disabled)

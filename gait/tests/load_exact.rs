@@ -14,6 +14,18 @@ use planning::unit;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+/// Two random unit normals of a pair the planner could make: 140°–180°
+/// apart (force closure needs more than 180° − 2·20°).
+fn wide_pair(rng: &mut ChaCha8Rng) -> (nalgebra::Vector3<f64>, nalgebra::Vector3<f64>) {
+    loop {
+        let n1 = unit(rng);
+        let n2 = unit(rng);
+        if n1.dot(&n2) <= (140f64).to_radians().cos() {
+            return (n1, n2);
+        }
+    }
+}
+
 #[test]
 fn the_exact_tier_accepts_more_pairs_and_only_pairs_that_hold() {
     let cfg = HandConfig::default();
@@ -23,13 +35,7 @@ fn the_exact_tier_accepts_more_pairs_and_only_pairs_that_hold() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let (mut n_quick, mut n_exact, mut tried) = (0, 0, 0);
     while tried < 400 {
-        let n1 = unit(&mut rng);
-        let n2 = unit(&mut rng);
-        // Pairs the planner could make: 140°–180° apart (force closure
-        // needs more than 180° − 2·20°).
-        if n1.dot(&n2) > (140f64).to_radians().cos() {
-            continue;
-        }
+        let (n1, n2) = wide_pair(&mut rng);
         tried += 1;
         let axis = (tried % 2 == 0).then(|| unit(&mut rng));
         let q = quick.holds(&n1, &n2, axis.as_ref());
@@ -74,11 +80,7 @@ fn a_pair_holds_at_every_sample_of_the_turn_its_exit_allows() {
         let mut rng = ChaCha8Rng::seed_from_u64(29);
         let (mut tried, mut turned, mut samples) = (0, 0, 0);
         while tried < 300 {
-            let n1 = unit(&mut rng);
-            let n2 = unit(&mut rng);
-            if n1.dot(&n2) > (140f64).to_radians().cos() {
-                continue;
-            }
+            let (n1, n2) = wide_pair(&mut rng);
             tried += 1;
             let axis = unit(&mut rng);
             let exit = exact.exit(&n1, &n2, &axis, limit);

@@ -620,13 +620,14 @@ impl RemoteConnection {
         (s.bridge, s.daemon)
     }
 
-    /// Events of the daemon's current sequence this client never received
-    /// (holes no later event filled), or Zenoh's count of samples it
-    /// reported missed, whichever is more.
+    /// The plan paths this connection receives.
     pub(crate) fn plans(&self) -> RemotePlans {
         RemotePlans(self.inbox.clone())
     }
 
+    /// Events of the daemon's current sequence this client never received
+    /// (holes no later event filled), or Zenoh's count of samples it
+    /// reported missed, whichever is more.
     pub fn missed_events(&self) -> u64 {
         let s = self.inbox.lock();
         s.continuity.missing().max(s.missed_events)
