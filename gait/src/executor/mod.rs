@@ -503,8 +503,10 @@ impl Executor {
             }
         };
         let path = self.runner.state();
-        self.object_acceleration = match self.current_step().map(|s| s.motion) {
-            Some(Motion::Rotate { axis, .. }) => axis * path.acceleration[0],
+        self.object_acceleration = match self.current_step().map(|s| &s.motion) {
+            Some(Motion::Rotate { axis, .. } | Motion::Carry { axis, .. }) => {
+                axis * path.acceleration[0]
+            }
             _ => Vector3::zeros(),
         };
         let Some(sp) = self

@@ -11,7 +11,7 @@ use crate::planner::{Motion, Plan, Step, StepKind};
 /// The object rotation a step makes \[rad\].
 pub(super) fn step_rotation(step: &Step) -> f64 {
     match step.motion {
-        Motion::Rotate { angle, .. } => angle,
+        Motion::Rotate { angle, .. } | Motion::Carry { angle, .. } => angle,
         _ => 0.0,
     }
 }

@@ -506,7 +506,9 @@ fn visit_steps(
         let d = st.dofs();
         let at = |lam: f64| st.eval(&d.length.map(|l| l * lam), &[0.0; 3]).state;
         match st.motion {
-            Motion::Rotate { axis, angle, .. } if angle > 0.0 => {
+            Motion::Rotate { axis, angle, .. } | Motion::Carry { axis, angle, .. }
+                if angle > 0.0 =>
+            {
                 let n = (angle / ROTATION_SAMPLE).ceil().max(1.0) as usize;
                 let accel = Accel::About {
                     axis,

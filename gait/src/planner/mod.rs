@@ -30,6 +30,7 @@
 pub mod alternatives;
 pub mod budget;
 pub mod candidates;
+pub mod carry_path;
 pub mod collision;
 pub mod fingertips;
 pub mod gaiting;
@@ -564,7 +565,7 @@ fn join_turns(steps: Vec<Step>, limits: &crate::config::LimitsConfig) -> Vec<Ste
 /// The angle of a Rotate step (0 for a still handover step).
 fn step_rotation_angle(st: &Step) -> f64 {
     match st.motion {
-        Motion::Rotate { angle, .. } => angle,
+        Motion::Rotate { angle, .. } | Motion::Carry { angle, .. } => angle,
         _ => 0.0,
     }
 }

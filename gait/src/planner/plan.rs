@@ -9,6 +9,7 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
+use super::carry_path::CarryPath;
 use super::geometry::{rotation, swing};
 use crate::contact::ContactGeometry;
 use crate::hand_state::{FingerMode, HandState};
@@ -182,6 +183,10 @@ pub struct GreatCircleRoll {
 }
 
 /// The motion of one step.
+// A chain carry's fitted path makes its variant large; a box would cost
+// steps their `Copy` and the executor an indirection, and a plan is one
+// allocation either way (made off the loop).
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Motion {
     /// The object turns about `axis` by `angle` (≥ 0) with every grasping
@@ -194,6 +199,20 @@ pub enum Motion {
         angle: f64,
         /// Concurrent free-finger move.
         free: Option<FreeMove>,
+    },
+    /// The object turns about `axis` by `angle` (≥ 0) and the grasping
+    /// chain fingers roll on it as the rolling law makes them (SPEC
+    /// §14.2): their contacts follow `path`. A chain finger's tip
+    /// orientation is its joints' (the chain hand's inverse kinematics
+    /// gives them from the tip centre), so a carried finger's
+    /// `orientation` and `roll` stay as they start.
+    Carry {
+        /// Unit rotation axis (hand frame).
+        axis: Vector3<f64>,
+        /// Rotation angle \[rad\].
+        angle: f64,
+        /// The carried contacts, fitted.
+        path: CarryPath,
     },
     /// Up to three fingers roll on the still object, time-synchronised.
     Roll {
@@ -328,7 +347,7 @@ impl Step {
             Motion::Free(m) => Some(m.finger),
             Motion::RollSegment { finger, .. } => Some(*finger),
             Motion::Roll { rolls, .. } => rolls[0].map(|r| r.finger),
-            Motion::Rotate { .. } => None,
+            Motion::Rotate { .. } | Motion::Carry { .. } => None,
         }
     }
 
@@ -360,6 +379,7 @@ impl Step {
                     d.kind[1] = StepLimit::Fingertip;
                 }
             }
+            Motion::Carry { angle, .. } => d.length[0] = *angle,
             Motion::Roll { rolls, ratio } => {
                 for (i, r) in rolls.iter().enumerate() {
                     d.kind[i] = StepLimit::Rolling;
@@ -406,6 +426,17 @@ impl Step {
                 }
                 if let Some(m) = free {
                     apply_free(m, s[1], ds[1], &mut sp);
+                }
+            }
+            Motion::Carry { axis, path, .. } => {
+                sp.state.object = rotation(axis, s[0]) * self.start.object;
+                sp.object_rate = axis * ds[0];
+                for (k, f) in sp.state.fingers.iter_mut().enumerate() {
+                    if f.mode == FingerMode::Grasping && path.carries(k) {
+                        let c = path.at(k, s[0]);
+                        f.center = c.centre;
+                        sp.finger_velocity[k] = c.centre_slope * ds[0];
+                    }
                 }
             }
             Motion::Roll { rolls, ratio } => {

@@ -36,7 +36,7 @@ impl GaitController {
             Motion::Free(m) => Some(m.finger),
             Motion::RollSegment { finger, .. } => Some(finger),
             Motion::Roll { rolls, .. } => rolls[0].map(|r| r.finger),
-            Motion::Rotate { .. } => None,
+            Motion::Rotate { .. } | Motion::Carry { .. } => None,
         });
         out.hand = hand;
         out.object_omega = r.setpoint.object_rate;
