@@ -9,56 +9,28 @@
 //! route), integrated by the midpoint rule in small steps, the contact
 //! normal read from forward kinematics.
 
+// The chain tests' own helpers: the shipped description, the no-slip
+// condition solved for q̇, the grasp near the ball's top.
+#[path = "../../kinematics/tests/common/mod.rs"]
+mod common;
+
+use common::{q_dot, top_grasp};
 use gait::planner::carry_path::{CARRY_KNOTS, CarriedFinger, CarryPath, FitError};
 use gait::planner::{Motion, Step, StepKind};
 use gait::{FingerMode, HandState};
-use kinematics::{Chain, ClosedFormIk, HandDescription, Object};
-use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use kinematics::{Chain, Object};
+use nalgebra::{UnitQuaternion, Vector3};
 use test_support::counting;
 
 #[global_allocator]
 static GLOBAL: counting::Counting = counting::Counting;
-
-const URDF: &str = include_str!("../../deploy/hands/trifingerpro/trifingerpro.urdf");
-const SECTION: &str = include_str!("../../deploy/hands/trifingerpro/hand.toml");
 
 /// The fit's tolerance asked here \[rad\] (the test's choice: 5e-8 rad of
 /// normal is 2 nm of tip centre on the tennis ball).
 const TOLERANCE: f64 = 5e-8;
 
 fn setup() -> ([Chain<3>; 3], Object) {
-    let h = HandDescription::parse(URDF, SECTION).expect("the shipped description parses");
-    let chains = std::array::from_fn(|k| {
-        Chain::<3>::from_description(&h.fingers[k], h.joint_limit_margin).expect("3 joints")
-    });
-    (chains, h.object)
-}
-
-/// The three tips 30° from the ball's top at the fingers' azimuths.
-fn top_grasp(chains: &[Chain<3>; 3], o: &Object) -> [Vector3<f64>; 3] {
-    let beta = 30f64.to_radians();
-    std::array::from_fn(|k| {
-        let az = [75.0f64, -45.0, -165.0][k].to_radians();
-        let n = Vector3::new(beta.sin() * az.cos(), beta.sin() * az.sin(), beta.cos());
-        ClosedFormIk::new(&chains[k])
-            .unwrap()
-            .solve(
-                &(o.centre + n * (o.radius + chains[k].tip_radius)),
-                &chains[k].mid_range(),
-            )
-            .expect("inside the limits")
-    })
-}
-
-/// q̇ of one finger for the ball's ω (module docs).
-fn q_dot(chain: &Chain<3>, q: &Vector3<f64>, o: &Object, w: &Vector3<f64>) -> Vector3<f64> {
-    let s = chain.forward(q);
-    let n = (s.tip_centre() - o.centre).normalize();
-    let nx = Matrix3::new(0.0, -n.z, n.y, n.z, 0.0, -n.x, -n.y, n.x, 0.0);
-    let m = s.jacobian_v() + nx * s.jacobian_w() * chain.tip_radius;
-    m.lu()
-        .solve(&w.cross(&(n * o.radius)))
-        .expect("regular grasp")
+    (common::chains(), common::hand().object)
 }
 
 /// The test's contact normals at `samples` + 1 even angles of a turn about

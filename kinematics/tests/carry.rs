@@ -37,22 +37,6 @@ fn setup() -> ([Chain<3>; 3], Object) {
     (common::chains(), common::hand().object)
 }
 
-fn normal(chain: &Chain<3>, q: &Vector3<f64>, o: &Object) -> Vector3<f64> {
-    (chain.forward(q).tip_centre() - o.centre).normalize()
-}
-
-/// q̇ of one finger for the ball's ω: the no-slip condition
-/// ċ − r ω_f × n = ω × (R n) with ċ = J_v q̇, ω_f = J_ω q̇, as one system.
-fn q_dot(chain: &Chain<3>, q: &Vector3<f64>, o: &Object, w: &Vector3<f64>) -> Vector3<f64> {
-    let s = chain.forward(q);
-    let n = normal(chain, q, o);
-    let nx = Matrix3::new(0.0, -n.z, n.y, n.z, 0.0, -n.x, -n.y, n.x, 0.0);
-    let m = s.jacobian_v() + nx * s.jacobian_w() * chain.tip_radius;
-    m.lu()
-        .solve(&w.cross(&(n * o.radius)))
-        .expect("regular grasp")
-}
-
 /// The test's own carry: midpoint rule, `steps` steps.
 fn reference_carry(
     chains: &[&Chain<3>],
@@ -65,33 +49,17 @@ fn reference_carry(
     let h = angle / steps as f64;
     for _ in 0..steps {
         for (c, q) in chains.iter().zip(q.iter_mut()) {
-            let mid = *q + q_dot(c, q, o, axis) * (h / 2.0);
-            *q += q_dot(c, &mid, o, axis) * h;
+            let mid = *q + common::q_dot(c, q, o, axis) * (h / 2.0);
+            *q += common::q_dot(c, &mid, o, axis) * h;
         }
     }
-}
-
-/// The three tips 30° from the ball's top at the fingers' azimuths.
-fn top_grasp(chains: &[Chain<3>; 3], o: &Object) -> [Vector3<f64>; 3] {
-    let beta = 30f64.to_radians();
-    std::array::from_fn(|k| {
-        let az = [75.0f64, -45.0, -165.0][k].to_radians();
-        let n = Vector3::new(beta.sin() * az.cos(), beta.sin() * az.sin(), beta.cos());
-        ClosedFormIk::new(&chains[k])
-            .unwrap()
-            .solve(
-                &(o.centre + n * (o.radius + chains[k].tip_radius)),
-                &chains[k].mid_range(),
-            )
-            .expect("inside the limits")
-    })
 }
 
 #[test]
 fn the_joints_follow_the_rolling_law() {
     let (chains, o) = setup();
     let fingers = [&chains[0], &chains[1], &chains[2]];
-    let start = top_grasp(&chains, &o);
+    let start = common::top_grasp(&chains, &o);
     let axis = Vector3::new(0.3, -0.2, 1.0).normalize();
     let angle = 60f64.to_radians();
     let mut q = start;
@@ -136,7 +104,7 @@ fn own_margin(
             see(c.limits[i].upper - q[i] - c.margin, 0);
         }
         let s = c.forward(q);
-        let n = normal(c, q, o);
+        let n = common::normal(c, q, o);
         // The contact on the tip, u = Rᵀ(−n), against the pole.
         let u = -(s.tip.rotation.transpose() * n);
         let from_pole = u.angle(c.patch.pole.as_ref());
@@ -302,7 +270,8 @@ fn spin_over(chains: &[&Chain<3>; 2], q0: &[Vector3<f64>], q1: &[Vector3<f64>], 
     let mut rest = [(Vector3::zeros(), Vector3::zeros()); 2];
     for k in 0..2 {
         let (s0, s1) = (chains[k].forward(&q0[k]), chains[k].forward(&q1[k]));
-        let n = (normal(chains[k], &q0[k], o) + normal(chains[k], &q1[k], o)).normalize();
+        let n = (common::normal(chains[k], &q0[k], o) + common::normal(chains[k], &q1[k], o))
+            .normalize();
         let wf = Rotation3::from_matrix_unchecked(s1.tip.rotation * s0.tip.rotation.transpose())
             .scaled_axis();
         let v = s1.tip_centre() - s0.tip_centre() - wf.cross(&n) * chains[k].tip_radius;
@@ -322,7 +291,7 @@ fn spin_over(chains: &[&Chain<3>; 2], q0: &[Vector3<f64>], q1: &[Vector3<f64>], 
 #[test]
 fn a_pair_turns_without_spin() {
     let (chains, o) = setup();
-    let start = top_grasp(&chains, &o);
+    let start = common::top_grasp(&chains, &o);
     let mut worst: f64 = 0.0;
     let mut fixed: f64 = 0.0;
     for (a, b) in [(0, 1), (0, 2), (1, 2)] {
@@ -382,7 +351,7 @@ fn a_pair_turns_without_spin() {
 fn a_carry_advanced_tick_by_tick_is_the_carry() {
     let (chains, o) = setup();
     let fingers = [&chains[0], &chains[1], &chains[2]];
-    let start = top_grasp(&chains, &o);
+    let start = common::top_grasp(&chains, &o);
     let axis = Vector3::new(0.2, 0.5, 1.0).normalize();
     let step = 1f64.to_radians();
     let total = 40f64.to_radians();

@@ -2,8 +2,8 @@
 //! and seeded random configurations.
 #![allow(dead_code)]
 
-use kinematics::{Chain, HandDescription};
-use nalgebra::SVector;
+use kinematics::{Chain, ClosedFormIk, HandDescription, Object};
+use nalgebra::{Matrix3, SVector, Vector3};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
@@ -33,4 +33,38 @@ pub fn chains() -> [Chain<3>; 3] {
 pub fn random_q<const N: usize>(chain: &Chain<N>, rng: &mut ChaCha8Rng) -> SVector<f64, N> {
     let (lo, hi) = (chain.lower(), chain.upper());
     SVector::from_fn(|i, _| rng.random_range(lo[i]..=hi[i]))
+}
+
+/// The contact normal of `chain` at `q` on the ball `o`, from forward
+/// kinematics.
+pub fn normal(chain: &Chain<3>, q: &Vector3<f64>, o: &Object) -> Vector3<f64> {
+    (chain.forward(q).tip_centre() - o.centre).normalize()
+}
+
+/// q̇ of one finger for the ball's ω: the no-slip condition
+/// ċ − r ω_f × n = ω × (R n) with ċ = J_v q̇, ω_f = J_ω q̇, as one system.
+pub fn q_dot(chain: &Chain<3>, q: &Vector3<f64>, o: &Object, w: &Vector3<f64>) -> Vector3<f64> {
+    let s = chain.forward(q);
+    let n = normal(chain, q, o);
+    let nx = Matrix3::new(0.0, -n.z, n.y, n.z, 0.0, -n.x, -n.y, n.x, 0.0);
+    let m = s.jacobian_v() + nx * s.jacobian_w() * chain.tip_radius;
+    m.lu()
+        .solve(&w.cross(&(n * o.radius)))
+        .expect("regular grasp")
+}
+
+/// The three tips 30° from the ball's top at the fingers' azimuths.
+pub fn top_grasp(chains: &[Chain<3>; 3], o: &Object) -> [Vector3<f64>; 3] {
+    let beta = 30f64.to_radians();
+    std::array::from_fn(|k| {
+        let az = [75.0f64, -45.0, -165.0][k].to_radians();
+        let n = Vector3::new(beta.sin() * az.cos(), beta.sin() * az.sin(), beta.cos());
+        ClosedFormIk::new(&chains[k])
+            .unwrap()
+            .solve(
+                &(o.centre + n * (o.radius + chains[k].tip_radius)),
+                &chains[k].mid_range(),
+            )
+            .expect("inside the limits")
+    })
 }
