@@ -31,6 +31,7 @@ pub mod alternatives;
 pub mod budget;
 pub mod candidates;
 pub mod carry_path;
+pub mod chains;
 pub mod collision;
 pub mod fingertips;
 pub mod gaiting;
