@@ -140,6 +140,11 @@ pub const PAIR_ACTIONS: [ActionKind; 6] = [
     ActionKind::Regrasp,
 ];
 
+/// The children of a two-finger node of a hand whose pairs do not turn
+/// ([`super::hand_model::HandModel::pairs_turn`]: finger chains, whose
+/// pairs would spin): the free finger placed, so that three turn.
+pub const STILL_PAIR_ACTIONS: [ActionKind; 1] = [ActionKind::Place];
+
 /// The children of a three-finger node, in order.
 pub const TRIPLE_ACTIONS: [ActionKind; 4] = [
     ActionKind::Lift,

@@ -16,7 +16,6 @@
 use nalgebra::Vector3;
 
 use super::budget::Stop;
-use super::load::LoadViolation;
 use super::plan::Step;
 use super::timing::DurationModel;
 use crate::hand_state::HandState;
@@ -162,6 +161,8 @@ pub trait HandModel {
     type Touch: Copy + std::fmt::Debug + PartialEq;
     /// A hand-specific motion on the still object (e.g. rolling).
     type Regrasp: Clone + std::fmt::Debug + PartialEq;
+    /// What the exact check of a plan found wrong.
+    type Violation: std::fmt::Debug;
 
     /// Motion durations (SPEC §5).
     fn timing(&self) -> &DurationModel;
@@ -180,10 +181,23 @@ pub trait HandModel {
     /// Whether three contacts are force-closure as hard contacts.
     fn fc_triple(&self, c: &[Vector3<f64>; 3]) -> bool;
 
+    /// Whether a pair of grasping fingers turns the object (else only three
+    /// do, and a two-finger node is expanded by
+    /// [`super::alternatives::STILL_PAIR_ACTIONS`]).
+    fn pairs_turn(&self) -> bool {
+        true
+    }
     /// How far the grasping `fingers` of `hand` can carry the object about
     /// the unit `axis`: each inside its workspace and the finger's own
-    /// limits (not the load).
-    fn carry_range(&self, hand: &HandState, fingers: &[usize], axis: &Vector3<f64>) -> f64;
+    /// limits (not the load). The caller needs no more than `limit`: a
+    /// hand may stop looking there (and answer `limit`).
+    fn carry_range(
+        &self,
+        hand: &HandState,
+        fingers: &[usize],
+        axis: &Vector3<f64>,
+        limit: f64,
+    ) -> f64;
     /// Turns the object about `axis` by `angle`, the grasping fingers with it.
     fn carry(&self, hand: &mut HandState, axis: &Vector3<f64>, angle: f64);
     /// How finger `k` would touch down at `contact` to carry about `axis`
@@ -248,6 +262,6 @@ pub trait HandModel {
     /// The steps that execute `actions` from `start` (SPEC §4.2), or the
     /// finger that cannot move clear of the others.
     fn build(&self, start: &HandState, actions: &[Action<Self>]) -> Result<Vec<Step>, usize>;
-    /// The exact check of built steps (SPEC §1.3 I1' at every sample).
-    fn check(&self, start: &HandState, steps: &[Step]) -> Result<(), LoadViolation>;
+    /// The exact check of built steps (SPEC §1.3 at every sample).
+    fn check(&self, start: &HandState, steps: &[Step]) -> Result<(), Self::Violation>;
 }

@@ -360,13 +360,12 @@ impl Planner {
             route.extend(r);
             pass = pass.max(p);
         }
-        Ok(self.finish(
+        Ok(assemble(
             start,
             goal,
             angle,
             join_turns(steps, &self.config.limits),
-            route,
-            pass,
+            Route { pass, steps: route },
             effort,
         ))
     }
@@ -474,45 +473,41 @@ impl Planner {
         }
         Ok(())
     }
+}
 
-    /// The plan of `steps`, with its statistics.
-    #[allow(clippy::too_many_arguments)]
-    fn finish(
-        &self,
-        start: &HandState,
-        goal: UnitQuaternion<f64>,
-        goal_angle: f64,
-        steps: Vec<Step>,
-        route: Vec<route::RouteStep>,
-        pass: usize,
-        effort: Effort,
-    ) -> Plan {
-        let mut s = PlanSummary {
-            goal_angle,
-            effort,
-            ..PlanSummary::default()
-        };
-        for st in &steps {
-            match st.kind {
-                StepKind::Place | StepKind::Lift => s.gaits += 1,
-                StepKind::Rotate if step_rotation_angle(st) == 0.0 => {}
-                StepKind::Rotate => s.rotations += 1,
-                StepKind::Roll => s.rolls += 1,
-                StepKind::Transfer => {}
-            }
-            s.duration += st.duration;
+/// The plan of `steps` found by `route`, with its statistics.
+pub(crate) fn assemble(
+    start: &HandState,
+    goal: UnitQuaternion<f64>,
+    goal_angle: f64,
+    steps: Vec<Step>,
+    route: Route,
+    effort: Effort,
+) -> Plan {
+    let mut s = PlanSummary {
+        goal_angle,
+        effort,
+        ..PlanSummary::default()
+    };
+    for st in &steps {
+        match st.kind {
+            StepKind::Place | StepKind::Lift => s.gaits += 1,
+            StepKind::Rotate if step_rotation_angle(st) == 0.0 => {}
+            StepKind::Rotate => s.rotations += 1,
+            StepKind::Roll => s.rolls += 1,
+            StepKind::Transfer => {}
         }
-        (s.substitutions, s.rewinds) = count_finger_gaits(&steps);
-        let route = Route { pass, steps: route };
-        s.escaped = route.escaped();
-        Plan {
-            start: *start,
-            goal,
-            steps,
-            summary: s,
-            route,
-            profiles: Vec::new(),
-        }
+        s.duration += st.duration;
+    }
+    (s.substitutions, s.rewinds) = count_finger_gaits(&steps);
+    s.escaped = route.escaped();
+    Plan {
+        start: *start,
+        goal,
+        steps,
+        summary: s,
+        route,
+        profiles: Vec::new(),
     }
 }
 

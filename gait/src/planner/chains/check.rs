@@ -265,40 +265,54 @@ impl Sample<'_> {
         axis: Option<&Vector3<f64>>,
         m: &mut ChainMargins,
     ) -> Result<(), ChainViolation> {
-        let hand = self.hand;
-        let (idx, count) = state.grasping();
-        let weight = hand.gravity() * hand.object().mass;
-        if count == 0 || weight.norm() == 0.0 && axis.is_none() {
-            return Ok(());
-        }
-        let mut contacts = Vec::with_capacity(count);
-        let mut statics = Vec::with_capacity(count);
-        for &k in &idx[..count] {
-            let n = state.fingers[k].center.normalize();
-            contacts.push(if count == 3 {
-                Contact::hard(n)
-            } else {
-                Contact::soft(n)
-            });
-            let q = joints[k].expect("every finger's joints were found first");
-            statics.push(hand.statics(k, &q, &n));
-        }
-        let accel = axis.map_or(Vector3::zeros(), |a| {
-            a * (hand.inertia() * self.params.max_acceleration)
-        });
-        let scenarios = if axis.is_some() {
-            vec![(weight, accel), (weight, -accel)]
-        } else {
-            vec![(weight, Vector3::zeros())]
-        };
-        let share = hand
-            .torque_box()
-            .solve(&contacts, &statics, &scenarios, self.params.min_grip)
-            .map_or(f64::INFINITY, |s| s.utilisation);
+        let share = grasp_share(self.hand, state, joints, axis, self.params);
         m.torque_share = m.torque_share.max(share);
         if share > 1.0 {
             return Err(self.fail(None, ViolationKind::Load(share)));
         }
         Ok(())
     }
+}
+
+/// The least share of the motors' torque limits with which the grasping
+/// fingers of `state` (at `joints`) hold the load (module docs): u* of the
+/// torque box, 0 without a load, +∞ where no forces in the friction
+/// cones hold it or a grasping finger's joints are unknown.
+pub fn grasp_share(
+    hand: &ChainHand,
+    state: &HandState,
+    joints: &[Option<Vector3<f64>>; FINGERS],
+    axis: Option<&Vector3<f64>>,
+    params: &CheckParams,
+) -> f64 {
+    let (idx, count) = state.grasping();
+    let weight = hand.gravity() * hand.object().mass;
+    if count == 0 || weight.norm() == 0.0 && axis.is_none() {
+        return 0.0;
+    }
+    let mut contacts = Vec::with_capacity(count);
+    let mut statics = Vec::with_capacity(count);
+    for &k in &idx[..count] {
+        let n = state.fingers[k].center.normalize();
+        contacts.push(if count == 3 {
+            Contact::hard(n)
+        } else {
+            Contact::soft(n)
+        });
+        let Some(q) = joints[k] else {
+            return f64::INFINITY;
+        };
+        statics.push(hand.statics(k, &q, &n));
+    }
+    let accel = axis.map_or(Vector3::zeros(), |a| {
+        a * (hand.inertia() * params.max_acceleration)
+    });
+    let scenarios = if axis.is_some() {
+        vec![(weight, accel), (weight, -accel)]
+    } else {
+        vec![(weight, Vector3::zeros())]
+    };
+    hand.torque_box()
+        .solve(&contacts, &statics, &scenarios, params.min_grip)
+        .map_or(f64::INFINITY, |s| s.utilisation)
 }

@@ -17,7 +17,10 @@
 //! [`check`] is the exact check of a plan on chains: every sample of
 //! every step against §14.1 and the load under the torque box.
 
+pub mod build;
 pub mod check;
+pub mod model;
+pub mod planner;
 
 use kinematics::{
     Chain, ClosedFormIk, DescriptionError, FingerGap, GraspLimits, HandDescription, NotClosedForm,
@@ -107,6 +110,25 @@ impl ChainHand {
     /// The limits a grasp keeps beyond the joint limits' margin.
     pub fn limits(&self) -> &GraspLimits {
         &self.limits
+    }
+
+    /// The Coulomb coefficient μ of a tip on the object.
+    pub fn friction_mu(&self) -> f64 {
+        self.friction.mu
+    }
+
+    /// How finger `k` grasps at the outward unit normal `n` within the
+    /// hand's margins, if it can (SPEC §14.1 "Workspace",
+    /// [`kinematics::reach`]).
+    pub fn reach(&self, k: usize, n: &Vector3<f64>) -> Option<kinematics::Reach> {
+        kinematics::reach(
+            &self.chains[k],
+            &self.iks[k],
+            &self.object,
+            &self.gravity,
+            n,
+            &self.limits.margins,
+        )
     }
 
     /// Gravity in the hand frame \[m/s²\].

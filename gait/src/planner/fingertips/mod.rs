@@ -202,6 +202,7 @@ impl Fingertips {
 impl HandModel for Fingertips {
     type Touch = f64;
     type Regrasp = Regrasp;
+    type Violation = LoadViolation;
 
     fn timing(&self) -> &DurationModel {
         &self.timing
@@ -228,7 +229,14 @@ impl HandModel for Fingertips {
         open::fact4(&self.geom, &c[0], &c[1], &c[2])
     }
 
-    fn carry_range(&self, hand: &HandState, fingers: &[usize], axis: &Vector3<f64>) -> f64 {
+    // (Closed form: the whole range costs no more than part of it.)
+    fn carry_range(
+        &self,
+        hand: &HandState,
+        fingers: &[usize],
+        axis: &Vector3<f64>,
+        _limit: f64,
+    ) -> f64 {
         grasp_range(&self.geom, hand, fingers, axis)
     }
 

@@ -5,7 +5,8 @@ use nalgebra::Vector3;
 
 use super::super::alternatives::{
     ActionKind, ESCAPE_STEP, MAX_ESCAPE, MAX_TILT, MIN_DETOUR, MIN_PAIR_TURN, MIN_TURN,
-    PAIR_ACTIONS, PAIR_TURN_FRACTIONS, TILT_FRACTIONS, TRIPLE_ACTIONS, TRIPLE_TURN_FRACTIONS,
+    PAIR_ACTIONS, PAIR_TURN_FRACTIONS, STILL_PAIR_ACTIONS, TILT_FRACTIONS, TRIPLE_ACTIONS,
+    TRIPLE_TURN_FRACTIONS,
 };
 use super::super::geometry::angle_between;
 use super::super::goal::Remaining;
@@ -44,7 +45,9 @@ impl<H: HandModel> Search<'_, '_, H> {
     /// checked when a turn comes up).
     pub(super) fn range(&self, hand: &HandState, rem: &Remaining) -> f64 {
         let (idx, n) = hand.grasping();
-        let r = self.hand.carry_range(hand, &idx[..n], &rem.axis);
+        let r = self
+            .hand
+            .carry_range(hand, &idx[..n], &rem.axis, rem.angle.max(MIN_PAIR_TURN));
         if n != 2 {
             return r;
         }
@@ -101,7 +104,12 @@ impl<H: HandModel> Search<'_, '_, H> {
         let before = self.nodes.len();
         let mut goal = false;
         let mut gaits = 0;
-        for kind in PAIR_ACTIONS {
+        let actions: &[ActionKind] = if self.hand.pairs_turn() {
+            &PAIR_ACTIONS
+        } else {
+            &STILL_PAIR_ACTIONS
+        };
+        for &kind in actions {
             match kind {
                 ActionKind::Toward if node.last != Last::Turn(Turn::Toward) => {
                     goal = self.pair_turns(idx, node, pair, z);
@@ -506,7 +514,7 @@ impl<H: HandModel> Search<'_, '_, H> {
         if angle < MIN_DETOUR {
             return;
         }
-        let r = self.hand.carry_range(&node.hand, &pair, &axis);
+        let r = self.hand.carry_range(&node.hand, &pair, &axis, angle);
         let t = self
             .pair_hold(&node.hand, pair, &axis, r.min(angle), r)
             .min(angle);
@@ -530,6 +538,22 @@ impl<H: HandModel> Search<'_, '_, H> {
         let k = self.params.branching.min(MAX_BRANCHING);
         let mut top = [(f64::INFINITY, usize::MAX); MAX_BRANCHING];
         let mut n_top = 0;
+        // Where only three fingers turn, a placement is for the turns of
+        // the three: as far as the least of the fingers' own ranges (the
+        // two grasping asked once) — now, and after the finger that binds
+        // is placed anew, which needs the new finger to make a pair with
+        // the other.
+        let still = !h.pairs_turn();
+        let own = if still {
+            let axis = &node.rem.axis;
+            [ca, cb]
+                .iter()
+                .zip(pair)
+                .map(|(c, k)| h.touch_for(k, c, axis).1.min(node.rem.angle))
+                .collect::<Vec<_>>()
+        } else {
+            Vec::new()
+        };
         for (i, c) in h.candidates(z).iter().enumerate() {
             if !(h.apart((z, c), (pair[0], &ca)) && h.apart((z, c), (pair[1], &cb))) {
                 continue;
@@ -542,7 +566,20 @@ impl<H: HandModel> Search<'_, '_, H> {
             if !tilt.is_finite() {
                 continue;
             }
-            let score = tilt * RANGE_WEIGHT + h.timing().transfer_cos(from.dot(c));
+            let worth = if still {
+                let rz = self.fresh[fi].range[z][i].min(node.rem.angle);
+                let now = rz.min(own[0]).min(own[1]);
+                let next = [ca, cb]
+                    .iter()
+                    .zip(&own)
+                    .filter(|(x, _)| h.good_pair(c, x))
+                    .map(|(_, r)| rz.min(*r))
+                    .fold(0.0, f64::max);
+                -0.5 * (now + next)
+            } else {
+                tilt
+            };
+            let score = worth * RANGE_WEIGHT + h.timing().transfer_cos(from.dot(c));
             if n_top < k || score < top[n_top - 1].0 {
                 let pos = top[..n_top].partition_point(|(s, _)| *s <= score);
                 let end = (n_top + 1).min(k);
@@ -578,7 +615,7 @@ impl<H: HandModel> Search<'_, '_, H> {
             for axis in [chord, -chord] {
                 let range = self
                     .hand
-                    .carry_range(&node.hand, &[0, 1, 2], &axis)
+                    .carry_range(&node.hand, &[0, 1, 2], &axis, MAX_TILT)
                     .min(MAX_TILT);
                 let mut t = ESCAPE_STEP;
                 while t <= range {
@@ -601,7 +638,9 @@ impl<H: HandModel> Search<'_, '_, H> {
     fn detours(&mut self, idx: u32, node: &Node, pair: [usize; 2], z: usize) {
         let axes = self.params.detour_axes.clone();
         for e in &axes {
-            let r = self.hand.carry_range(&node.hand, &pair, e);
+            let r = self
+                .hand
+                .carry_range(&node.hand, &pair, e, std::f64::consts::PI);
             let limit = r.min(std::f64::consts::PI);
             let range = self.pair_hold(&node.hand, pair, e, limit, limit);
             for t in [range, 0.5 * range] {
@@ -622,7 +661,10 @@ impl<H: HandModel> Search<'_, '_, H> {
     fn escapes(&mut self, idx: u32, node: &Node, pair: [usize; 2], z: usize) {
         let mut found: Vec<(Vector3<f64>, f64)> = Vec::new();
         for e in &self.params.escape_axes {
-            let r = self.hand.carry_range(&node.hand, &pair, e).min(MAX_ESCAPE);
+            let r = self
+                .hand
+                .carry_range(&node.hand, &pair, e, MAX_ESCAPE)
+                .min(MAX_ESCAPE);
             let range = self.pair_hold(&node.hand, pair, e, r, r);
             let mut t = ESCAPE_STEP;
             while t <= range {
@@ -697,7 +739,7 @@ impl<H: HandModel> Search<'_, '_, H> {
             for axis in [chord, -chord] {
                 let range = self
                     .hand
-                    .carry_range(&node.hand, &[0, 1, 2], &axis)
+                    .carry_range(&node.hand, &[0, 1, 2], &axis, MAX_TILT)
                     .min(MAX_TILT);
                 for f in TILT_FRACTIONS {
                     let t = f * range;

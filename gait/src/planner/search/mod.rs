@@ -351,7 +351,10 @@ impl<H: HandModel> Search<'_, '_, H> {
             node.hand.fingers[pair[1]].contact_normal(),
         );
         let roomy = probe_axes().iter().any(|e| {
-            let r = self.hand.carry_range(&node.hand, &pair, e).min(ROOMY);
+            let r = self
+                .hand
+                .carry_range(&node.hand, &pair, e, ROOMY)
+                .min(ROOMY);
             r >= ROOMY
                 && self
                     .hand

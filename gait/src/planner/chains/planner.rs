@@ -1,0 +1,144 @@
+//! Planning on finger chains: the one search ([`crate::planner::search`])
+//! with the chain hand behind its boundary ([`ChainModel`]), the plan
+//! certified by the chain check ([`super::check`]) before it is returned.
+//!
+//! As for the free fingertips: the request is checked (a finite goal; a
+//! start whose grasp is force-closure, every finger where its joints can
+//! put it, holding the load), the search runs within the caller's budget
+//! — with detours about other axes first, as the first pass of
+//! [`crate::planner::alternatives::PASSES`] — and the plan records its
+//! route and effort.
+
+use nalgebra::UnitQuaternion;
+
+use super::model::ChainModel;
+use crate::hand_state::{FINGERS, HandState};
+use crate::planner::alternatives::PASSES;
+use crate::planner::budget::{Budget, Effort, Halt, Unbounded};
+use crate::planner::goal::Remaining;
+use crate::planner::hand_model::HandModel;
+use crate::planner::route::Route;
+use crate::planner::search::{self, Mode, NotFound, Params};
+use crate::planner::{Plan, PlanError, assemble, fibonacci_sphere};
+
+/// The planner of a chain hand. Cheap to clone (the model's grids are
+/// shared).
+#[derive(Debug, Clone)]
+pub struct ChainPlanner {
+    model: ChainModel,
+    params: Params,
+}
+
+impl ChainPlanner {
+    /// The planner of `model`, with the search's settings from the
+    /// model's configuration (`planner.branching`, `planner.detour_axes`,
+    /// `planner.escape_axes`).
+    pub fn new(model: ChainModel) -> Self {
+        let p = &model.config().planner;
+        let params = Params {
+            branching: p.branching as usize,
+            detour_axes: fibonacci_sphere(p.detour_axes as usize),
+            escape_axes: fibonacci_sphere(p.escape_axes as usize),
+        };
+        Self { model, params }
+    }
+
+    /// The hand model.
+    pub fn model(&self) -> &ChainModel {
+        &self.model
+    }
+
+    /// Plans from `start` to the object orientation `goal` within the
+    /// configured expansion budget (deterministic).
+    pub fn plan(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Result<Plan, PlanError> {
+        let mut never = Unbounded;
+        let max = self.model.config().planner.max_expansions;
+        self.plan_within(start, goal, &mut Budget::new(max, &mut never))
+    }
+
+    /// Plans from `start` to `goal` within `budget` (module docs).
+    pub fn plan_within(
+        &self,
+        start: &HandState,
+        goal: &UnitQuaternion<f64>,
+        budget: &mut Budget<'_>,
+    ) -> Result<Plan, PlanError> {
+        let gq = goal.quaternion();
+        if !gq.coords.iter().all(|x| x.is_finite()) || gq.norm() < 1e-9 {
+            return Err(PlanError::InvalidGoal);
+        }
+        let goal = UnitQuaternion::new_normalize(*gq);
+        let finite = start.object.coords.iter().all(|x| x.is_finite())
+            && start
+                .fingers
+                .iter()
+                .all(|f| f.center.iter().all(|x| x.is_finite()));
+        if !finite {
+            return Err(PlanError::NonFiniteState);
+        }
+        self.check_start(start)?;
+        let rem = Remaining::orientation(&start.object, &goal);
+        let angle = start.object.angle_to(&goal);
+        let mut effort = Effort::default();
+        if rem.reached() {
+            return Ok(assemble(
+                start,
+                goal,
+                angle,
+                Vec::new(),
+                Route::default(),
+                effort,
+            ));
+        }
+        let mode = Mode {
+            weight: PASSES[0].weight,
+            bound: f64::INFINITY,
+            cap: u32::MAX,
+            detours: true,
+            ends_in_pair: false,
+        };
+        effort.passes = 1;
+        let m = &self.model;
+        match search::run(m, &self.params, mode, start, rem, budget, &mut effort) {
+            Ok(found) => {
+                let route = Route::new(0, start, m, &found.actions);
+                Ok(assemble(start, goal, angle, found.steps, route, effort))
+            }
+            Err(NotFound::Halted(Halt::Canceled)) => Err(PlanError::Canceled),
+            Err(NotFound::Halted(Halt::OutOfBudget) | NotFound::Capped) => Err(PlanError::Timeout),
+            Err(NotFound::Exhausted {
+                blocked: Some(finger),
+                ..
+            }) => Err(PlanError::Blocked { finger }),
+            Err(NotFound::Exhausted { .. }) if m.load_active() => {
+                Err(PlanError::LoadInfeasible { start: false })
+            }
+            Err(NotFound::Exhausted { .. }) => Err(PlanError::SearchExhausted),
+        }
+    }
+
+    /// The start must be a force-closure grasp of two or three fingers,
+    /// every finger where its joints can put it, and hold the load.
+    fn check_start(&self, start: &HandState) -> Result<(), PlanError> {
+        let m = &self.model;
+        let (idx, n) = start.grasping();
+        let normal = |k: usize| start.fingers[k].center.normalize();
+        let closed = match n {
+            2 => m.good_pair(&normal(idx[0]), &normal(idx[1])),
+            3 => m.fc_triple(&[normal(0), normal(1), normal(2)]),
+            _ => false,
+        };
+        if !closed {
+            return Err(PlanError::NoGrasp);
+        }
+        for k in 0..FINGERS {
+            if m.hand().joints(k, &start.fingers[k].center, None).is_none() {
+                return Err(PlanError::Blocked { finger: k });
+            }
+        }
+        if !m.holds_at_rest(start) {
+            return Err(PlanError::LoadInfeasible { start: true });
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,337 @@
+//! Planning on TriFingerPro's chains (SPEC §14): the one search with the
+//! chain hand behind its boundary, holding the shipped tennis ball under
+//! gravity. Every plan is checked here by the test's own reading of it:
+//! the steps follow one another, the ball ends at the goal, and at fine
+//! samples every finger's joints (closed-form IK verified by forward
+//! kinematics) stay on one branch inside their limits with the contact on
+//! the tip patch, while through every carry the tip centres are where the
+//! test's own integration of the no-slip condition puts them (not the
+//! planner's fit).
+//!
+//! The figures over many goals: `GAIT_CHAIN_GOALS=200 cargo test --release
+//! -p gait --test chain_planning -- --nocapture chain_figures` (default 0:
+//! the figures test only says how to run it).
+
+#[path = "../../kinematics/tests/common/mod.rs"]
+mod common;
+
+use common::q_dot;
+use gait::planner::chains::ChainHand;
+use gait::planner::chains::model::ChainModel;
+use gait::planner::chains::planner::ChainPlanner;
+use gait::planner::{Motion, Plan, PlanError, StepKind};
+use gait::{FingerMode, HandConfig, HandState};
+use kinematics::{GraspLimits, Margins};
+use nalgebra::{UnitQuaternion, Vector3};
+
+/// The hand's margins (the test's choice): 5° inside the tip patch, 5 mm
+/// between links and ball, 5 mm between two fingers.
+const LIMITS: GraspLimits = GraspLimits {
+    margins: Margins {
+        patch: 5.0 * std::f64::consts::PI / 180.0,
+        clearance: 0.005,
+    },
+    finger_gap: 0.005,
+};
+
+/// Motion limits for a hand this size: the ball turns at up to 1 rad/s,
+/// a free tip travels at up to 0.1 m/s, 15 mm above the ball.
+fn config() -> HandConfig {
+    let mut c = HandConfig::default();
+    c.limits.fingertip.velocity = 0.1;
+    c.limits.fingertip.acceleration = 1.0;
+    c.limits.fingertip.jerk = 10.0;
+    c.planner.transfer_height = 0.015;
+    c.planner.max_expansions = 3000;
+    c
+}
+
+fn planner_with(d: &kinematics::HandDescription) -> ChainPlanner {
+    let hand = ChainHand::new(d, LIMITS).expect("TriFingerPro is a chain hand");
+    ChainPlanner::new(ChainModel::new(hand, &config()))
+}
+
+fn planner() -> ChainPlanner {
+    planner_with(&common::hand())
+}
+
+/// Finger 0 near the ball's top, finger 1 below the equator on its side,
+/// finger 2 above it on the other: pairs (0, 1) and (1, 2) are
+/// force-closure and hold the ball, so either outer finger can lift.
+fn start(p: &ChainPlanner) -> HandState {
+    let normals = [
+        Vector3::new(-0.07, 0.07, 1.0),
+        Vector3::new(0.55, -0.57, -0.61),
+        Vector3::new(-0.64, 0.66, 0.40),
+    ];
+    let mut s = HandState::paper_start(&config());
+    for (k, f) in s.fingers.iter_mut().enumerate() {
+        let r = p.model().hand().object().radius + p.model().hand().chain(k).tip_radius;
+        f.mode = FingerMode::Grasping;
+        f.center = normals[k].normalize() * r;
+    }
+    s.object = UnitQuaternion::identity();
+    s
+}
+
+fn about(axis: Vector3<f64>, deg: f64) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_axis_angle(&nalgebra::Unit::new_normalize(axis), deg.to_radians())
+}
+
+/// What the test's own reading of a plan found.
+#[derive(Debug, Default)]
+struct Reading {
+    /// Largest distance of a carried tip from the test's integration \[m\].
+    off_law: f64,
+    /// Tightest joint-limit margin beyond the chain's own \[rad\].
+    joint: f64,
+    /// Tightest tip-patch margin of a grasping finger \[rad\].
+    patch: f64,
+    samples: usize,
+}
+
+/// The test's reading of `plan` from `start` (module docs); panics at
+/// the first thing wrong.
+fn read(p: &ChainPlanner, start: &HandState, plan: &Plan) -> Reading {
+    let hand = p.model().hand();
+    let o = *hand.object();
+    let mut r = Reading {
+        joint: f64::INFINITY,
+        patch: f64::INFINITY,
+        ..Reading::default()
+    };
+    let mut q: [Vector3<f64>; 3] =
+        std::array::from_fn(|k| hand.joints(k, &start.fingers[k].center, None).unwrap());
+    let mut at = *start;
+    for (i, st) in plan.steps.iter().enumerate() {
+        assert!(
+            (0..3).all(|k| (st.start.fingers[k].center - at.fingers[k].center).norm() < 1e-12)
+                && st.start.object.angle_to(&at.object) < 1e-12,
+            "step {i} does not start where the one before ends"
+        );
+        let len = st.dofs().length;
+        let n = match st.motion {
+            Motion::Carry { angle, .. } => (angle.to_degrees() * 4.0).ceil().max(1.0) as usize,
+            Motion::Free(m) => (m.path.length() / 0.0005).ceil().max(1.0) as usize,
+            _ => panic!("step {i}: {:?} is no chain motion", st.kind),
+        };
+        // The test's own carry: the no-slip condition, midpoint rule.
+        let mut law = q;
+        for s in 0..=n {
+            let lam = s as f64 / n as f64;
+            if s > 0
+                && let Motion::Carry { axis, angle, .. } = st.motion
+            {
+                let h = angle / n as f64 / 20.0;
+                for _ in 0..20 {
+                    for (k, q) in law.iter_mut().enumerate() {
+                        if st.start.fingers[k].mode == FingerMode::Grasping {
+                            let c = hand.chain(k);
+                            let mid = *q + q_dot(c, q, &o, &axis) * (h / 2.0);
+                            *q += q_dot(c, &mid, &o, &axis) * h;
+                        }
+                    }
+                }
+            }
+            let state = st.eval(&len.map(|l| l * lam), &[0.0; 3]).state;
+            for k in 0..3 {
+                let c = hand.chain(k);
+                let f = &state.fingers[k];
+                let next = hand
+                    .nearest_branch(k, &f.center, &q[k])
+                    .unwrap_or_else(|| panic!("step {i}: finger {k} out of reach"));
+                let fk = c.forward(&next);
+                assert!((fk.tip_centre() - o.centre - f.center).norm() < 1e-9);
+                assert!(
+                    (next - q[k]).amax() < 0.1,
+                    "step {i}: finger {k} jumps {:.3} rad",
+                    (next - q[k]).amax()
+                );
+                q[k] = next;
+                for (j, l) in c.limits.iter().enumerate() {
+                    r.joint = r
+                        .joint
+                        .min(q[k][j] - l.lower - c.margin)
+                        .min(l.upper - q[k][j] - c.margin);
+                }
+                if f.mode == FingerMode::Grasping {
+                    let u = -(fk.tip.rotation.transpose() * f.center.normalize());
+                    r.patch = r.patch.min(c.patch.alpha - u.angle(c.patch.pole.as_ref()));
+                    if matches!(st.motion, Motion::Carry { .. }) {
+                        let want = c.forward(&law[k]).tip_centre() - o.centre;
+                        r.off_law = r.off_law.max((want - f.center).norm());
+                    }
+                }
+            }
+            r.samples += 1;
+        }
+        at = st.eval(&len, &[0.0; 3]).state;
+    }
+    assert!(
+        at.object.angle_to(&plan.goal) < 1e-9,
+        "the ball ends {:.2e} rad from the goal",
+        at.object.angle_to(&plan.goal)
+    );
+    let gaits = plan
+        .steps
+        .iter()
+        .filter(|s| matches!(s.kind, StepKind::Place | StepKind::Lift))
+        .count();
+    assert_eq!(gaits as u32, plan.summary.gaits);
+    assert!(r.joint >= 0.0, "a joint beyond its limit: {}", r.joint);
+    assert!(r.patch >= LIMITS.margins.patch - 1e-6, "patch {}", r.patch);
+    assert!(
+        r.off_law < 1e-6,
+        "a carried tip {:.2e} m off the law",
+        r.off_law
+    );
+    r
+}
+
+#[test]
+fn a_turn_the_three_fingers_reach_is_one_carry() {
+    let p = planner();
+    let s = start(&p);
+    let plan = p.plan(&s, &about(Vector3::z(), 30.0)).expect("planned");
+    let r = read(&p, &s, &plan);
+    eprintln!("30° about z: {:?}; {r:?}", plan.summary);
+    assert_eq!(plan.summary.gaits, 0);
+    assert!(
+        plan.steps
+            .iter()
+            .all(|st| matches!(st.motion, Motion::Carry { .. }))
+    );
+}
+
+/// Goals that need the fingers relocated (the ball turned further than
+/// the start grasp reaches about the goal's axis): three of the figures'
+/// Haar-random goals that plan within a few hundred expansions.
+#[test]
+fn gaits_turn_the_ball_further_than_one_grasp_reaches() {
+    let p = planner();
+    let s = start(&p);
+    let mut rng = common::rng(5);
+    let draws: Vec<UnitQuaternion<f64>> = (0..30)
+        .map(|_| test_support::random::haar(&mut rng))
+        .collect();
+    let goals = [draws[6], draws[26], draws[29]];
+    for goal in goals {
+        let plan = p.plan(&s, &goal).expect("planned");
+        let r = read(&p, &s, &plan);
+        eprintln!(
+            "{:.0}°: {} gaits, {:.2} s, {} expansions; tips within {:.1e} m of the law, \
+             joint margin {:.3} rad, patch {:.3} rad, {} samples",
+            goal.angle().to_degrees(),
+            plan.summary.gaits,
+            plan.summary.duration,
+            plan.summary.effort.expansions,
+            r.off_law,
+            r.joint,
+            r.patch,
+            r.samples
+        );
+        assert!(plan.summary.gaits >= 2, "no finger was relocated");
+    }
+}
+
+#[test]
+fn a_start_the_hand_cannot_hold_or_reach_is_refused() {
+    let p = planner();
+    let s = start(&p);
+    let goal = about(Vector3::z(), 30.0);
+    // Ten kilograms: no grasp within the motors' torques.
+    let mut heavy = common::hand();
+    heavy.object.mass = 10.0;
+    assert_eq!(
+        planner_with(&heavy).plan(&s, &goal).err(),
+        Some(PlanError::LoadInfeasible { start: true })
+    );
+    // A finger out of its reach (its tip 2 cm inside the ball's shell).
+    let mut far = s;
+    far.fingers[1].center = Vector3::new(0.0, 0.0, -1.0) * 0.2;
+    assert!(p.plan(&far, &goal).is_err());
+    // Two fingers on one side: no force closure.
+    let mut open = s;
+    open.fingers[2].mode = FingerMode::Free;
+    open.fingers[1].center = s.fingers[0].center;
+    assert_eq!(p.plan(&open, &goal).err(), Some(PlanError::NoGrasp));
+}
+
+/// The figures over `GAIT_CHAIN_GOALS` Haar-random goals from the start:
+/// planned share, planning time, time to goal, gaits, margins.
+#[test]
+fn chain_figures() {
+    let n: usize = std::env::var("GAIT_CHAIN_GOALS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0);
+    if n == 0 {
+        eprintln!("chain figures: set GAIT_CHAIN_GOALS=N (release build) to measure");
+        return;
+    }
+    let p = planner();
+    let s = start(&p);
+    let mut rng = common::rng(5);
+    let (mut times, mut goals_t, mut gaits, mut refused) = (vec![], vec![], vec![], vec![]);
+    let mut tight = (f64::INFINITY, f64::INFINITY, 0.0f64);
+    for i in 0..n {
+        let goal = test_support::random::haar(&mut rng);
+        let clock = std::time::Instant::now();
+        let plan = p.plan(&s, &goal);
+        times.push(clock.elapsed().as_secs_f64() * 1e3);
+        if std::env::var("GAIT_DUMP").is_ok() {
+            let (a, t) = goal
+                .axis_angle()
+                .map_or((Vector3::z(), 0.0), |(a, t)| (a.into_inner(), t));
+            eprintln!(
+                "goal {i}: {:.3?} {:.0}°, {:.0} ms: {:?}",
+                a.as_slice(),
+                t.to_degrees(),
+                times[i],
+                plan.as_ref().map(|p| (
+                    p.summary.gaits,
+                    p.summary.duration,
+                    p.summary.effort.expansions
+                ))
+            );
+        }
+        match plan {
+            Ok(plan) => {
+                let r = read(&p, &s, &plan);
+                tight = (
+                    tight.0.min(r.joint),
+                    tight.1.min(r.patch),
+                    tight.2.max(r.off_law),
+                );
+                goals_t.push(plan.summary.duration);
+                gaits.push(plan.summary.gaits as f64);
+            }
+            Err(e) => refused.push((i, e)),
+        }
+    }
+    let q = |v: &mut Vec<f64>, f: f64| {
+        v.sort_by(f64::total_cmp);
+        v.get(((v.len() as f64 - 1.0) * f).round() as usize)
+            .copied()
+            .unwrap_or(f64::NAN)
+    };
+    eprintln!(
+        "chain figures, {n} goals: planned {} ({:.1} %), refused {refused:?}\n\
+         planning ms p50 {:.0} / p99 {:.0} / max {:.0}\n\
+         time to goal s median {:.2} / p95 {:.2} / max {:.2}; gaits median {:.0} / max {:.0}\n\
+         tightest joint margin {:.3} rad, patch {:.3} rad; tips within {:.1e} m of the law",
+        goals_t.len(),
+        100.0 * goals_t.len() as f64 / n as f64,
+        q(&mut times, 0.5),
+        q(&mut times, 0.99),
+        q(&mut times, 1.0),
+        q(&mut goals_t, 0.5),
+        q(&mut goals_t, 0.95),
+        q(&mut goals_t, 1.0),
+        q(&mut gaits, 0.5),
+        q(&mut gaits, 1.0),
+        tight.0,
+        tight.1,
+        tight.2
+    );
+}
