@@ -90,9 +90,19 @@ fn events_published_across_a_bridge_restart_all_arrive_or_are_reported() {
     );
     assert_eq!(dupes, 0, "an event delivered twice");
     // Nothing lost silently: what did not arrive is reported, exactly.
-    assert_eq!(r.missed_events(), lost.len() as u64, "{lost:?}");
-    let holes: u64 = r.event_holes().iter().map(|(_, a, b)| b - a + 1).sum();
-    assert_eq!(holes, lost.len() as u64);
+    // (Counted over the events this test published: on a loaded machine
+    // the daemon goes on publishing — overruns — and the bridge may drop
+    // some of those too, which are reported beside.)
+    let holes: u64 = r
+        .event_holes()
+        .iter()
+        .filter(|(i, _, _)| *i == instance)
+        .map(|(_, a, b)| {
+            (*b).min(last).saturating_sub((*a).max(first)) + u64::from(*a <= last && *b >= first)
+        })
+        .sum();
+    assert_eq!(holes, lost.len() as u64, "{lost:?}\n{:?}", r.event_holes());
+    assert!(r.missed_events() >= lost.len() as u64, "{lost:?}");
     // The replayable ones arrived: the last 40 published while it was down.
     for s in last - 39..=last {
         assert!(received.contains(&s), "{s} not received\n{}", b.log());
