@@ -56,6 +56,10 @@ const RANGE_LIMIT: f64 = std::f64::consts::PI;
 /// the tip patch's limits come sooner).
 const TOUCH_LIMIT: f64 = std::f64::consts::FRAC_PI_2;
 
+/// A fresh placement's scan step \[rad\] (8°, the failing step bisected):
+/// it ranks placements; the grasp's own range is scanned finer.
+const TOUCH_STEP: f64 = 8.0 * std::f64::consts::PI / 180.0;
+
 /// The range scan's step \[rad\] (4°; the first failing step is bisected).
 /// The search's ranges steer it; the plan's check samples every degree.
 const RANGE_STEP: f64 = 4.0 * std::f64::consts::PI / 180.0;
@@ -329,7 +333,7 @@ impl HandModel for ChainModel {
             axis,
             TOUCH_LIMIT,
             self.hand.limits(),
-            RANGE_STEP,
+            TOUCH_STEP,
         );
         ((), r.angle)
     }
