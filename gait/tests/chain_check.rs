@@ -18,15 +18,7 @@ use gait::{FingerMode, HandState};
 use kinematics::{Bound, GraspLimits, Margins, carry_range};
 use nalgebra::Vector3;
 
-/// The test's margins: 5° inside the tip patch, 5 mm between links and
-/// ball, 5 mm between two fingers.
-const LIMITS: GraspLimits = GraspLimits {
-    margins: Margins {
-        patch: 5.0 * std::f64::consts::PI / 180.0,
-        clearance: 0.005,
-    },
-    finger_gap: 0.005,
-};
+use common::LIMITS;
 
 /// Samples every 1° or 1 mm; 2 rad/s² at most; 0.05 N least grip.
 const PARAMS: CheckParams = CheckParams {

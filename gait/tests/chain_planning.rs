@@ -21,18 +21,9 @@ use gait::planner::chains::model::ChainModel;
 use gait::planner::chains::planner::ChainPlanner;
 use gait::planner::{Motion, Plan, PlanError, StepKind};
 use gait::{FingerMode, HandConfig, HandState};
-use kinematics::{GraspLimits, Margins};
 use nalgebra::{UnitQuaternion, Vector3};
 
-/// The hand's margins (the test's choice): 5° inside the tip patch, 5 mm
-/// between links and ball, 5 mm between two fingers.
-const LIMITS: GraspLimits = GraspLimits {
-    margins: Margins {
-        patch: 5.0 * std::f64::consts::PI / 180.0,
-        clearance: 0.005,
-    },
-    finger_gap: 0.005,
-};
+use common::LIMITS;
 
 /// Motion limits for a hand this size: the ball turns at up to 1 rad/s,
 /// a free tip travels at up to 0.1 m/s, 15 mm above the ball.

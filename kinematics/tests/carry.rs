@@ -23,15 +23,7 @@ use kinematics::{
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use rand::Rng;
 
-/// Margins a planner would keep (the test's choice): 5° inside the tip
-/// patch, 5 mm between links and ball, 5 mm between two fingers.
-const LIMITS: GraspLimits = GraspLimits {
-    margins: Margins {
-        patch: 5.0 * std::f64::consts::PI / 180.0,
-        clearance: 0.005,
-    },
-    finger_gap: 0.005,
-};
+use common::LIMITS;
 
 fn setup() -> ([Chain<3>; 3], Object) {
     (common::chains(), common::hand().object)

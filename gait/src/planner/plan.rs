@@ -293,6 +293,42 @@ impl Handover {
     }
 }
 
+/// The handover at the end of the last of `steps`, made (passing nothing
+/// yet, `time` long, its time added to the step's) if it has none; `None`
+/// without handovers (`time` ≤ 0) or without steps.
+pub(crate) fn end_handover(steps: &mut [Step], time: f64) -> Option<&mut Handover> {
+    if time <= 0.0 {
+        return None;
+    }
+    let last = steps.last_mut()?;
+    if last.handover.is_none() {
+        last.duration += time;
+    }
+    Some(last.handover.get_or_insert(Handover {
+        take: None,
+        release: None,
+        spin: None,
+        duration: time,
+    }))
+}
+
+/// Where the last of `steps` placed `finger` (its handover takes it and
+/// releases none) and the finger lifts next: the handover removed, since
+/// a finger placed and lifted at once never carries and no grip passes
+/// either way. Whether it was.
+pub(crate) fn cancel_take(steps: &mut [Step], finger: usize) -> bool {
+    if let Some(last) = steps.last_mut()
+        && let Some(h) = last.handover
+        && h.take == Some(finger)
+        && h.release.is_none()
+    {
+        last.duration -= h.duration;
+        last.handover = None;
+        return true;
+    }
+    false
+}
+
 /// One primitive with its exact start state.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Step {

@@ -11,6 +11,16 @@ use rand_chacha::ChaCha8Rng;
 #[allow(unused_imports)]
 pub use test_support::random::{rng, unit};
 
+/// Margins a planner would keep (the tests' choice): 5° inside the tip
+/// patch, 5 mm between links and ball, 5 mm between two fingers.
+pub const LIMITS: kinematics::GraspLimits = kinematics::GraspLimits {
+    margins: kinematics::Margins {
+        patch: 5.0 * std::f64::consts::PI / 180.0,
+        clearance: 0.005,
+    },
+    finger_gap: 0.005,
+};
+
 /// The shipped URDF.
 pub const URDF: &str = include_str!("../../../deploy/hands/trifingerpro/trifingerpro.urdf");
 /// The shipped hand section.

@@ -21,7 +21,9 @@ use crate::config::LimitsConfig;
 use crate::hand_state::{FINGERS, FingerMode, HandState};
 use crate::planner::carry_path::{CarriedFinger, CarryPath, FitError};
 use crate::planner::geometry::rotation;
-use crate::planner::plan::{FreeMove, FreePath, Handover, Motion, Reorientation, Step, StepKind};
+use crate::planner::plan::{
+    FreeMove, FreePath, Handover, Motion, Reorientation, Step, StepKind, cancel_take, end_handover,
+};
 
 /// The longest turn one carry step is fitted for \[rad\].
 pub const MAX_PIECE: f64 = 1.5;
@@ -209,13 +211,7 @@ impl<'a> ChainBuilder<'a> {
     /// when the plan starts with the lift); a finger placed and lifted at
     /// once never carried, and no grip passes.
     fn release_before_lift(&mut self, finger: usize) -> Result<(), usize> {
-        if let Some(last) = self.steps.last_mut()
-            && let Some(h) = last.handover
-            && h.take == Some(finger)
-            && h.release.is_none()
-        {
-            last.duration -= h.duration;
-            last.handover = None;
+        if cancel_take(&mut self.steps, finger) {
             return Ok(());
         }
         if self.handover_time > 0.0 && self.steps.is_empty() {
@@ -229,20 +225,7 @@ impl<'a> ChainBuilder<'a> {
 
     /// The handover at the end of the last step, made if it has none.
     fn end_handover(&mut self) -> Option<&mut Handover> {
-        if self.handover_time <= 0.0 {
-            return None;
-        }
-        let time = self.handover_time;
-        let last = self.steps.last_mut()?;
-        if last.handover.is_none() {
-            last.duration += time;
-        }
-        Some(last.handover.get_or_insert(Handover {
-            take: None,
-            release: None,
-            spin: None,
-            duration: time,
-        }))
+        end_handover(&mut self.steps, self.handover_time)
     }
 }
 

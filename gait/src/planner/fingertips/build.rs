@@ -12,7 +12,9 @@ use nalgebra::Vector3;
 
 use super::super::collision::{other_centers, path_clear, sweep_clear};
 use super::super::geometry::{Geometry, angle_between};
-use super::super::plan::{FreeMove, FreePath, Handover, Motion, Reorientation, Step, StepKind};
+use super::super::plan::{
+    FreeMove, FreePath, Handover, Motion, Reorientation, Step, StepKind, cancel_take, end_handover,
+};
 use super::StillAction;
 use crate::hand_state::{FingerMode, HandState};
 
@@ -71,15 +73,8 @@ impl<'a> Builder<'a> {
     /// at the end of that step; a still step of its own when the plan
     /// starts with the lift).
     fn release_before_lift(&mut self, finger: usize) {
-        if let Some(last) = self.steps.last_mut()
-            && let Some(h) = last.handover
-            && h.take == Some(finger)
-            && h.release.is_none()
-        {
-            // Placed and lifted at once (the unwind's relocation under
-            // load): it never carries, so no grip passes either way.
-            last.duration -= h.duration;
-            last.handover = None;
+        // (Placed and lifted at once: the unwind's relocation under load.)
+        if cancel_take(&mut self.steps, finger) {
             return;
         }
         if self.handover_time > 0.0 && self.steps.is_empty() {
@@ -110,20 +105,7 @@ impl<'a> Builder<'a> {
     /// yet, `load.handover_time` long) if it has none; `None` without
     /// handovers or steps.
     fn end_handover(&mut self) -> Option<&mut Handover> {
-        if self.handover_time <= 0.0 {
-            return None;
-        }
-        let time = self.handover_time;
-        let last = self.steps.last_mut()?;
-        if last.handover.is_none() {
-            last.duration += time;
-        }
-        Some(last.handover.get_or_insert(Handover {
-            take: None,
-            release: None,
-            spin: None,
-            duration: time,
-        }))
+        end_handover(&mut self.steps, self.handover_time)
     }
 
     /// A motion on the still object.
