@@ -160,7 +160,7 @@ fn a_carry_step_turns_the_object_exactly_and_its_rates_are_its_derivatives() {
     }
     eprintln!("carry step: tip velocity vs central difference, worst relative {worst_rate:.1e}");
     assert!(worst_rate < 1e-6, "tip velocity off by {worst_rate:e}");
-    // The start and the end are the grasp's.
+    // The step starts at the grasp.
     let first = step.eval(&[0.0; 3], &[0.0; 3]).state;
     for k in 0..3 {
         assert!((first.fingers[k].center - s0.fingers[k].center).norm() < 1e-15);
@@ -203,7 +203,7 @@ fn a_turn_too_long_for_one_step_is_refused_and_fits_in_pieces() {
     // About the vertical the top grasp rolls without meeting a limit of
     // the law (the fit checks none of §14.1's: that is the planner's).
     let long = 170f64.to_radians();
-    let err = CarryPath::fit(&fingers(&chains, &start), &o, &axis, long, 1e-12);
+    let err = CarryPath::fit(&fingers(&chains, &start), &o, &axis, long, TOLERANCE);
     assert_eq!(err.err(), Some(FitError::TooLong));
     let pieces = 4;
     let mut q = start;

@@ -4,7 +4,8 @@
 //! sample that breaks one — a carry turned past its range (the same limit
 //! the kinematics' own scan finds, within one sample), a finger lifted off
 //! a grasp whose last pair cannot hold the ball, a finger driven through
-//! the ball, a rigidly carried (sticking) contact.
+//! the ball — and refuses a rigid turn (contacts sticking) as no motion
+//! of a chain.
 
 #[path = "../../kinematics/tests/common/mod.rs"]
 mod common;
@@ -283,7 +284,7 @@ fn a_carry_past_its_range_fails_where_the_range_ends() {
 }
 
 #[test]
-fn lifting_a_finger_the_pair_cannot_replace_fails_on_the_load() {
+fn lifting_a_finger_the_pair_left_cannot_hold_fails_on_the_load() {
     let h = hand();
     let s0 = equator(&h);
     let lift = radial(&s0, 0, 0.015, true);

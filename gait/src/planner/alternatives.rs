@@ -11,8 +11,9 @@
 //! found so far.
 //!
 //! In a pass, a node's children are generated in the order of
-//! [`PAIR_ACTIONS`] (two fingers grasp, the third is free) or
-//! [`TRIPLE_ACTIONS`] (three grasp); the search expands them cheapest
+//! [`PAIR_ACTIONS`] (two fingers grasp, the third is free; on a hand whose
+//! pairs do not turn, [`STILL_PAIR_ACTIONS`]) or [`TRIPLE_ACTIONS`]
+//! (three grasp); the search expands them cheapest
 //! first (execution time so far plus a weighted estimate of the rest),
 //! ties in that order. The fractions below are the turn lengths offered.
 

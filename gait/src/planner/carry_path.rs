@@ -84,9 +84,12 @@ pub enum FitError {
 pub struct FitReport {
     /// Knots used.
     pub knots: usize,
-    /// Largest angle between a fitted normal and the integrated one at
-    /// the intervals' midpoints \[rad\].
+    /// Largest distance between a fitted unit normal and the integrated
+    /// one at the intervals' midpoints (the chord, ≈ the angle \[rad\]).
     pub error: f64,
+    /// The fingers' joints at the end of the turn, as integrated, in the
+    /// order they were given (where the next carry starts from).
+    pub end: [Vector3<f64>; 3],
 }
 
 /// A contact's normal and its derivative along the turn.
@@ -123,16 +126,15 @@ impl CarryPath {
         }
         if m == 0
             || !(0.0..f64::INFINITY).contains(&angle)
-            || tolerance.is_nan()
-            || tolerance <= 0.0
+            || !(tolerance.is_finite() && tolerance > 0.0)
         {
             return Err(FitError::BadInput);
         }
         let mut knots = ((angle / FIRST_SPACING).ceil() as usize + 1).clamp(2, CARRY_KNOTS);
         loop {
-            let (path, error) = Self::try_knots(fingers, carried, object, axis, angle, knots)?;
+            let (path, error, end) = Self::try_knots(fingers, carried, object, axis, angle, knots)?;
             if error <= tolerance {
-                return Ok((path, FitReport { knots, error }));
+                return Ok((path, FitReport { knots, error, end }));
             }
             if knots == CARRY_KNOTS {
                 break;
@@ -153,7 +155,7 @@ impl CarryPath {
         axis: &Vector3<f64>,
         angle: f64,
         knots: usize,
-    ) -> Result<(Self, f64), FitError> {
+    ) -> Result<(Self, f64, [Vector3<f64>; 3]), FitError> {
         let m = fingers.len();
         let chains: [&Chain<3>; 3] = std::array::from_fn(|i| fingers[i.min(m - 1)].1);
         let chains = &chains[..m];
@@ -172,6 +174,7 @@ impl CarryPath {
         for (k, chain, _) in fingers {
             path.radius[*k] = object.radius + chain.tip_radius;
         }
+        // (The law's only failure is a singular finger.)
         let singular = |b: kinematics::Bound| match b {
             kinematics::Bound::Singular { finger } => FitError::Singular {
                 finger: fingers[finger].0,
@@ -180,11 +183,8 @@ impl CarryPath {
         };
         let mut error: f64 = 0.0;
         let half = 0.5 * path.spacing;
-        for j in 0..knots {
-            path.record(j, fingers, &q[..m], object, axis)?;
-            if j + 1 == knots {
-                break;
-            }
+        path.record(0, fingers, &q[..m], object, axis)?;
+        for j in 0..knots - 1 {
             carry(chains, &mut q[..m], object, axis, half, LAW_STEP).map_err(singular)?;
             let (theta_mid, mid) = (j as f64 * path.spacing + half, q);
             carry(chains, &mut q[..m], object, axis, half, LAW_STEP).map_err(singular)?;
@@ -197,7 +197,7 @@ impl CarryPath {
                 error = error.max((fitted - truth).norm());
             }
         }
-        Ok((path, error))
+        Ok((path, error, q))
     }
 
     /// Stores knot `j`'s normals and slopes from the fingers' joints `q`.

@@ -9,9 +9,11 @@
 //! the object turns, how far they can carry it, which forces the contacts
 //! can give, what collides, how long a motion takes, and what a finger can
 //! do on the still object — it asks a [`HandModel`]. The paper's free
-//! fingertips implement it ([`super::fingertips::Fingertips`]); a hand of
-//! finger chains implements it the same way, without a change to the
-//! search.
+//! fingertips implement it ([`super::fingertips::Fingertips`]), and so
+//! does a hand of finger chains ([`super::chains::model::ChainModel`]),
+//! which declares what sets it apart: its pairs do not turn the object
+//! ([`HandModel::pairs_turn`]) and it makes no regrasp on the still
+//! object ([`HandModel::offers_regrasps`]).
 
 use nalgebra::Vector3;
 
@@ -185,6 +187,11 @@ pub trait HandModel {
     /// do, and a two-finger node is expanded by
     /// [`super::alternatives::STILL_PAIR_ACTIONS`]).
     fn pairs_turn(&self) -> bool {
+        true
+    }
+    /// Whether the hand makes any regrasp on the still object (else the
+    /// search asks for none).
+    fn offers_regrasps(&self) -> bool {
         true
     }
     /// How far the grasping `fingers` of `hand` can carry the object about

@@ -93,13 +93,17 @@ impl<'a> ChainBuilder<'a> {
         Ok(())
     }
 
-    /// The object turned about `axis` by `angle` by the grasping fingers;
-    /// `Err(finger)` where the fit fails (a singular finger).
+    /// The object turned about `axis` by `angle` (finite, ≥ 0) by the
+    /// grasping fingers; `Err(finger)` where the fit fails (a singular
+    /// finger; the first grasping finger for an angle out of range).
     pub fn rotate(&mut self, axis: &Vector3<f64>, angle: f64) -> Result<(), usize> {
+        if !(0.0..f64::INFINITY).contains(&angle) {
+            return Err(self.first_grasping());
+        }
         let mut done = 0.0;
         loop {
             let mut piece = (angle - done).min(MAX_PIECE);
-            let path = loop {
+            let (path, end) = loop {
                 match self.fit(axis, piece) {
                     Ok(p) => break p,
                     Err(FitError::TooLong) if piece > 1e-3 => piece *= 0.5,
@@ -115,6 +119,12 @@ impl<'a> ChainBuilder<'a> {
                     path,
                 },
             )?;
+            // The carried fingers go on from the joints the law brought
+            // them to (not a branch guessed from their tips).
+            let (idx, n) = self.state.grasping();
+            for (i, &k) in idx[..n].iter().enumerate() {
+                self.joints[k] = Some(end[i]);
+            }
             done += piece;
             if angle - done <= 1e-12 {
                 return Ok(());
@@ -126,7 +136,11 @@ impl<'a> ChainBuilder<'a> {
         self.state.grasping().0[0]
     }
 
-    fn fit(&self, axis: &Vector3<f64>, angle: f64) -> Result<CarryPath, FitError> {
+    fn fit(
+        &self,
+        axis: &Vector3<f64>,
+        angle: f64,
+    ) -> Result<(CarryPath, [Vector3<f64>; 3]), FitError> {
         let (idx, n) = self.state.grasping();
         let mut fingers: [Option<CarriedFinger<'_>>; FINGERS] = [None; FINGERS];
         for (slot, &k) in fingers.iter_mut().zip(&idx[..n]) {
@@ -134,7 +148,8 @@ impl<'a> ChainBuilder<'a> {
             *slot = Some((k, self.hand.chain(k), q));
         }
         let carried: Vec<CarriedFinger<'_>> = fingers.iter().flatten().copied().collect();
-        CarryPath::fit(&carried, self.hand.object(), axis, angle, FIT_TOLERANCE).map(|(p, _)| p)
+        CarryPath::fit(&carried, self.hand.object(), axis, angle, FIT_TOLERANCE)
+            .map(|(p, r)| (p, r.end))
     }
 
     /// Grasping finger `k` out along its normal to the hover height, its

@@ -9,9 +9,9 @@
 //! follow from its tip centre ([`ChainHand::joints`]): of the closed-form
 //! branches inside the joint limits, the one nearest a reference — the
 //! joints a moment before, so that a finger moving along a path stays on
-//! its branch, or for a finger seen for the first time the admissible
-//! branch with the most joint-limit margin (as the workspace test picks
-//! it). Its tip orientation and roll in a state are not used: the joints
+//! its branch — or, for a finger seen for the first time, the branch the
+//! workspace test picks ([`kinematics::reach`]: inside the tip patch with
+//! the links clear, the most joint-limit margin). Its tip orientation and roll in a state are not used: the joints
 //! decide them.
 //!
 //! [`check`] is the exact check of a plan on chains: every sample of
@@ -136,10 +136,12 @@ impl ChainHand {
         &self.gravity
     }
 
-    /// The gap test of fingers `a` < `b` (pairs left out in the zero pose
-    /// already removed).
+    /// The gap test of two different fingers `a`, `b` (pairs left out in
+    /// the zero pose already removed); its first side is the finger with
+    /// the lower index.
     pub fn gap(&self, a: usize, b: usize) -> &FingerGap {
-        &self.gaps[a + b - 1]
+        debug_assert!(a != b && a < FINGERS && b < FINGERS);
+        &self.gaps[(a + b).saturating_sub(1).min(2)]
     }
 
     /// The tip centre in the hand frame of a state's `center` (relative to
@@ -163,12 +165,32 @@ impl ChainHand {
         match reference {
             Some(r) => self.iks[k].solve(&target, r).ok(),
             None => {
+                // As the workspace test picks: the admissible branch (patch
+                // and links clear too) with the most joint margin; else
+                // the one with the most inside the limits.
                 let b = self.iks[k].branches(&target);
-                b.q[..b.len]
+                let n = center.normalize();
+                let inside: Vec<Vector3<f64>> = b.q[..b.len]
                     .iter()
                     .filter(|q| chain.limit_margin(q) >= 0.0)
                     .filter(|q| (chain.forward(q).tip_centre() - target).norm() <= 1e-9)
-                    .max_by(|a, b| chain.limit_margin(a).total_cmp(&chain.limit_margin(b)))
+                    .copied()
+                    .collect();
+                let m = &self.limits.margins;
+                let admissible = |q: &&Vector3<f64>| {
+                    let s = chain.forward(q);
+                    chain.patch.margin(&s.tip.rotation, &n) >= m.patch
+                        && kinematics::workspace::object_clearance(chain, &s, &self.object)
+                            >= m.clearance
+                };
+                let most = |a: &&Vector3<f64>, b: &&Vector3<f64>| {
+                    chain.limit_margin(a).total_cmp(&chain.limit_margin(b))
+                };
+                inside
+                    .iter()
+                    .filter(admissible)
+                    .max_by(most)
+                    .or_else(|| inside.iter().max_by(most))
                     .copied()
             }
         }

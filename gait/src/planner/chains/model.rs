@@ -67,6 +67,9 @@ const RANGE_STEP: f64 = 4.0 * std::f64::consts::PI / 180.0;
 /// Samples of a turn's load test \[rad\] (3°, as the free fingertips').
 const LOAD_STEP: f64 = 3.0 * std::f64::consts::PI / 180.0;
 
+/// Most resting-pair verdicts kept (about 10 MB).
+const RESTING_MEMO: usize = 200_000;
+
 /// A resting pair asked: grasping finger, its contact's bits, free
 /// finger, its candidate.
 type RestingKey = (usize, [u64; 3], usize, usize);
@@ -275,6 +278,10 @@ impl HandModel for ChainModel {
         false
     }
 
+    fn offers_regrasps(&self) -> bool {
+        false
+    }
+
     fn carry_range(
         &self,
         hand: &HandState,
@@ -394,6 +401,10 @@ impl HandModel for ChainModel {
             let held = known.unwrap_or_else(|| {
                 let h = self.pair_holds((x, cx), (z, c), None);
                 if let Ok(mut m) = self.resting.lock() {
+                    // Bounded: kept across searches, forgotten when full.
+                    if m.len() >= RESTING_MEMO {
+                        m.clear();
+                    }
                     m.insert(key, h);
                 }
                 h
@@ -437,8 +448,7 @@ impl HandModel for ChainModel {
         match *r {}
     }
 
-    // No regrasp is needed before a lift: a pair that holds lifts the
-    // third finger as it is.
+    // (Never asked: the hand offers no regrasp.)
     fn regrasp_bound(&self, _hand: &HandState, _why: RegraspFor) -> f64 {
         0.0
     }

@@ -3,16 +3,18 @@
 //! certified by the chain check ([`super::check`]) before it is returned.
 //!
 //! As for the free fingertips: the request is checked (a finite goal; a
-//! start whose grasp is force-closure, every finger where its joints can
-//! put it, holding the load), the search runs within the caller's budget
-//! — with detours about other axes first, as the first pass of
-//! [`crate::planner::alternatives::PASSES`] — and the plan records its
-//! route and effort.
+//! start whose grasp is force-closure, on the object, within every limit
+//! of §14.1 and holding the load), the search runs within the caller's
+//! budget with the weight of the first pass of
+//! [`crate::planner::alternatives::PASSES`], and the plan records its
+//! route and effort. (Detours and escapes are a pair's turns: on chains,
+//! where pairs do not turn, the search makes none.)
 
 use nalgebra::UnitQuaternion;
 
+use super::check::{ChainViolation, check};
 use super::model::ChainModel;
-use crate::hand_state::{FINGERS, HandState};
+use crate::hand_state::HandState;
 use crate::planner::alternatives::PASSES;
 use crate::planner::budget::{Budget, Effort, Halt, Unbounded};
 use crate::planner::goal::Remaining;
@@ -20,6 +22,11 @@ use crate::planner::hand_model::HandModel;
 use crate::planner::route::Route;
 use crate::planner::search::{self, Mode, NotFound, Params};
 use crate::planner::{Plan, PlanError, assemble, fibonacci_sphere};
+
+/// How far a grasping tip's centre may be from the object's surface
+/// shell R + r \[m\] (a start's rounding, not a gap: the plan's first carry
+/// puts the tip on the shell).
+const CONTACT_TOLERANCE: f64 = 1e-6;
 
 /// The planner of a chain hand. Cheap to clone (the model's grids are
 /// shared).
@@ -31,8 +38,8 @@ pub struct ChainPlanner {
 
 impl ChainPlanner {
     /// The planner of `model`, with the search's settings from the
-    /// model's configuration (`planner.branching`, `planner.detour_axes`,
-    /// `planner.escape_axes`).
+    /// model's configuration (`planner.branching`; the detour and escape
+    /// axes as configured, which a chain search does not turn about).
     pub fn new(model: ChainModel) -> Self {
         let p = &model.config().planner;
         let params = Params {
@@ -117,11 +124,20 @@ impl ChainPlanner {
         }
     }
 
-    /// The start must be a force-closure grasp of two or three fingers,
-    /// every finger where its joints can put it, and hold the load.
+    /// The start must be a force-closure grasp of two or three fingers
+    /// touching the object, keep every limit of §14.1 (a finger that does
+    /// not: [`PlanError::Blocked`]), and hold the load.
     fn check_start(&self, start: &HandState) -> Result<(), PlanError> {
         let m = &self.model;
         let (idx, n) = start.grasping();
+        let o = m.hand().object();
+        let touching = idx[..n].iter().all(|&k| {
+            let r = o.radius + m.hand().chain(k).tip_radius;
+            (start.fingers[k].center.norm() - r).abs() <= CONTACT_TOLERANCE
+        });
+        if !touching {
+            return Err(PlanError::NoGrasp);
+        }
         let normal = |k: usize| start.fingers[k].center.normalize();
         let closed = match n {
             2 => m.good_pair(&normal(idx[0]), &normal(idx[1])),
@@ -131,14 +147,14 @@ impl ChainPlanner {
         if !closed {
             return Err(PlanError::NoGrasp);
         }
-        for k in 0..FINGERS {
-            if m.hand().joints(k, &start.fingers[k].center, None).is_none() {
-                return Err(PlanError::Blocked { finger: k });
-            }
+        match check(m.hand(), start, &[], m.check_params()) {
+            Err(ChainViolation {
+                finger: Some(finger),
+                ..
+            }) => Err(PlanError::Blocked { finger }),
+            Err(_) => Err(PlanError::LoadInfeasible { start: true }),
+            Ok(_) if !m.holds_at_rest(start) => Err(PlanError::LoadInfeasible { start: true }),
+            Ok(_) => Ok(()),
         }
-        if !m.holds_at_rest(start) {
-            return Err(PlanError::LoadInfeasible { start: true });
-        }
-        Ok(())
     }
 }

@@ -135,7 +135,10 @@ impl<H: HandModel> Search<'_, '_, H> {
                         self.escapes(idx, node, pair, z);
                     }
                 }
-                ActionKind::Regrasp if self.nodes.len() == before || node.parent == NONE => {
+                ActionKind::Regrasp
+                    if self.hand.offers_regrasps()
+                        && (self.nodes.len() == before || node.parent == NONE) =>
+                {
                     self.defer(idx, node, Deferred::Regrasp(RegraspFor::Unstick), 0.0);
                 }
                 _ => {}
@@ -170,7 +173,11 @@ impl<H: HandModel> Search<'_, '_, H> {
                     }
                 }
                 ActionKind::Regrasp
-                    if matches!(node.last, Last::Root | Last::Turn(Turn::Tilt) | Last::Place) =>
+                    if self.hand.offers_regrasps()
+                        && matches!(
+                            node.last,
+                            Last::Root | Last::Turn(Turn::Tilt) | Last::Place
+                        ) =>
                 {
                     for lift in (0..3).filter(|&k| !lifted[k]) {
                         let why = RegraspFor::OpenPair { lift };
@@ -528,7 +535,11 @@ impl<H: HandModel> Search<'_, '_, H> {
     /// pair with a grasping finger whose plane the three could tilt onto
     /// the weight soonest (the tilt about their chord that brings the
     /// weight into their plane, ranked with the travel), each checked to
-    /// hold the load at rest when it comes up.
+    /// hold the load at rest when it comes up. On a hand whose pairs do
+    /// not turn, ranked instead by the three's turn toward the goal (the
+    /// least of the fingers' own ranges) now and after the grasping finger
+    /// that binds first is placed anew, which needs a force-closure pair
+    /// of the new finger with the other one.
     fn places(&mut self, idx: u32, node: &Node, pair: [usize; 2], z: usize) {
         let fi = self.fresh_index(&node.rem.axis);
         let h = self.hand;
@@ -546,13 +557,19 @@ impl<H: HandModel> Search<'_, '_, H> {
         let still = !h.pairs_turn();
         let own = if still {
             let axis = &node.rem.axis;
-            [ca, cb]
-                .iter()
-                .zip(pair)
-                .map(|(c, k)| h.touch_for(k, c, axis).1.min(node.rem.angle))
-                .collect::<Vec<_>>()
+            [
+                h.touch_for(pair[0], &ca, axis).1.min(node.rem.angle),
+                h.touch_for(pair[1], &cb, axis).1.min(node.rem.angle),
+            ]
         } else {
-            Vec::new()
+            [0.0; 2]
+        };
+        // The grasping finger that binds first, and the other one's
+        // contact and range.
+        let (other_c, other_r) = if own[0] <= own[1] {
+            (cb, own[1])
+        } else {
+            (ca, own[0])
         };
         for (i, c) in h.candidates(z).iter().enumerate() {
             if !(h.apart((z, c), (pair[0], &ca)) && h.apart((z, c), (pair[1], &cb))) {
@@ -569,12 +586,11 @@ impl<H: HandModel> Search<'_, '_, H> {
             let worth = if still {
                 let rz = self.fresh[fi].range[z][i].min(node.rem.angle);
                 let now = rz.min(own[0]).min(own[1]);
-                let next = [ca, cb]
-                    .iter()
-                    .zip(&own)
-                    .filter(|(x, _)| h.good_pair(c, x))
-                    .map(|(_, r)| rz.min(*r))
-                    .fold(0.0, f64::max);
+                let next = if h.good_pair(c, &other_c) {
+                    rz.min(other_r)
+                } else {
+                    0.0
+                };
                 -0.5 * (now + next)
             } else {
                 tilt
@@ -619,11 +635,20 @@ impl<H: HandModel> Search<'_, '_, H> {
                     .min(MAX_TILT);
                 let mut t = ESCAPE_STEP;
                 while t <= range {
-                    let q = super::super::geometry::rotation(&axis, t);
-                    if self
-                        .hand
-                        .pair_holds((placed, &(q * cz)), (x, &(q * cx)), None)
-                    {
+                    // Where the pair's contacts are after the tilt: turned
+                    // with the object, or rolled (a chain's).
+                    let (az, ax) = if self.hand.pairs_turn() {
+                        let q = super::super::geometry::rotation(&axis, t);
+                        (q * cz, q * cx)
+                    } else {
+                        let mut h = node.hand;
+                        self.hand.carry(&mut h, &axis, t);
+                        (
+                            h.fingers[placed].contact_normal(),
+                            h.fingers[x].contact_normal(),
+                        )
+                    };
+                    if self.hand.pair_holds((placed, &az), (x, &ax), None) {
                         self.turn(idx, node, axis, t, Turn::Tilt, true);
                         break;
                     }
