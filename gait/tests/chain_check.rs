@@ -11,7 +11,7 @@
 mod common;
 
 use gait::planner::carry_path::{CarriedFinger, CarryPath};
-use gait::planner::chains::check::{CheckParams, ViolationKind, check};
+use gait::planner::chains::certify::{CheckParams, ViolationKind, check};
 use gait::planner::chains::{ChainHand, ChainHandError};
 use gait::planner::plan::Reorientation;
 use gait::planner::{FreeMove, FreePath, Motion, Step, StepKind};

@@ -14,13 +14,13 @@
 //! the links clear, the most joint-limit margin). Its tip orientation and roll in a state are not used: the joints
 //! decide them.
 //!
-//! [`check`] is the exact check of a plan on chains: every sample of
+//! [`certify`] is the exact check of a plan on chains: every sample of
 //! every step against §14.1 and the load under the torque box.
 
-pub mod build;
-pub mod check;
+pub mod certify;
 pub mod model;
 pub mod planner;
+pub mod steps;
 
 use kinematics::{
     Chain, ClosedFormIk, DescriptionError, FingerGap, GraspLimits, HandDescription, NotClosedForm,

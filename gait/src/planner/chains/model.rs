@@ -19,7 +19,7 @@
 //! - **Regrasps on the still object**: none — a chain finger's tip
 //!   orientation follows its position, so it cannot roll on the still
 //!   object (§14.2 with ω_o = 0 leaves ċ = 0).
-//! - **Steps and their check**: [`super::build`], [`super::check`].
+//! - **Steps and their check**: [`super::steps`], [`super::certify`].
 //!
 //! A fresh placement's range is the finger's own: its contact follows
 //! the object by its own chain alone (the rolling law is per finger), so
@@ -32,8 +32,8 @@ use std::sync::{Arc, Mutex};
 use nalgebra::Vector3;
 
 use super::ChainHand;
-use super::build::{ChainBuilder, along_carry, carried};
-use super::check::{ChainViolation, CheckParams, check, grasp_share};
+use super::certify::{ChainViolation, CheckParams, check, grasp_share};
+use super::steps::{ChainBuilder, along_carry, carried};
 use crate::HandConfig;
 use crate::hand_state::{FINGERS, FingerMode, HandState};
 use crate::planner::budget::Stop;

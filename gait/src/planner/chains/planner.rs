@@ -1,6 +1,6 @@
 //! Planning on finger chains: the one search ([`crate::planner::search`])
 //! with the chain hand behind its boundary ([`ChainModel`]), the plan
-//! certified by the chain check ([`super::check`]) before it is returned.
+//! certified by the chain check ([`super::certify`]) before it is returned.
 //!
 //! As for the free fingertips: the request is checked (a finite goal; a
 //! start whose grasp is force-closure, on the object, within every limit
@@ -12,7 +12,7 @@
 
 use nalgebra::UnitQuaternion;
 
-use super::check::{ChainViolation, check};
+use super::certify::{ChainViolation, check};
 use super::model::ChainModel;
 use crate::hand_state::HandState;
 use crate::planner::alternatives::PASSES;

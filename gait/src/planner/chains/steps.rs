@@ -12,7 +12,7 @@
 //!   that releases the finger, a placement with one that takes it.
 //!
 //! The builder does not decide whether a finger's way is clear: the exact
-//! check ([`super::check`]) samples every step.
+//! check ([`super::certify`]) samples every step.
 
 use nalgebra::Vector3;
 
