@@ -1,5 +1,6 @@
 //! A node's children, kind by kind, in the order of
-//! [`super::super::alternatives`].
+//! [`super::super::alternatives`] (where a free finger goes down:
+//! [`super::placing`]).
 
 use nalgebra::Vector3;
 
@@ -8,19 +9,11 @@ use super::super::alternatives::{
     PAIR_ACTIONS, PAIR_TURN_FRACTIONS, STILL_PAIR_ACTIONS, TILT_FRACTIONS, TRIPLE_ACTIONS,
     TRIPLE_TURN_FRACTIONS,
 };
-use super::super::geometry::angle_between;
 use super::super::goal::Remaining;
 use super::super::hand_model::{Action, At, HandModel, RegraspFor, Turn};
 use super::Search;
 use super::node::{Deferred, Edge, Last, NONE, Node};
 use crate::hand_state::HandState;
-
-/// Most children kept per substitution side (`planner.branching` ≤ this).
-pub const MAX_BRANCHING: usize = 16;
-
-/// Seconds of travel one radian of usable rotation range is worth when
-/// ranking placements (a longer segment saves later gaits).
-const RANGE_WEIGHT: f64 = 2.0;
 
 /// Step by which a pair's turn is shortened until a gait can follow it.
 const THEORY1_BACKOFF: f64 = 0.035;
@@ -58,7 +51,7 @@ impl<H: HandModel> Search<'_, '_, H> {
     /// [`HandModel::pair_hold_range`], remembered for the search (the kept
     /// finger of a substitution is asked about again with every candidate
     /// at the next node).
-    fn hold_range(&self, a: At<'_>, b: At<'_>, axis: &Vector3<f64>, limit: f64) -> f64 {
+    pub(super) fn hold_range(&self, a: At<'_>, b: At<'_>, axis: &Vector3<f64>, limit: f64) -> f64 {
         let ((fa, a), (fb, b)) = (a, b);
         let key = [
             fa as f64, a.x, a.y, a.z, fb as f64, b.x, b.y, b.z, axis.x, axis.y, axis.z, limit,
@@ -196,7 +189,7 @@ impl<H: HandModel> Search<'_, '_, H> {
 
     /// A child of `parent` reached by `actions` (one or two).
     #[allow(clippy::too_many_arguments)]
-    fn child(
+    pub(super) fn child(
         &mut self,
         parent: u32,
         from: &Node,
@@ -225,7 +218,7 @@ impl<H: HandModel> Search<'_, '_, H> {
 
     /// A deferred child: evaluated when it comes up ([`Deferred`]);
     /// `cost` is its cost, or a lower bound of it.
-    fn defer(&mut self, parent: u32, from: &Node, d: Deferred, cost: f64) {
+    pub(super) fn defer(&mut self, parent: u32, from: &Node, d: Deferred, cost: f64) {
         let (rem, last) = match d {
             Deferred::Turn { axis, angle, why } => (from.rem.after(&axis, angle), Last::Turn(why)),
             Deferred::Regrasp(_) => (from.rem, Last::Regrasp),
@@ -368,144 +361,6 @@ impl<H: HandModel> Search<'_, '_, H> {
         false
     }
 
-    /// Substitutions: the free finger placed with one of the pair, the
-    /// other lifted (two gaits).
-    fn substitutions(&mut self, idx: u32, node: &Node, pair: [usize; 2], z: usize) {
-        let fi = self.fresh_index(&node.rem.axis);
-        let from = self.hand.hover_dir(&node.hand, z);
-        let t = *self.hand.timing();
-        for keep_i in 0..2 {
-            let (keep, lose) = (pair[keep_i], pair[1 - keep_i]);
-            let c_keep = node.hand.fingers[keep].contact_normal();
-            let c_lose = node.hand.fingers[lose].contact_normal();
-            let chosen =
-                self.placements(fi, node.rem.angle, z, (keep, lose), &c_keep, &c_lose, &from);
-            for &i in chosen.iter().flatten() {
-                let contact = self.hand.candidates(z)[i];
-                let touch = self.fresh[fi].touch[z][i];
-                let mut hand = node.hand;
-                self.hand.place(&mut hand, z, &contact, touch);
-                self.hand.lift(&mut hand, lose);
-                let travel = (t.transfer(angle_between(&from, &contact)) - node.prev_turn).max(0.0);
-                let cost = travel + 2.0 * t.vertical + t.handover;
-                let place = Action::Place {
-                    finger: z,
-                    contact,
-                    touch,
-                };
-                let lift = Action::Lift { finger: lose };
-                self.child(
-                    idx,
-                    node,
-                    hand,
-                    node.rem,
-                    cost,
-                    0.0,
-                    Last::Gait,
-                    (place, Some(lift)),
-                );
-            }
-        }
-    }
-
-    /// The placements of the free finger `z` to expand (force-closure
-    /// with finger `keep`'s contact and holding the load with it, clear of
-    /// both contacts): the best `branching` by score (rotation allowed,
-    /// then travel) among those after which `lose` could come back and
-    /// replace `keep` next; the best overall; and the quickest to reach.
-    /// The load's limit on a placement's turn only lowers its score, so
-    /// placements are scored in order of their score without it and the
-    /// scoring stops where none left can make a list.
-    #[allow(clippy::too_many_arguments)]
-    fn placements(
-        &self,
-        fi: usize,
-        rem: f64,
-        z: usize,
-        (keep, lose): (usize, usize),
-        c_keep: &Vector3<f64>,
-        c_lose: &Vector3<f64>,
-        from: &Vector3<f64>,
-    ) -> [Option<usize>; MAX_BRANCHING + 2] {
-        let h = self.hand;
-        let fresh = &self.fresh[fi];
-        let k = self.params.branching.min(MAX_BRANCHING);
-        let cand = h.candidates(z);
-        let flexible = |i: usize| {
-            let back = h.candidates(lose);
-            h.partners(z, lose, i)
-                .iter()
-                .any(|&j| h.apart((lose, &back[j as usize]), (keep, c_keep)))
-        };
-        // (score without the load's limit, candidate, range, travel)
-        let mut list: Vec<(f64, usize, f64, f64)> = Vec::with_capacity(64);
-        let mut quick = (f64::NEG_INFINITY, usize::MAX);
-        h.resting_partners(keep, c_keep, z, &mut |i| {
-            let c = &cand[i];
-            // The new pair must hold the load at rest where the contact
-            // really is (SPEC §1.3 I1').
-            if h.good_pair(c, c_keep)
-                && h.apart((z, c), (keep, c_keep))
-                && h.apart((z, c), (lose, c_lose))
-                && h.pair_holds((keep, c_keep), (z, c), None)
-            {
-                let d = from.dot(c);
-                // A turn beyond what is left is worth nothing.
-                let range = fresh.range[z][i].min(rem);
-                let travel = h.timing().transfer_cos(d);
-                list.push((-range * RANGE_WEIGHT + travel, i, range, travel));
-                if d > quick.0 {
-                    quick = (d, i);
-                }
-            }
-            true
-        });
-        list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut top = [(f64::INFINITY, usize::MAX); MAX_BRANCHING];
-        let mut n_top = 0;
-        let mut best = (f64::INFINITY, usize::MAX);
-        let load = h.load_active();
-        for &(upper, i, range, travel) in &list {
-            let worst_top = if n_top < k {
-                f64::INFINITY
-            } else {
-                top[n_top - 1].0
-            };
-            if upper >= worst_top && upper >= best.0 {
-                break;
-            }
-            // The pair's turn ends where it stops holding the load.
-            let range = if load {
-                self.hold_range((keep, c_keep), (z, &cand[i]), &fresh.axis, range)
-            } else {
-                range
-            };
-            let score = -range * RANGE_WEIGHT + travel;
-            if score < best.0 {
-                best = (score, i);
-            }
-            if (n_top < k || score < top[n_top - 1].0) && flexible(i) {
-                let pos = top[..n_top].partition_point(|(s, _)| *s <= score);
-                let end = (n_top + 1).min(k);
-                top.copy_within(pos..end - 1, pos + 1);
-                top[pos] = (score, i);
-                n_top = end;
-            }
-        }
-        let mut out = [None; MAX_BRANCHING + 2];
-        for (o, t) in out.iter_mut().zip(&top[..n_top]) {
-            *o = Some(t.1);
-        }
-        let mut n = n_top;
-        for extra in [best.1, quick.1] {
-            if extra != usize::MAX && !out[..n].contains(&Some(extra)) {
-                out[n] = Some(extra);
-                n += 1;
-            }
-        }
-        out
-    }
-
     /// The remaining rotation's twist about the weight's direction, as far
     /// as the pair can turn about it.
     fn twist(&mut self, idx: u32, node: &Node, pair: [usize; 2]) {
@@ -527,93 +382,6 @@ impl<H: HandModel> Search<'_, '_, H> {
             .min(angle);
         if t >= MIN_DETOUR {
             self.turn(idx, node, axis, t, Turn::Detour, false);
-        }
-    }
-
-    /// Placements of the free finger `z` that make three fingers grasp,
-    /// where no gait can follow the pair: those that make a force-closure
-    /// pair with a grasping finger whose plane the three could tilt onto
-    /// the weight soonest (the tilt about their chord that brings the
-    /// weight into their plane, ranked with the travel), each checked to
-    /// hold the load at rest when it comes up. On a hand whose pairs do
-    /// not turn, ranked instead by the three's turn toward the goal (the
-    /// least of the fingers' own ranges) now and after the grasping finger
-    /// that binds first is placed anew, which needs a force-closure pair
-    /// of the new finger with the other one.
-    fn places(&mut self, idx: u32, node: &Node, pair: [usize; 2], z: usize) {
-        let fi = self.fresh_index(&node.rem.axis);
-        let h = self.hand;
-        let from = h.hover_dir(&node.hand, z);
-        let (ca, cb) = contacts(&node.hand, pair);
-        let down = h.weight_direction();
-        let k = self.params.branching.min(MAX_BRANCHING);
-        let mut top = [(f64::INFINITY, usize::MAX); MAX_BRANCHING];
-        let mut n_top = 0;
-        // Where only three fingers turn, a placement is for the turns of
-        // the three: as far as the least of the fingers' own ranges (the
-        // two grasping asked once) — now, and after the finger that binds
-        // is placed anew, which needs the new finger to make a pair with
-        // the other.
-        let still = !h.pairs_turn();
-        let own = if still {
-            let axis = &node.rem.axis;
-            [
-                h.touch_for(pair[0], &ca, axis).1.min(node.rem.angle),
-                h.touch_for(pair[1], &cb, axis).1.min(node.rem.angle),
-            ]
-        } else {
-            [0.0; 2]
-        };
-        // The grasping finger that binds first, and the other one's
-        // contact and range.
-        let (other_c, other_r) = if own[0] <= own[1] {
-            (cb, own[1])
-        } else {
-            (ca, own[0])
-        };
-        for (i, c) in h.candidates(z).iter().enumerate() {
-            if !(h.apart((z, c), (pair[0], &ca)) && h.apart((z, c), (pair[1], &cb))) {
-                continue;
-            }
-            let tilt = [ca, cb]
-                .iter()
-                .filter(|x| h.good_pair(c, x))
-                .map(|x| level_tilt(c, x, &down).abs())
-                .fold(f64::INFINITY, f64::min);
-            if !tilt.is_finite() {
-                continue;
-            }
-            let worth = if still {
-                let rz = self.fresh[fi].range[z][i].min(node.rem.angle);
-                let now = rz.min(own[0]).min(own[1]);
-                let next = if h.good_pair(c, &other_c) {
-                    rz.min(other_r)
-                } else {
-                    0.0
-                };
-                -0.5 * (now + next)
-            } else {
-                tilt
-            };
-            let score = worth * RANGE_WEIGHT + h.timing().transfer_cos(from.dot(c));
-            if n_top < k || score < top[n_top - 1].0 {
-                let pos = top[..n_top].partition_point(|(s, _)| *s <= score);
-                let end = (n_top + 1).min(k);
-                top.copy_within(pos..end - 1, pos + 1);
-                top[pos] = (score, i);
-                n_top = end;
-            }
-        }
-        let t = *h.timing();
-        for &(_, i) in &top[..n_top] {
-            let c = h.candidates(z)[i];
-            let travel = (t.transfer(angle_between(&from, &c)) - node.prev_turn).max(0.0);
-            let d = Deferred::Place {
-                finger: z,
-                cand: i as u32,
-                fresh: fi as u32,
-            };
-            self.defer(idx, node, d, travel + t.vertical + t.handover);
         }
     }
 
@@ -778,7 +546,7 @@ impl<H: HandModel> Search<'_, '_, H> {
 }
 
 /// The contact normals of two fingers.
-fn contacts(hand: &HandState, pair: [usize; 2]) -> (Vector3<f64>, Vector3<f64>) {
+pub(super) fn contacts(hand: &HandState, pair: [usize; 2]) -> (Vector3<f64>, Vector3<f64>) {
     (
         hand.fingers[pair[0]].contact_normal(),
         hand.fingers[pair[1]].contact_normal(),
@@ -791,27 +559,5 @@ pub fn others(k: usize) -> (usize, usize) {
         0 => (1, 2),
         1 => (0, 2),
         _ => (0, 1),
-    }
-}
-
-/// The tilt about the chord of the pair at `a`, `b` (about the unit chord
-/// u from b to a, right-handed) that brings the direction `down` into the
-/// pair's plane through the centre, nearest zero, in (−π/2, π/2]: the
-/// plane's normal ν turns as ν cos t + (u × ν) sin t.
-fn level_tilt(a: &Vector3<f64>, b: &Vector3<f64>, down: &Vector3<f64>) -> f64 {
-    let u = (a - b).normalize();
-    let Some(nu) = a.cross(b).try_normalize(1e-12) else {
-        return 0.0;
-    };
-    let (p, q) = (down.dot(&nu), down.dot(&u.cross(&nu)));
-    // p cos t + q sin t = 0.
-    let t = (-p).atan2(q);
-    let half = std::f64::consts::FRAC_PI_2;
-    if t > half {
-        t - std::f64::consts::PI
-    } else if t <= -half {
-        t + std::f64::consts::PI
-    } else {
-        t
     }
 }

@@ -23,6 +23,7 @@
 mod expand;
 mod fresh;
 mod node;
+mod placing;
 
 use std::collections::{BinaryHeap, HashSet};
 use std::hash::BuildHasherDefault;
