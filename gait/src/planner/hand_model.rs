@@ -232,14 +232,16 @@ pub trait HandModel {
     /// Calls `f` with each candidate (index into `candidates(z)`) of free
     /// finger `z` that makes with grasping finger `x`'s contact `cx` a good
     /// pair holding the load at rest, until `f` returns false. May round
-    /// `cx` to a fine grid (it steers the search): check what is chosen
-    /// with [`HandModel::good_pair`] and [`HandModel::pair_holds`].
+    /// `cx` to a fine grid (it steers the search); `f`'s second argument
+    /// says whether this candidate was decided where `cx` really is, with
+    /// [`HandModel::good_pair`] and [`HandModel::pair_holds`]: where it was
+    /// not, check what is chosen with them.
     fn resting_partners(
         &self,
         x: usize,
         cx: &Vector3<f64>,
         z: usize,
-        f: &mut dyn FnMut(usize) -> bool,
+        f: &mut dyn FnMut(usize, bool) -> bool,
     );
     /// Whether the soft pair of fingers at `a`, `b` holds the load: at
     /// rest (`None`) or turning about the axis.

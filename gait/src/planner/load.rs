@@ -224,6 +224,17 @@ impl PairLoad {
     /// The test's slack \[N\] for the weight components (ĉ, u, ν); with
     /// `sign_only`, any negative value as soon as one is found.
     fn slack_in(&self, p: &PairFrame, ec: f64, eu: f64, en: f64, sign_only: bool) -> f64 {
+        self.margins_in(p, ec, eu, en, sign_only).slack
+    }
+
+    /// [`PairLoad::slack_in`] with the squeeze F and the least N₀ − ρ_N
+    /// behind it (meaningful where the slack is ≥ 0).
+    fn margins_in(&self, p: &PairFrame, ec: f64, eu: f64, en: f64, sign_only: bool) -> Margins {
+        let fail = |slack| Margins {
+            slack,
+            squeeze: 0.0,
+            normal: 0.0,
+        };
         let (a, b) = (p.a, p.b);
         let r = self.radius;
         let s = self.torsion_scale;
@@ -231,7 +242,7 @@ impl PairLoad {
         // carry (μ N ≤ μ F_max).
         let tors_low = s * (r * a * en.abs() - p.known.y.abs()) / (2.0 * b) - p.rows[2];
         if sign_only && tors_low > self.mu * self.max_grip {
-            return -1.0;
+            return fail(-1.0);
         }
         let mut terms = [(0.0, 0.0, 0.0, 0.0); 4];
         let mut f = f64::INFINITY;
@@ -250,14 +261,16 @@ impl PairLoad {
             }
         }
         if f <= 0.0 {
-            return f;
+            return fail(f);
         }
         let mut slack = f64::INFINITY;
+        let mut normal = f64::INFINITY;
         for &(n0, in0, along, tors) in &terms[..2 * signs] {
             let n = b * f + n0 - p.rho_n;
             if n < self.min_grip {
-                return n - self.min_grip;
+                return fail(n - self.min_grip);
             }
+            normal = normal.min(n);
             let x = [(a * f + in0).abs(), along.abs(), tors.abs()];
             let by_norm = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt() + p.rho_need;
             let by_rows = ((x[0] + p.rows[0]).powi(2)
@@ -266,10 +279,37 @@ impl PairLoad {
             .sqrt();
             slack = slack.min(self.mu * n - by_norm.min(by_rows));
             if sign_only && slack < 0.0 {
-                return slack;
+                return fail(slack);
             }
         }
-        slack
+        Margins {
+            slack,
+            squeeze: f,
+            normal,
+        }
+    }
+
+    /// How far \[N\] the weight's components (ĉ, u, ν) can move from where
+    /// `m` was found (a passing test) and the test still pass: each
+    /// quantity of [`PairLoad::margins_in`] is Lipschitz in them, with the
+    /// constants below read off its affine parts (module docs):
+    /// N₀ has gradient (a/2, ∓1/(2b), 0), so F moves by at most |∇N₀|/b and
+    /// N₀ − ρ_N by 2|∇N₀|; the cone's left side by at most |∇x| with
+    /// x = (a F + in-plane₀, ν₀, τ₀ μ/μ_t).
+    fn reach(&self, p: &PairFrame, m: &Margins) -> f64 {
+        if m.slack < 0.0 {
+            return 0.0;
+        }
+        let (a, b) = (p.a, p.b);
+        let grad_n = (0.25 * a * a + 0.25 / (b * b)).sqrt();
+        let grad_x = ((a * grad_n / b + 0.5 * b).powi(2)
+            + 0.25
+            + (self.torsion_scale * self.radius * a / (2.0 * b)).powi(2))
+        .sqrt();
+        (m.squeeze * b / grad_n)
+            .min((m.normal - self.min_grip) / (2.0 * grad_n))
+            .min(m.slack / (2.0 * self.mu * grad_n + grad_x))
+            .max(0.0)
     }
 
     /// Slack \[N\] of the sufficient condition (module docs) for the soft
@@ -360,7 +400,10 @@ impl PairLoad {
     /// `axis` and still hold the load: 0 if it does not now, `limit` if it
     /// does all the way. Scans every 5° and bisects the first failure.
     /// The pair turned by t sees the weight turned by −t: its components
-    /// in the pair's frame are sinusoids in t.
+    /// in the pair's frame are sinusoids in t, moving at |k × w| per
+    /// radian, so a passing sufficient test vouches for the scan's angles
+    /// within its reach (`reach`) and those are not asked again (the
+    /// result is the plain scan's).
     pub fn exit(
         &self,
         n1: &Vector3<f64>,
@@ -376,16 +419,24 @@ impl PairLoad {
         };
         // w · Rot(k, t) e = A + B cos t + C sin t for each frame axis e.
         let waves = p.axes.map(|e| Sinusoid::new(axis, &e, &self.weight));
+        // The components move at |k × w| per radian: a passing test at t
+        // holds on to t + reach / rate.
+        let rate = axis.cross(&self.weight).norm();
         let ok = |t: f64| {
             let (sin, cos) = t.sin_cos();
             let c = waves.map(|w| w.a + w.b * cos + w.c * sin);
-            self.slack_in(&p, c[0], c[1], c[2], true) >= 0.0 || {
-                // The exact model's disturbance vertices are fixed in the
-                // hand frame, as in the plan's check: turn the contacts,
-                // not the weight.
-                let q = rotation(axis, t);
-                self.exact_holds(&(q * n1), &(q * n2), &self.weight, Some(axis))
+            let m = self.margins_in(&p, c[0], c[1], c[2], true);
+            if m.slack >= 0.0 {
+                // Shrunk a little against rounding at the far end.
+                let sure = 0.999 * self.reach(&p, &m) / rate;
+                return (true, if sure.is_nan() { 0.0 } else { sure });
             }
+            // The exact model's disturbance vertices are fixed in the hand
+            // frame, as in the plan's check: turn the contacts, not the
+            // weight.
+            let q = rotation(axis, t);
+            let held = self.exact_holds(&(q * n1), &(q * n2), &self.weight, Some(axis));
+            (held, 0.0)
         };
         scan_exit(limit, EXIT_STEP, ok)
     }
@@ -394,20 +445,32 @@ impl PairLoad {
 /// The first angle in [0, `limit`] where `ok` fails, by a scan every
 /// `step` and a bisection of the first failure (0 if it fails at 0,
 /// `limit` if it never does). A full turn brings the load back, so one
-/// turn decides beyond it.
-fn scan_exit(limit: f64, step: f64, ok: impl Fn(f64) -> bool) -> f64 {
-    if !ok(0.0) {
+/// turn decides beyond it. `ok(t)` also says how far beyond t it surely
+/// still holds: the scan does not ask there (its answer would be yes).
+fn scan_exit(limit: f64, step: f64, ok: impl Fn(f64) -> (bool, f64)) -> f64 {
+    let (held, mut sure) = ok(0.0);
+    if !held {
         return 0.0;
     }
+    let ok = |t: f64, sure: &mut f64| {
+        if t <= *sure {
+            return true;
+        }
+        let (held, beyond) = ok(t);
+        if held {
+            *sure = t + beyond;
+        }
+        held
+    };
     let span = limit.min(std::f64::consts::TAU);
     let mut good = 0.0;
     loop {
         let t = (good + step).min(span);
-        if !ok(t) {
+        if !ok(t, &mut sure) {
             let mut bad = t;
             for _ in 0..8 {
                 let mid = 0.5 * (good + bad);
-                if ok(mid) {
+                if ok(mid, &mut sure) {
                     good = mid;
                 } else {
                     bad = mid;
@@ -420,6 +483,15 @@ fn scan_exit(limit: f64, step: f64, ok: impl Fn(f64) -> bool) -> f64 {
             return limit;
         }
     }
+}
+
+/// The test's slack and the margins of its other conditions (F > 0,
+/// N₀ − ρ_N ≥ `min_grip`) \[N\].
+#[derive(Debug, Clone, Copy)]
+struct Margins {
+    slack: f64,
+    squeeze: f64,
+    normal: f64,
 }
 
 /// A pair's frame (ĉ, u, ν), its a = cos(θ/2), b = sin(θ/2), the known
@@ -565,5 +637,94 @@ fn visit_steps(
                 return;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    fn unit(rng: &mut ChaCha8Rng) -> Vector3<f64> {
+        loop {
+            let v = Vector3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            );
+            if v.norm() > 0.1 && v.norm() < 1.0 {
+                return v.normalize();
+            }
+        }
+    }
+
+    /// The reach of a passing test is a radius, in the weight's components,
+    /// within which it still passes: from random pairs (130–180° apart),
+    /// axes and weights, every direction probed fails no nearer than the
+    /// reach (the scan of [`PairLoad::exit`] skips on it). The least ratio
+    /// of the distance to the failure over the reach says how tight it is.
+    #[test]
+    fn a_passing_test_passes_within_its_reach() {
+        let cfg = HandConfig::default();
+        let load = PairLoad::new(&cfg);
+        let w = load.weight.norm();
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let (mut probed, mut tightest) = (0, f64::INFINITY);
+        while probed < 4000 {
+            let (n1, n2) = (unit(&mut rng), unit(&mut rng));
+            if n1.dot(&n2) > 130f64.to_radians().cos() {
+                continue;
+            }
+            let axis = rng.random_bool(0.5).then(|| unit(&mut rng));
+            let Some(p) = load.frame(&n1, &n2, axis.as_ref()) else {
+                continue;
+            };
+            let c = unit(&mut rng) * w * rng.random_range(0.0..3.0);
+            let m = load.margins_in(&p, c.x, c.y, c.z, true);
+            let reach = load.reach(&p, &m);
+            if m.slack < 0.0 || reach <= 1e-9 {
+                continue;
+            }
+            for _ in 0..8 {
+                probed += 1;
+                let d = unit(&mut rng);
+                let passes = |s: f64| {
+                    let e = c + d * s;
+                    load.slack_in(&p, e.x, e.y, e.z, true) >= 0.0
+                };
+                // The first failure along d, to 1e-6 of the reach.
+                let (mut good, mut bad) = (0.0, reach);
+                while passes(bad) {
+                    good = bad;
+                    bad *= 2.0;
+                    if bad > 1e3 * reach {
+                        break;
+                    }
+                }
+                if passes(bad) {
+                    continue;
+                }
+                while bad - good > 1e-6 * reach {
+                    let mid = 0.5 * (good + bad);
+                    if passes(mid) {
+                        good = mid;
+                    } else {
+                        bad = mid;
+                    }
+                }
+                assert!(
+                    good >= reach * (1.0 - 1e-6),
+                    "fails {good:.4e} N away, inside its reach {reach:.4e} N \
+                     ({n1:?}, {n2:?}, axis {axis:?}, weight {c:?})"
+                );
+                tightest = tightest.min(good / reach);
+            }
+        }
+        println!("{probed} directions probed; the nearest failure at {tightest:.2} × the reach");
+        assert!(
+            tightest.is_finite(),
+            "no failure found to measure the bound against"
+        );
     }
 }

@@ -384,7 +384,7 @@ impl HandModel for ChainModel {
         x: usize,
         cx: &Vector3<f64>,
         z: usize,
-        f: &mut dyn FnMut(usize) -> bool,
+        f: &mut dyn FnMut(usize, bool) -> bool,
     ) {
         let bits = [cx.x.to_bits(), cx.y.to_bits(), cx.z.to_bits()];
         for (i, c) in self.grids.points[z].iter().enumerate() {
@@ -409,7 +409,7 @@ impl HandModel for ChainModel {
                 }
                 h
             });
-            if held && !f(i) {
+            if held && !f(i, true) {
                 return;
             }
         }

@@ -283,27 +283,31 @@ impl HandModel for Fingertips {
         x: usize,
         cx: &Vector3<f64>,
         z: usize,
-        f: &mut dyn FnMut(usize) -> bool,
+        f: &mut dyn FnMut(usize, bool) -> bool,
     ) {
         let table = &self.tables[usize::from(self.exact)];
         match table.holding(&self.geom, &self.load, &self.cand, x, cx, z) {
             Some(h) => {
                 let cand = &self.cand.points[z];
+                // A sure cell holds for every contact in it (module docs of
+                // `hold_table`), but the cell is not the contact.
                 for i in h.sure {
-                    if !f(i) {
+                    if !f(i, false) {
                         return;
                     }
                 }
                 for i in h.may {
                     let c = &cand[i];
-                    if self.geom.is_good_pair(c, cx) && self.load.holds(cx, c, None) && !f(i) {
+                    if self.geom.is_good_pair(c, cx) && self.load.holds(cx, c, None) && !f(i, true)
+                    {
                         return;
                     }
                 }
             }
             None => {
                 for (i, c) in self.cand.points[z].iter().enumerate() {
-                    if self.geom.is_good_pair(c, cx) && self.load.holds(cx, c, None) && !f(i) {
+                    if self.geom.is_good_pair(c, cx) && self.load.holds(cx, c, None) && !f(i, true)
+                    {
                         return;
                     }
                 }

@@ -347,7 +347,7 @@ impl<H: HandModel> Search<'_, '_, H> {
         // the search, the gaits it makes are checked where they are.)
         let mut found = false;
         for (x, cx) in [(pair[0], &ca), (pair[1], &cb)] {
-            h.resting_partners(x, cx, z, &mut |i| {
+            h.resting_partners(x, cx, z, &mut |i, _| {
                 let c = &cand[i];
                 found = h.apart((z, c), (pair[0], &ca))
                     && h.apart((z, c), (pair[1], &cb))

@@ -90,14 +90,14 @@ impl<H: HandModel> Search<'_, '_, H> {
         // (score without the load's limit, candidate, range, travel)
         let mut list: Vec<(f64, usize, f64, f64)> = Vec::with_capacity(64);
         let mut quick = (f64::NEG_INFINITY, usize::MAX);
-        h.resting_partners(keep, c_keep, z, &mut |i| {
+        h.resting_partners(keep, c_keep, z, &mut |i, exact| {
             let c = &cand[i];
             // The new pair must hold the load at rest where the contact
             // really is (SPEC §1.3 I1').
             if h.good_pair(c, c_keep)
                 && h.apart((z, c), (keep, c_keep))
                 && h.apart((z, c), (lose, c_lose))
-                && h.pair_holds((keep, c_keep), (z, c), None)
+                && (exact || h.pair_holds((keep, c_keep), (z, c), None))
             {
                 let d = from.dot(c);
                 // A turn beyond what is left is worth nothing.
