@@ -13,13 +13,15 @@
 // condition solved for q̇, the grasp near the ball's top.
 #[path = "../../kinematics/tests/common/mod.rs"]
 mod common;
+mod planning;
 
 use common::{q_dot, top_grasp};
+use gait::FingerMode;
 use gait::planner::carry_path::{CARRY_KNOTS, CarriedFinger, CarryPath, FitError};
 use gait::planner::{Motion, Step, StepKind};
-use gait::{FingerMode, HandState};
 use kinematics::{Chain, Object};
 use nalgebra::{UnitQuaternion, Vector3};
+use planning::chain_state as state;
 use test_support::counting;
 
 #[global_allocator]
@@ -64,17 +66,6 @@ fn truth(
 
 fn fingers<'a>(chains: &'a [Chain<3>; 3], q: &[Vector3<f64>; 3]) -> [CarriedFinger<'a>; 3] {
     std::array::from_fn(|k| (k, &chains[k], q[k]))
-}
-
-/// A hand state with the three tips where the joints put them (relative
-/// to the ball's centre, as the planner's states are).
-fn state(chains: &[Chain<3>; 3], q: &[Vector3<f64>; 3], o: &Object) -> HandState {
-    let mut s = HandState::paper_start(&gait::HandConfig::default());
-    for k in 0..3 {
-        s.fingers[k].mode = FingerMode::Grasping;
-        s.fingers[k].center = chains[k].forward(&q[k]).tip_centre() - o.centre;
-    }
-    s
 }
 
 #[test]

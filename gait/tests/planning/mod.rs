@@ -130,3 +130,19 @@ pub fn on_two_threads<R: Send>(n: usize, f: impl Fn(usize) -> R + Sync) -> Vec<R
         all.into_iter().map(|(_, r)| r).collect()
     })
 }
+
+/// A hand state with the three tips of `chains` where the joints `q` put
+/// them, grasping (relative to the ball's centre, as the planner's states
+/// are).
+pub fn chain_state(
+    chains: &[kinematics::Chain<3>; 3],
+    q: &[Vector3<f64>; 3],
+    o: &kinematics::Object,
+) -> HandState {
+    let mut s = HandState::paper_start(&HandConfig::default());
+    for k in 0..3 {
+        s.fingers[k].mode = FingerMode::Grasping;
+        s.fingers[k].center = chains[k].forward(&q[k]).tip_centre() - o.centre;
+    }
+    s
+}

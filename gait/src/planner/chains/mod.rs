@@ -17,6 +17,7 @@
 //! [`certify`] is the exact check of a plan on chains: every sample of
 //! every step against §14.1 and the load under the torque box.
 
+pub mod carry_load;
 pub mod certify;
 pub mod model;
 pub mod planner;

@@ -32,8 +32,9 @@ use std::sync::{Arc, Mutex};
 use nalgebra::Vector3;
 
 use super::ChainHand;
+use super::carry_load::CarryLoads;
 use super::certify::{ChainViolation, CheckParams, check, grasp_share};
-use super::steps::{ChainBuilder, along_carry, carried};
+use super::steps::{ChainBuilder, carried};
 use crate::HandConfig;
 use crate::hand_state::{FINGERS, FingerMode, HandState};
 use crate::planner::budget::Stop;
@@ -97,6 +98,8 @@ pub struct ChainModel {
     grids: Arc<Grids>,
     /// Resting-pair verdicts by (x, contact's bits, z, candidate).
     resting: Arc<Mutex<HashMap<RestingKey, bool>>>,
+    /// The load tests along carries so far.
+    carries: Arc<CarryLoads>,
 }
 
 impl ChainModel {
@@ -130,6 +133,7 @@ impl ChainModel {
             params,
             grids,
             resting: Arc::default(),
+            carries: Arc::default(),
         }
     }
 
@@ -429,10 +433,10 @@ impl HandModel for ChainModel {
     }
 
     fn holds_along(&self, hand: &HandState, axis: &Vector3<f64>, angle: f64) -> bool {
-        let n = (angle / LOAD_STEP).ceil().max(1.0) as usize;
-        along_carry(&self.hand, hand, axis, angle, n, &mut |s| {
-            self.holds(s, Some(axis))
-        })
+        self.carries
+            .holds_along(&self.hand, hand, axis, angle, LOAD_STEP, &mut |s| {
+                self.holds(s, Some(axis))
+            })
     }
 
     fn regrasps(
