@@ -223,9 +223,20 @@ pub struct Range {
     pub bound: Bound,
 }
 
-/// Bisections of the first failing step: the range is found to
-/// `step / 2^BISECTIONS`.
+/// Bisections of the first failing step in [`carry_range`]: the range is
+/// found to `step / 2^BISECTIONS`.
 const BISECTIONS: u32 = 12;
+
+/// How a range is scanned: steps of at most `step` \[rad\], then
+/// `bisections` halvings of the first failing step (the range is found
+/// to `step / 2^bisections`, never beyond the last good angle).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scan {
+    /// Longest step \[rad\].
+    pub step: f64,
+    /// Halvings of the first failing step.
+    pub bisections: u32,
+}
 
 /// How far (≤ `limit`) the grasp of `fingers` at `q` can be carried about
 /// the unit `axis` (three fingers; a pair turned about a fixed axis spins, see
@@ -241,7 +252,27 @@ pub fn carry_range(
     limits: &GraspLimits,
     step: f64,
 ) -> Range {
-    scan(fingers, q, object, limit, limits, step, &mut |_| Ok(*axis))
+    let fine = Scan {
+        step,
+        bisections: BISECTIONS,
+    };
+    carry_range_with(fingers, q, object, axis, limit, limits, fine)
+}
+
+/// [`carry_range`] scanned as `scan_by` says (a coarser bisection where
+/// the range only ranks choices).
+pub fn carry_range_with(
+    fingers: Fingers<'_>,
+    q: &[Vector3<f64>],
+    object: &Object,
+    axis: &Vector3<f64>,
+    limit: f64,
+    limits: &GraspLimits,
+    scan_by: Scan,
+) -> Range {
+    scan(fingers, q, object, limit, limits, scan_by, &mut |_| {
+        Ok(*axis)
+    })
 }
 
 /// The spin row σ of `chain` at `s` touching at `n`: the relative spin at
@@ -314,7 +345,7 @@ fn scan(
     object: &Object,
     limit: f64,
     limits: &GraspLimits,
-    step: f64,
+    Scan { step, bisections }: Scan,
     omega: &mut AngularVelocity<'_>,
 ) -> Range {
     let m = fingers.len();
@@ -349,7 +380,7 @@ fn scan(
         };
         // Bisect within the step: [lo, hi) from the last good joints.
         let (mut lo, mut hi) = (0.0, h);
-        for _ in 0..BISECTIONS {
+        for _ in 0..bisections {
             let mid = 0.5 * (lo + hi);
             let mut trial = q;
             let fail = match rk4_step(fingers, &mut trial[..m], object, mid, omega) {

@@ -71,7 +71,8 @@ pub mod workspace;
 
 pub use capsule::{Capsule, LinkCapsule};
 pub use carry::{
-    Bound, Carrier, CarrierError, GraspLimits, Range, carry, carry_pair, carry_range, no_spin_axis,
+    Bound, Carrier, CarrierError, GraspLimits, Range, Scan, carry, carry_pair, carry_range,
+    carry_range_with, no_spin_axis,
 };
 pub use chain::{CapsuleSet, Chain, ChainState, MAX_CAPSULES};
 pub use description::{

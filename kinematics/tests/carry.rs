@@ -13,8 +13,8 @@
 mod common;
 
 use kinematics::carry::{
-    Bound, Carrier, CarrierError, GraspLimits, MAX_SUBSTEPS, carry, carry_pair, carry_range,
-    no_spin_axis,
+    Bound, Carrier, CarrierError, GraspLimits, MAX_SUBSTEPS, Scan, carry, carry_pair, carry_range,
+    carry_range_with, no_spin_axis,
 };
 use kinematics::{
     Chain, ClosedFormIk, Margins, Object, Workspace, finger_gap, sphere_grid,
@@ -390,4 +390,56 @@ fn a_carry_advanced_tick_by_tick_is_the_carry() {
     assert_eq!(c.advance_to(far).unwrap_err(), CarrierError::TooFar);
     assert_eq!(c.joints(), held.joints());
     assert_eq!(c.angle(), held.angle());
+}
+
+/// A coarser bisection of the same scan stops at one of the angles the
+/// finer one passes through: never beyond it (a range is always an angle
+/// found good), within `step / 2^bisections` of it, and — with fewer
+/// halvings — short of it in general. Single fingers from the workspace
+/// about random axes, as the chain planner's placement tables scan them.
+#[test]
+fn a_coarser_scan_stops_short_of_the_fine_one_within_its_resolution() {
+    let (chains, o) = setup();
+    let iks = chains.each_ref().map(|c| ClosedFormIk::new(c).unwrap());
+    let grid = sphere_grid(600);
+    let g = common::hand().gravity;
+    let mut rng = common::rng(17);
+    let step = 8f64.to_radians();
+    let (mut cases, mut shorter) = (0, 0);
+    for k in 0..3 {
+        let ws = Workspace::new(&chains[k], &iks[k], &o, &g, &grid, &LIMITS.margins);
+        for (_, r) in ws.reached.iter().take(40) {
+            let axis = common::unit(&mut rng);
+            let args = (
+                &[&chains[k]][..],
+                &[r.q][..],
+                &o,
+                &axis,
+                std::f64::consts::FRAC_PI_2,
+            );
+            let fine = carry_range(args.0, args.1, args.2, args.3, args.4, &LIMITS, step);
+            let coarse = carry_range_with(
+                args.0,
+                args.1,
+                args.2,
+                args.3,
+                args.4,
+                &LIMITS,
+                Scan {
+                    step,
+                    bisections: 6,
+                },
+            );
+            cases += 1;
+            assert!(
+                coarse.angle <= fine.angle && fine.angle - coarse.angle <= step / 64.0 + 1e-12,
+                "finger {k}: coarse {:.5} rad against fine {:.5} rad",
+                coarse.angle,
+                fine.angle
+            );
+            shorter += usize::from(coarse.angle < fine.angle);
+        }
+    }
+    println!("{cases} ranges: the coarse scan stopped short in {shorter}");
+    assert!(shorter > cases / 4, "the halvings asked for change nothing");
 }

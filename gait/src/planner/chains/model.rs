@@ -61,6 +61,11 @@ const TOUCH_LIMIT: f64 = std::f64::consts::FRAC_PI_2;
 /// it ranks placements; the grasp's own range is scanned finer.
 const TOUCH_STEP: f64 = 8.0 * std::f64::consts::PI / 180.0;
 
+/// Halvings of a fresh placement's first failing step: its range is
+/// found to 8°/64 = 0.125°, enough to rank placements (a table of every
+/// candidate is made per axis, and the halvings are most of its cost).
+const TOUCH_BISECTIONS: u32 = 6;
+
 /// The range scan's step \[rad\] (4°; the first failing step is bisected).
 /// The search's ranges steer it; the plan's check samples every degree.
 const RANGE_STEP: f64 = 4.0 * std::f64::consts::PI / 180.0;
@@ -337,14 +342,17 @@ impl HandModel for ChainModel {
         let Some(q) = self.joints_at(k, contact) else {
             return ((), 0.0);
         };
-        let r = kinematics::carry_range(
+        let r = kinematics::carry_range_with(
             &[self.hand.chain(k)],
             &[q],
             self.hand.object(),
             axis,
             TOUCH_LIMIT,
             self.hand.limits(),
-            TOUCH_STEP,
+            kinematics::Scan {
+                step: TOUCH_STEP,
+                bisections: TOUCH_BISECTIONS,
+            },
         );
         ((), r.angle)
     }
