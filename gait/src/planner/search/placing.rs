@@ -17,6 +17,49 @@ const MAX_BRANCHING: usize = 16;
 /// ranking placements (a longer segment saves later gaits).
 const RANGE_WEIGHT: f64 = 2.0;
 
+/// The `k` lowest-scored candidates offered so far, lowest first (equal
+/// scores in the order offered).
+struct Shortlist {
+    top: [(f64, usize); MAX_BRANCHING],
+    n: usize,
+    k: usize,
+}
+
+impl Shortlist {
+    /// Room for `planner.branching` candidates (at most [`MAX_BRANCHING`]).
+    fn new(branching: usize) -> Self {
+        Self {
+            top: [(f64::INFINITY, usize::MAX); MAX_BRANCHING],
+            n: 0,
+            k: branching.min(MAX_BRANCHING),
+        }
+    }
+
+    /// The score a candidate must beat to enter (+∞ while there is room).
+    fn bar(&self) -> f64 {
+        if self.n < self.k {
+            f64::INFINITY
+        } else {
+            self.top[self.n - 1].0
+        }
+    }
+
+    /// Enters candidate `i` with `score` (below [`Shortlist::bar`]); the
+    /// last one drops out when the list is full.
+    fn enter(&mut self, score: f64, i: usize) {
+        let pos = self.top[..self.n].partition_point(|(s, _)| *s <= score);
+        let end = (self.n + 1).min(self.k);
+        self.top.copy_within(pos..end - 1, pos + 1);
+        self.top[pos] = (score, i);
+        self.n = end;
+    }
+
+    /// The candidates, lowest score first.
+    fn chosen(&self) -> impl Iterator<Item = usize> + '_ {
+        self.top[..self.n].iter().map(|t| t.1)
+    }
+}
+
 impl<H: HandModel> Search<'_, '_, H> {
     /// Substitutions: the free finger placed with one of the pair, the
     /// other lifted (two gaits).
@@ -79,7 +122,6 @@ impl<H: HandModel> Search<'_, '_, H> {
     ) -> [Option<usize>; MAX_BRANCHING + 2] {
         let h = self.hand;
         let fresh = &self.fresh[fi];
-        let k = self.params.branching.min(MAX_BRANCHING);
         let cand = h.candidates(z);
         let flexible = |i: usize| {
             let back = h.candidates(lose);
@@ -111,17 +153,11 @@ impl<H: HandModel> Search<'_, '_, H> {
             true
         });
         list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut top = [(f64::INFINITY, usize::MAX); MAX_BRANCHING];
-        let mut n_top = 0;
+        let mut top = Shortlist::new(self.params.branching);
         let mut best = (f64::INFINITY, usize::MAX);
         let load = h.load_active();
         for &(upper, i, range, travel) in &list {
-            let worst_top = if n_top < k {
-                f64::INFINITY
-            } else {
-                top[n_top - 1].0
-            };
-            if upper >= worst_top && upper >= best.0 {
+            if upper >= top.bar() && upper >= best.0 {
                 break;
             }
             // The pair's turn ends where it stops holding the load.
@@ -134,19 +170,15 @@ impl<H: HandModel> Search<'_, '_, H> {
             if score < best.0 {
                 best = (score, i);
             }
-            if (n_top < k || score < top[n_top - 1].0) && flexible(i) {
-                let pos = top[..n_top].partition_point(|(s, _)| *s <= score);
-                let end = (n_top + 1).min(k);
-                top.copy_within(pos..end - 1, pos + 1);
-                top[pos] = (score, i);
-                n_top = end;
+            if score < top.bar() && flexible(i) {
+                top.enter(score, i);
             }
         }
         let mut out = [None; MAX_BRANCHING + 2];
-        for (o, t) in out.iter_mut().zip(&top[..n_top]) {
-            *o = Some(t.1);
+        for (o, i) in out.iter_mut().zip(top.chosen()) {
+            *o = Some(i);
         }
-        let mut n = n_top;
+        let mut n = top.n;
         for extra in [best.1, quick.1] {
             if extra != usize::MAX && !out[..n].contains(&Some(extra)) {
                 out[n] = Some(extra);
@@ -172,9 +204,7 @@ impl<H: HandModel> Search<'_, '_, H> {
         let from = h.hover_dir(&node.hand, z);
         let (ca, cb) = contacts(&node.hand, pair);
         let down = h.weight_direction();
-        let k = self.params.branching.min(MAX_BRANCHING);
-        let mut top = [(f64::INFINITY, usize::MAX); MAX_BRANCHING];
-        let mut n_top = 0;
+        let mut top = Shortlist::new(self.params.branching);
         // Where only three fingers turn, a placement is for the turns of
         // the three: as far as the least of the fingers' own ranges (the
         // two grasping asked once) — now, and after the finger that binds
@@ -222,16 +252,12 @@ impl<H: HandModel> Search<'_, '_, H> {
                 tilt
             };
             let score = worth * RANGE_WEIGHT + h.timing().transfer_cos(from.dot(c));
-            if n_top < k || score < top[n_top - 1].0 {
-                let pos = top[..n_top].partition_point(|(s, _)| *s <= score);
-                let end = (n_top + 1).min(k);
-                top.copy_within(pos..end - 1, pos + 1);
-                top[pos] = (score, i);
-                n_top = end;
+            if score < top.bar() {
+                top.enter(score, i);
             }
         }
         let t = *h.timing();
-        for &(_, i) in &top[..n_top] {
+        for i in top.chosen() {
             let c = h.candidates(z)[i];
             let travel = (t.transfer(angle_between(&from, &c)) - node.prev_turn).max(0.0);
             let d = Deferred::Place {
