@@ -20,6 +20,7 @@ use common::q_dot;
 use gait::planner::chains::ChainHand;
 use gait::planner::chains::model::ChainModel;
 use gait::planner::chains::planner::ChainPlanner;
+use gait::planner::route::RouteStep;
 use gait::planner::{Motion, Plan, PlanError};
 use gait::{FingerMode, HandConfig, HandState};
 use nalgebra::{UnitQuaternion, Vector3};
@@ -218,6 +219,52 @@ fn gaits_turn_the_ball_further_than_one_grasp_reaches() {
             r.samples
         );
         assert!(plan.summary.gaits >= 2, "no finger was relocated");
+    }
+}
+
+/// Goals whose turn the start grasp cannot begin to make: finger 1 binds
+/// and cannot lift (fingers 0 and 2 do not hold the ball as a pair), so
+/// the others walk first — lifted and placed anew one at a time on the
+/// still ball — until the three reach contacts from which they turn far.
+/// Two of the figures' Haar-random goals; each plan read as all here.
+#[test]
+fn fingers_walk_on_the_still_ball_to_a_grasp_that_turns_far() {
+    let p = planner();
+    let s = start(&p);
+    let mut rng = common::rng(5);
+    let draws: Vec<UnitQuaternion<f64>> = (0..56)
+        .map(|_| test_support::random::haar(&mut rng))
+        .collect();
+    for goal in [draws[35], draws[55]] {
+        let plan = p.plan(&s, &goal).expect("planned");
+        let r = read(&p, &s, &plan);
+        eprintln!(
+            "{:.0}°: {} gaits, {:.2} s, {} expansions ({}); joint margin {:.3} rad",
+            goal.angle().to_degrees(),
+            plan.summary.gaits,
+            plan.summary.duration,
+            plan.summary.effort.expansions,
+            plan.route,
+            r.joint
+        );
+        // Somewhere the fingers were placed anew back to back, the ball
+        // still: at least two placements between two turns.
+        let walked = plan
+            .route
+            .steps
+            .split(|s| matches!(s, RouteStep::Turn { .. }))
+            .map(|still| {
+                still
+                    .iter()
+                    .filter(|s| matches!(s, RouteStep::Place { .. }))
+                    .count()
+            })
+            .max()
+            .unwrap_or(0);
+        assert!(
+            walked >= 2,
+            "at most {walked} fingers placed with the ball still"
+        );
     }
 }
 

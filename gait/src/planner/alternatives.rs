@@ -74,6 +74,28 @@ pub const PASSES: [Pass; 3] = [
     },
 ];
 
+/// The passes on a hand whose pairs do not turn (finger chains), in order.
+/// Only three fingers turn there, and every segment costs fingers walked
+/// to new contacts: the time-to-go estimate, which counts a segment as one
+/// gait, is far below the truth, and a search at the fingertips' weight
+/// spends its budget on the cheap alternatives before any long one (the
+/// figures: docs/design/14-finger-chains.md). The improving pass wins back
+/// much of what the greedier search loses in plan length.
+pub const STILL_PAIR_PASSES: [Pass; 2] = [
+    Pass {
+        role: Role::Find,
+        weight: 3.0,
+        spins: false,
+        later_detours: false,
+    },
+    Pass {
+        role: Role::Improve { effort: 3 },
+        weight: 1.5,
+        spins: false,
+        later_detours: false,
+    },
+];
+
 /// A pass's search turns greedier as it runs long: after this many
 /// expansions (and deferred evaluations) of the pass, the estimate's
 /// weight becomes this (never lower than the pass's own). A plan found
@@ -123,6 +145,14 @@ pub enum ActionKind {
     /// can follow (paper Theory 1), the least turn about each of
     /// `planner.escape_axes` directions after which one can.
     Detour,
+    /// On a hand whose pairs do not turn, from three fingers that cannot
+    /// turn as far as the goal (at a root or after a turn): fingers lifted
+    /// and placed anew one at a time, each placement among those with the
+    /// longest own range about the axis, until every finger can follow the
+    /// object far enough (or as far as any walk found gets):
+    /// [`super::search::walk`] (up to `WALK_DEPTH` moves, the shortest
+    /// sequence first).
+    Walk,
     /// A hand-specific motion on the still object: with three fingers (at
     /// a root, after a tilt or a placement) a pair rolled apart so that the
     /// third can lift where it cannot yet, and at a root whatever unsticks
@@ -147,11 +177,12 @@ pub const PAIR_ACTIONS: [ActionKind; 6] = [
 pub const STILL_PAIR_ACTIONS: [ActionKind; 1] = [ActionKind::Place];
 
 /// The children of a three-finger node, in order.
-pub const TRIPLE_ACTIONS: [ActionKind; 4] = [
+pub const TRIPLE_ACTIONS: [ActionKind; 5] = [
     ActionKind::Lift,
     ActionKind::Toward,
     ActionKind::Tilt,
     ActionKind::Regrasp,
+    ActionKind::Walk,
 ];
 
 /// A pair's turn towards the goal: as far as it can, and half as far

@@ -365,7 +365,11 @@ impl Planner {
             goal,
             angle,
             join_turns(steps, &self.config.limits),
-            Route { pass, steps: route },
+            Route {
+                passes: &alternatives::PASSES,
+                pass,
+                steps: route,
+            },
             effort,
         ))
     }
@@ -436,7 +440,7 @@ impl Planner {
             }
         }
         if let Some((found, pass, hand)) = best {
-            let route = Route::new(pass, start, &hand, &found.actions);
+            let route = Route::new(&alternatives::PASSES, pass, start, &hand, &found.actions);
             return Ok((found.steps, route.steps, pass));
         }
         Err(match last {

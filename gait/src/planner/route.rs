@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use super::alternatives::{PASSES, Role};
+use super::alternatives::{PASSES, Pass, Role};
 use super::hand_model::{Action, HandModel, RegraspFor, Turn};
 use crate::hand_state::HandState;
 
@@ -40,17 +40,34 @@ pub enum RouteStep {
 }
 
 /// The actions of a plan and the pass that found them.
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Route {
-    /// Index into [`PASSES`].
+    /// The portfolio the plan was searched with ([`PASSES`], or
+    /// [`super::alternatives::STILL_PAIR_PASSES`] on a hand whose pairs
+    /// do not turn).
+    pub passes: &'static [Pass],
+    /// Index into `passes`.
     pub pass: usize,
     /// The actions, in order.
     pub steps: Vec<RouteStep>,
 }
 
+impl Default for Route {
+    /// No actions, from the first of [`PASSES`].
+    fn default() -> Self {
+        Self {
+            passes: &PASSES,
+            pass: 0,
+            steps: Vec::new(),
+        }
+    }
+}
+
 impl Route {
-    /// The route of `actions` from `start`.
+    /// The route of `actions` from `start`, found by pass `pass` of
+    /// `passes`.
     pub fn new<H: HandModel>(
+        passes: &'static [Pass],
         pass: usize,
         start: &HandState,
         hand: &H,
@@ -83,7 +100,11 @@ impl Route {
                 },
             })
             .collect();
-        Self { pass, steps }
+        Self {
+            passes,
+            pass,
+            steps,
+        }
     }
 
     /// Whether the plan turned about another axis, or regrasped a pair
@@ -121,7 +142,7 @@ impl Route {
 
 impl fmt::Display for Route {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let pass = PASSES.get(self.pass);
+        let pass = self.passes.get(self.pass);
         let what = match pass.map(|p| (p.role, p.spins)) {
             Some((Role::Improve { .. }, _)) => "improved",
             Some((Role::Find, true)) => "spinning contacts",

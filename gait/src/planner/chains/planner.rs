@@ -5,9 +5,10 @@
 //! As for the free fingertips: the request is checked (a finite goal; a
 //! start whose grasp is force-closure, on the object, within every limit
 //! of §14.1 and holding the load), the search runs within the caller's
-//! budget with the weight of the first pass of
-//! [`crate::planner::alternatives::PASSES`], and the plan records its
-//! route and effort. (Detours and escapes are a pair's turns: on chains,
+//! budget as the passes of
+//! [`crate::planner::alternatives::STILL_PAIR_PASSES`] say (a greedy pass
+//! that finds a plan, then one that looks for a quicker one within a
+//! multiple of that effort), and the plan records its route and effort. (Detours and escapes are a pair's turns: on chains,
 //! where pairs do not turn, the search makes none.)
 
 use nalgebra::UnitQuaternion;
@@ -15,7 +16,7 @@ use nalgebra::UnitQuaternion;
 use super::certify::{ChainViolation, check};
 use super::model::ChainModel;
 use crate::hand_state::HandState;
-use crate::planner::alternatives::PASSES;
+use crate::planner::alternatives::{Role, STILL_PAIR_PASSES};
 use crate::planner::budget::{Budget, Effort, Halt, Unbounded};
 use crate::planner::goal::Remaining;
 use crate::planner::hand_model::HandModel;
@@ -97,31 +98,51 @@ impl ChainPlanner {
                 effort,
             ));
         }
-        let mode = Mode {
-            weight: PASSES[0].weight,
-            bound: f64::INFINITY,
-            cap: u32::MAX,
-            detours: true,
-            ends_in_pair: false,
-        };
-        effort.passes = 1;
         let m = &self.model;
-        match search::run(m, &self.params, mode, start, rem, budget, &mut effort) {
-            Ok(found) => {
-                let route = Route::new(0, start, m, &found.actions);
-                Ok(assemble(start, goal, angle, found.steps, route, effort))
+        let mut best: Option<(search::Found<ChainModel>, usize)> = None;
+        let mut last = NotFound::Capped;
+        for (i, pass) in STILL_PAIR_PASSES.iter().enumerate() {
+            let mode = match (pass.role, &best) {
+                (Role::Find, None) => Mode {
+                    weight: pass.weight,
+                    bound: f64::INFINITY,
+                    cap: u32::MAX,
+                    detours: true,
+                    ends_in_pair: false,
+                },
+                (Role::Improve { effort: e }, Some((found, _))) => Mode {
+                    weight: pass.weight,
+                    bound: found.duration,
+                    cap: e * budget.used().max(1),
+                    detours: true,
+                    ends_in_pair: false,
+                },
+                _ => continue,
+            };
+            effort.passes += 1;
+            match search::run(m, &self.params, mode, start, rem, budget, &mut effort) {
+                Ok(found) => best = Some((found, i)),
+                Err(NotFound::Halted(Halt::Canceled)) => return Err(PlanError::Canceled),
+                Err(e) if best.is_none() => last = e,
+                Err(_) => {}
             }
-            Err(NotFound::Halted(Halt::Canceled)) => Err(PlanError::Canceled),
-            Err(NotFound::Halted(Halt::OutOfBudget) | NotFound::Capped) => Err(PlanError::Timeout),
-            Err(NotFound::Exhausted {
+        }
+        if let Some((found, pass)) = best {
+            let route = Route::new(&STILL_PAIR_PASSES, pass, start, m, &found.actions);
+            return Ok(assemble(start, goal, angle, found.steps, route, effort));
+        }
+        Err(match last {
+            NotFound::Halted(Halt::Canceled) => PlanError::Canceled,
+            NotFound::Halted(Halt::OutOfBudget) | NotFound::Capped => PlanError::Timeout,
+            NotFound::Exhausted {
                 blocked: Some(finger),
                 ..
-            }) => Err(PlanError::Blocked { finger }),
-            Err(NotFound::Exhausted { .. }) if m.load_active() => {
-                Err(PlanError::LoadInfeasible { start: false })
+            } => PlanError::Blocked { finger },
+            NotFound::Exhausted { .. } if m.load_active() => {
+                PlanError::LoadInfeasible { start: false }
             }
-            Err(NotFound::Exhausted { .. }) => Err(PlanError::SearchExhausted),
-        }
+            NotFound::Exhausted { .. } => PlanError::SearchExhausted,
+        })
     }
 
     /// The start must be a force-closure grasp of two or three fingers

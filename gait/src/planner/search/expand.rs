@@ -165,6 +165,17 @@ impl<H: HandModel> Search<'_, '_, H> {
                         self.pair_tilts(idx, node, z);
                     }
                 }
+                ActionKind::Walk
+                    if !self.hand.pairs_turn()
+                        && node.range < node.rem.angle
+                        && (node.last == Last::Root
+                            || matches!(node.last, Last::Turn(_)) && node.range < MIN_TURN) =>
+                {
+                    // At least one finger lifted and placed anew.
+                    let t = self.hand.timing();
+                    let bound = 2.0 * (t.vertical + t.handover);
+                    self.defer(idx, node, Deferred::Walk, bound);
+                }
                 ActionKind::Regrasp
                     if self.hand.offers_regrasps()
                         && matches!(
@@ -222,7 +233,7 @@ impl<H: HandModel> Search<'_, '_, H> {
         let (rem, last) = match d {
             Deferred::Turn { axis, angle, why } => (from.rem.after(&axis, angle), Last::Turn(why)),
             Deferred::Regrasp(_) => (from.rem, Last::Regrasp),
-            Deferred::Place { .. } => (from.rem, Last::Place),
+            Deferred::Place { .. } | Deferred::Walk => (from.rem, Last::Place),
         };
         self.push(Node {
             hand: from.hand,

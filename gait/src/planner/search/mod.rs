@@ -24,6 +24,7 @@ mod expand;
 mod fresh;
 mod node;
 mod placing;
+pub mod walk;
 
 use std::collections::{BinaryHeap, HashSet};
 use std::hash::BuildHasherDefault;
@@ -147,6 +148,7 @@ pub fn run<H: HandModel>(
         refused: false,
         pairs: false,
         holds_memo: Default::default(),
+        walk_memo: Default::default(),
     };
     s.root(rem);
     s.run(budget)
@@ -177,6 +179,8 @@ struct Search<'a, 'e, H: HandModel> {
     holds_memo: std::cell::RefCell<
         std::collections::HashMap<[u64; 12], f64, BuildHasherDefault<KeyHasher>>,
     >,
+    /// Load verdicts of the walks so far, by the contacts tested.
+    walk_memo: std::cell::RefCell<std::collections::HashMap<Vec<u64>, bool>>,
 }
 
 impl<H: HandModel> Search<'_, '_, H> {
@@ -412,6 +416,14 @@ impl<H: HandModel> Search<'_, '_, H> {
                     },
                     ..node
                 });
+            }
+            Deferred::Walk => {
+                let parent = self.nodes[node.parent as usize];
+                let fi = self.fresh_index(&parent.rem.axis);
+                let axis = parent.rem.axis;
+                if let Some(walk) = self.walk(&parent.hand, &axis, parent.rem.angle, fi) {
+                    self.walk_children(node.parent, &parent, &walk);
+                }
             }
             Deferred::Regrasp(why) => {
                 let parent = self.nodes[node.parent as usize];

@@ -43,6 +43,8 @@ pub enum Deferred {
     },
     /// The hand's regrasps for this purpose (each offer a child).
     Regrasp(RegraspFor),
+    /// A walk of the fingers on the still object ([`super::walk`]).
+    Walk,
     /// A free finger placed; the three must hold the load at rest.
     Place {
         /// Finger.
