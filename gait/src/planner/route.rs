@@ -177,11 +177,54 @@ impl fmt::Display for Route {
                     }
                     _ => write!(f, "{sep}place {p}")?,
                 },
-                RouteStep::Lift { finger } => write!(f, "{sep}lift {finger}")?,
+                // A lift followed by the same finger's placement moves it
+                // on the still object (a walk's step on finger chains).
+                RouteStep::Lift { finger } => match self.steps.get(i + 1) {
+                    Some(RouteStep::Place { finger: p }) if *p == finger => {
+                        write!(f, "{sep}move {finger}")?;
+                        i += 1;
+                    }
+                    _ => write!(f, "{sep}lift {finger}")?,
+                },
                 RouteStep::Regrasp { name, .. } => write!(f, "{sep}{name}")?,
             }
             i += 1;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn route(steps: Vec<RouteStep>) -> String {
+        Route {
+            steps,
+            ..Route::default()
+        }
+        .to_string()
+    }
+
+    #[test]
+    fn a_lift_and_the_same_fingers_placement_read_as_a_move() {
+        let turn = RouteStep::Turn {
+            why: Turn::Toward,
+            fingers: 3,
+            angle: 0.5,
+        };
+        let (lift, place) = (
+            |finger| RouteStep::Lift { finger },
+            |finger| RouteStep::Place { finger },
+        );
+        assert_eq!(
+            route(vec![turn, lift(0), place(0), lift(1), place(1), turn]),
+            "pass 1 (first found): turn 29° (3 fingers), move 0, move 1, turn 29° (3 fingers)"
+        );
+        // A placement then another finger's lift is a substitution.
+        assert_eq!(
+            route(vec![lift(2), place(2), lift(0), place(1), lift(2)]),
+            "pass 1 (first found): move 2, lift 0, substitute 1 for 2"
+        );
     }
 }
