@@ -17,6 +17,7 @@
 mod common;
 
 use common::q_dot;
+use gait::planner::budget::{Budget, Halt, Stop};
 use gait::planner::chains::ChainHand;
 use gait::planner::chains::model::ChainModel;
 use gait::planner::chains::planner::ChainPlanner;
@@ -264,6 +265,54 @@ fn fingers_walk_on_the_still_ball_to_a_grasp_that_turns_far() {
         assert!(
             walked >= 2,
             "at most {walked} fingers placed with the ball still"
+        );
+    }
+}
+
+/// Counts its polls; says cancel from poll `cancel_at` on (0: never), as
+/// a cancel flag does.
+struct Polls {
+    n: u32,
+    cancel_at: u32,
+}
+
+impl Stop for Polls {
+    fn poll(&mut self) -> Option<Halt> {
+        self.n += 1;
+        (self.cancel_at > 0 && self.n >= self.cancel_at).then_some(Halt::Canceled)
+    }
+}
+
+/// A walk can run hundreds of load tests: it asks the caller's stop
+/// between them, not only when the search takes its next node, and a
+/// cancel met anywhere ends planning without a plan.
+#[test]
+fn a_walk_asks_the_callers_stop_between_its_load_tests() {
+    let p = planner();
+    let s = start(&p);
+    let mut rng = common::rng(5);
+    let goal = (0..56)
+        .map(|_| test_support::random::haar(&mut rng))
+        .last()
+        .expect("drawn");
+    let mut polls = Polls { n: 0, cancel_at: 0 };
+    let max = 3000;
+    let plan = p
+        .plan_within(&s, &goal, &mut Budget::new(max, &mut polls))
+        .expect("planned");
+    // The search polls once per node it takes (expansions and deferred
+    // evaluations); the walks' own polls come on top.
+    let taken = plan.summary.effort.expansions + plan.summary.effort.evaluated;
+    eprintln!("{} polls, {taken} nodes taken", polls.n);
+    assert!(polls.n > taken + 10, "{} polls, {taken} nodes", polls.n);
+    let total = polls.n;
+    for cancel_at in (1..=total).step_by((total as usize / 12).max(1)) {
+        let mut stop = Polls { n: 0, cancel_at };
+        let r = p.plan_within(&s, &goal, &mut Budget::new(max, &mut stop));
+        assert_eq!(
+            r.err(),
+            Some(PlanError::Canceled),
+            "cancelled at poll {cancel_at}"
         );
     }
 }

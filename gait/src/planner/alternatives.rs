@@ -146,7 +146,8 @@ pub enum ActionKind {
     /// `planner.escape_axes` directions after which one can.
     Detour,
     /// On a hand whose pairs do not turn, from three fingers that cannot
-    /// turn as far as the goal (at a root or after a turn): fingers lifted
+    /// turn as far as the goal (at a root, or after a turn as far as they
+    /// could): fingers lifted
     /// and placed anew one at a time, each placement among those with the
     /// longest own range about the axis, until every finger can follow the
     /// object far enough (or as far as any walk found gets):

@@ -8,8 +8,9 @@
 //! budget as the passes of
 //! [`crate::planner::alternatives::STILL_PAIR_PASSES`] say (a greedy pass
 //! that finds a plan, then one that looks for a quicker one within a
-//! multiple of that effort), and the plan records its route and effort. (Detours and escapes are a pair's turns: on chains,
-//! where pairs do not turn, the search makes none.)
+//! multiple of that effort), and the plan records its route and effort.
+//! (Detours and escapes are a pair's turns: on chains, where pairs do not
+//! turn, the search makes none.)
 
 use nalgebra::UnitQuaternion;
 

@@ -421,7 +421,8 @@ impl<H: HandModel> Search<'_, '_, H> {
                 let parent = self.nodes[node.parent as usize];
                 let fi = self.fresh_index(&parent.rem.axis);
                 let axis = parent.rem.axis;
-                if let Some(walk) = self.walk(&parent.hand, &axis, parent.rem.angle, fi) {
+                let walk = self.walk(&parent.hand, &axis, parent.rem.angle, fi, budget.stop);
+                if let Some(walk) = walk {
                     self.walk_children(node.parent, &parent, &walk);
                 }
             }

@@ -21,6 +21,7 @@ use std::collections::HashMap;
 
 use nalgebra::Vector3;
 
+use super::super::budget::Stop;
 use super::super::geometry::angle_between;
 use super::super::hand_model::{Action, At, HandModel};
 use super::Search;
@@ -64,6 +65,10 @@ struct Walker<'a, H: HandModel> {
     target: f64,
     /// Load tests run (the memo's misses).
     tests: u32,
+    /// The caller's clock and cancel flag.
+    stop: &'a mut dyn Stop,
+    /// Whether `stop` said stop.
+    halted: bool,
     /// Load verdicts by the contacts tested (the search's: sequences
     /// share their first moves, and walks their candidates).
     memo: &'a mut HashMap<Vec<u64>, bool>,
@@ -77,12 +82,15 @@ impl<H: HandModel> Search<'_, '_, H> {
     /// The walk from the three-finger grasp `hand` towards a grasp whose
     /// fingers can each follow the object `angle` about `axis` (as far as
     /// the fresh table `fi` allows), if one raises the least own range.
+    /// `stop` is polled before every load test: a walk stopped returns
+    /// none.
     pub(super) fn walk(
         &self,
         hand: &HandState,
         axis: &Vector3<f64>,
         angle: f64,
         fi: usize,
+        stop: &mut dyn Stop,
     ) -> Option<Walk> {
         let h = self.hand;
         let (ranges, touch) = (&self.fresh[fi].range, &self.fresh[fi].touch);
@@ -106,6 +114,8 @@ impl<H: HandModel> Search<'_, '_, H> {
             order,
             target,
             tests: 0,
+            stop,
+            halted: false,
             memo: &mut self.walk_memo.borrow_mut(),
             apart_memo: HashMap::new(),
             moves: Vec::with_capacity(WALK_DEPTH),
@@ -114,12 +124,15 @@ impl<H: HandModel> Search<'_, '_, H> {
         'lengths: for len in 1..=WALK_DEPTH {
             for seq in sequences(len) {
                 w.step(hand, &seq[..len], own, true);
-                if w.tests >= WALK_TESTS || w.best.as_ref().is_some_and(|b| b.reach >= target) {
+                if w.tests >= WALK_TESTS
+                    || w.halted
+                    || w.best.as_ref().is_some_and(|b| b.reach >= target)
+                {
                     break 'lengths;
                 }
             }
         }
-        w.best.filter(|b| b.reach > now)
+        w.best.filter(|b| !w.halted && b.reach > now)
     }
 
     /// Appends the walk's moves from node `idx` (each a lift and a
@@ -195,7 +208,7 @@ impl<H: HandModel> Walker<'_, H> {
         }
         let mut taken = 0;
         for n in 0..self.order[f].len() {
-            if taken == WALK_BEAM || self.tests >= WALK_TESTS {
+            if taken == WALK_BEAM || self.tests >= WALK_TESTS || self.halted {
                 return;
             }
             let i = self.order[f][n];
@@ -285,6 +298,11 @@ impl<H: HandModel> Walker<'_, H> {
     fn test(&mut self, key: Vec<u64>, f: impl FnOnce() -> bool) -> bool {
         if let Some(&v) = self.memo.get(&key) {
             return v;
+        }
+        if self.stop.poll().is_some() {
+            // Not held: nothing more is built on it, and the walk ends.
+            self.halted = true;
+            return false;
         }
         self.tests += 1;
         let v = f();
