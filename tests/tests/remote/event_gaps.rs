@@ -14,6 +14,11 @@ use gaitd_tests::TestDaemon;
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
 
+/// How many events a restarted bridge can replay: its cache keeps the
+/// last 64 it has (filled at start from the daemon's own history of 64;
+/// PROTOCOL.md, "Events").
+const REPLAYABLE: u64 = 64;
+
 /// Sends `n` holds (each publishes one `Hold` event).
 fn holds(local: &mut Client, n: usize) {
     for _ in 0..n {
@@ -78,9 +83,12 @@ fn events_published_across_a_bridge_restart_all_arrive_or_are_reported() {
         .copied()
         .collect();
     let dupes = got.len() - received.len();
+    // The daemon's newest now: the cache the subscriber was sent held
+    // nothing newer.
+    let newest = published(&mut local, &mut all);
     println!(
-        "published {}..={last} ({} events), received {} (+{dupes} repeats), missing {:?}, \
-         reported missed {} {:?}",
+        "published {}..={last} ({} events; {newest} by the end), received {} \
+         (+{dupes} repeats), missing {:?}, reported missed {} {:?}",
         first,
         want.len(),
         received.len(),
@@ -103,9 +111,16 @@ fn events_published_across_a_bridge_restart_all_arrive_or_are_reported() {
         .sum();
     assert_eq!(holes, lost.len() as u64, "{lost:?}\n{:?}", r.event_holes());
     assert!(r.missed_events() >= lost.len() as u64, "{lost:?}");
-    // The replayable ones arrived: the last 40 published while it was down.
-    for s in last - 39..=last {
-        assert!(received.contains(&s), "{s} not received\n{}", b.log());
+    // The cache was replayed: the last event published while no bridge
+    // ran arrived, and so did the last 40 published then when the cache
+    // could still hold them all. (On a loaded machine the daemon goes on
+    // publishing — overruns — and the bridge caches those too: its newest
+    // is at most `newest`, and 64 back from it may pass `last` − 39.)
+    assert!(received.contains(&last), "{last} not received\n{}", b.log());
+    if newest <= last + REPLAYABLE - 40 {
+        for s in last - 39..=last {
+            assert!(received.contains(&s), "{s} not received\n{}", b.log());
+        }
     }
     assert!(!lost.is_empty(), "more than the cache was published");
 }
