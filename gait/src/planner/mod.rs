@@ -57,7 +57,7 @@ pub use route::Route;
 
 use crate::config::{ConfigError, HandConfig};
 use crate::hand_state::{FingerMode, HandState};
-use alternatives::{PASSES, Role, TURN_PIECE};
+use alternatives::{PASSES, TURN_PIECE};
 use fingertips::Fingertips;
 use geometry::{Geometry, rotation};
 use goal::Remaining;
@@ -406,22 +406,11 @@ impl Planner {
                 continue;
             }
             let detours = piece.first || pass.later_detours;
-            let mode = match (pass.role, &best) {
-                (Role::Find, None) => search::Mode {
-                    weight: pass.weight,
-                    bound: f64::INFINITY,
-                    cap: u32::MAX,
-                    detours,
-                    ends_in_pair: piece.goes_on,
-                },
-                (Role::Improve { effort: e }, Some((found, _, _))) => search::Mode {
-                    weight: pass.weight,
-                    bound: found.duration,
-                    cap: e * budget.used().max(1),
-                    detours,
-                    ends_in_pair: piece.goes_on,
-                },
-                _ => continue,
+            let found = best.as_ref().map(|(f, _, _)| f.duration);
+            let Some(mode) =
+                search::Mode::for_pass(pass, found, budget.used(), detours, piece.goes_on)
+            else {
+                continue;
             };
             effort.passes += 1;
             let hand = self.hand.for_pass(true, pass.spins);

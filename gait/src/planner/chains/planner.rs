@@ -17,7 +17,7 @@ use nalgebra::UnitQuaternion;
 use super::certify::{ChainViolation, check};
 use super::model::ChainModel;
 use crate::hand_state::HandState;
-use crate::planner::alternatives::{Role, STILL_PAIR_PASSES};
+use crate::planner::alternatives::STILL_PAIR_PASSES;
 use crate::planner::budget::{Budget, Effort, Halt, Unbounded};
 use crate::planner::goal::Remaining;
 use crate::planner::hand_model::HandModel;
@@ -103,22 +103,9 @@ impl ChainPlanner {
         let mut best: Option<(search::Found<ChainModel>, usize)> = None;
         let mut last = NotFound::Capped;
         for (i, pass) in STILL_PAIR_PASSES.iter().enumerate() {
-            let mode = match (pass.role, &best) {
-                (Role::Find, None) => Mode {
-                    weight: pass.weight,
-                    bound: f64::INFINITY,
-                    cap: u32::MAX,
-                    detours: true,
-                    ends_in_pair: false,
-                },
-                (Role::Improve { effort: e }, Some((found, _))) => Mode {
-                    weight: pass.weight,
-                    bound: found.duration,
-                    cap: e * budget.used().max(1),
-                    detours: true,
-                    ends_in_pair: false,
-                },
-                _ => continue,
+            let found = best.as_ref().map(|(f, _)| f.duration);
+            let Some(mode) = Mode::for_pass(pass, found, budget.used(), true, false) else {
+                continue;
             };
             effort.passes += 1;
             match search::run(m, &self.params, mode, start, rem, budget, &mut effort) {

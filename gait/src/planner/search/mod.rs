@@ -31,7 +31,7 @@ use std::hash::BuildHasherDefault;
 
 use nalgebra::Vector3;
 
-use super::alternatives::GREEDIER;
+use super::alternatives::{GREEDIER, Pass, Role};
 use super::budget::{Budget, Effort, Halt};
 use super::goal::Remaining;
 use super::hand_model::{self, Action, HandModel};
@@ -86,6 +86,33 @@ pub struct Mode {
     /// a turn that goes on after it. Three fingers turned as far as they
     /// can may leave no roll to a pair for the next piece.
     pub ends_in_pair: bool,
+}
+
+impl Mode {
+    /// How `pass` searches, given the duration of the plan in hand (if
+    /// any) and the expansions spent so far: a Find pass while no plan is
+    /// in hand, an Improve pass (bounded by that plan, capped at a multiple
+    /// of the effort) once one is; `None` when the pass does not run.
+    pub fn for_pass(
+        pass: &Pass,
+        found: Option<f64>,
+        used: u32,
+        detours: bool,
+        ends_in_pair: bool,
+    ) -> Option<Self> {
+        let (bound, cap) = match (pass.role, found) {
+            (Role::Find, None) => (f64::INFINITY, u32::MAX),
+            (Role::Improve { effort }, Some(duration)) => (duration, effort * used.max(1)),
+            _ => return None,
+        };
+        Some(Self {
+            weight: pass.weight,
+            bound,
+            cap,
+            detours,
+            ends_in_pair,
+        })
+    }
 }
 
 /// A plan the search found.
