@@ -25,10 +25,13 @@ pub enum Role {
     /// While no plan is in hand.
     Find,
     /// When a plan is in hand: only quicker ones count, and the pass stops
-    /// after `effort` times the expansions spent before it.
+    /// after `effort` times the expansions spent before it, or
+    /// `at_least` expansions if that is more.
     Improve {
         /// Its cap, in multiples of the effort so far.
         effort: u32,
+        /// Its least cap (a plan found at once leaves time to improve it).
+        at_least: u32,
     },
 }
 
@@ -48,6 +51,10 @@ pub struct Pass {
     /// always may; a later one goes on about the turn's axis unless that
     /// finds nothing.
     pub later_detours: bool,
+    /// Whether a walk whose end turns offers that turn at once, weighed by
+    /// its own cost rather than the estimate's: long plans are found far
+    /// sooner, though not always the quickest of them.
+    pub eager_walks: bool,
 }
 
 /// The passes, in order. (A pass that would search as one before it did
@@ -59,20 +66,27 @@ pub const PASSES: [Pass; 3] = [
         weight: 1.5,
         spins: false,
         later_detours: false,
+        eager_walks: false,
     },
     Pass {
         role: Role::Find,
         weight: 1.5,
         spins: false,
         later_detours: true,
+        eager_walks: false,
     },
     Pass {
         role: Role::Find,
         weight: 1.5,
         spins: true,
         later_detours: true,
+        eager_walks: false,
     },
 ];
+
+/// The least cap of an Improve pass, in expansions: a plan found in a
+/// dozen expansions leaves the improving pass more than three dozen.
+pub const IMPROVE_AT_LEAST: u32 = 60;
 
 /// The passes on a hand whose pairs do not turn (finger chains), in order.
 /// Only three fingers turn there, and every segment costs fingers walked
@@ -87,12 +101,17 @@ pub const STILL_PAIR_PASSES: [Pass; 2] = [
         weight: 3.0,
         spins: false,
         later_detours: false,
+        eager_walks: true,
     },
     Pass {
-        role: Role::Improve { effort: 3 },
+        role: Role::Improve {
+            effort: 3,
+            at_least: IMPROVE_AT_LEAST,
+        },
         weight: 1.5,
         spins: false,
         later_detours: false,
+        eager_walks: true,
     },
 ];
 

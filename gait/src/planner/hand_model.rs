@@ -219,6 +219,12 @@ pub trait HandModel {
     fn place(&self, hand: &mut HandState, k: usize, contact: &Vector3<f64>, touch: Self::Touch);
     /// Lifts grasping finger `k` to where it waits.
     fn lift(&self, hand: &mut HandState, k: usize);
+    /// Whether grasping finger `k` of `hand` has a clear way out to where
+    /// it waits (a hand whose fingers cannot block one another's lift
+    /// says yes).
+    fn can_lift(&self, _hand: &HandState, _k: usize) -> bool {
+        true
+    }
     /// Unit direction from the object centre of a free finger.
     fn hover_dir(&self, hand: &HandState, k: usize) -> Vector3<f64>;
     /// The part of grasping finger `k`'s state, beyond its contact, that

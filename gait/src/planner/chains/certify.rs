@@ -128,38 +128,36 @@ pub fn check(
         at: 0.0,
     };
     at.kinematics(start, &mut joints, &mut margins)?;
-    for (i, st) in steps.iter().enumerate() {
-        at.step = i;
-        let length = st.dofs().length;
-        let (n, turning) = match st.motion {
-            Motion::Carry { axis, angle, .. } => (
-                (angle / params.carry_step).ceil().max(1.0) as usize,
-                Some(axis),
-            ),
-            Motion::Free(m) => (
-                (m.path.length() / params.free_step).ceil().max(1.0) as usize,
-                None,
-            ),
-            Motion::Rotate { .. } | Motion::Roll { .. } | Motion::RollSegment { .. } => {
-                return Err(ChainViolation {
-                    step: i,
-                    at: 0.0,
-                    finger: st.finger(),
-                    kind: ViolationKind::Unsupported,
-                });
-            }
-        };
-        for k in 0..=n {
-            at.at = k as f64 / n as f64;
-            let state = st.eval(&length.map(|l| l * at.at), &[0.0; 3]).state;
-            at.kinematics(&state, &mut joints, &mut margins)?;
-            // The contacts move only in a carry; otherwise once a step.
-            if turning.is_some() || k == 0 {
-                at.load(&state, &joints, turning.as_ref(), &mut margins)?;
-            }
-        }
-    }
+    at.steps(steps, &mut joints, &mut margins, true)?;
     Ok(margins)
+}
+
+/// The kinematic part of [`check`] (reach, branch, joint limits, tip
+/// patch, clearance, gaps; not the load) over `steps`, every finger
+/// starting on the branch `joints` gives (updated to where they end): what
+/// a builder asks of a finger's way before it commits to it. Step indices
+/// in a violation count from the first of `steps`.
+pub fn check_way(
+    hand: &ChainHand,
+    steps: &[Step],
+    joints: &mut [Option<Vector3<f64>>; FINGERS],
+    params: &CheckParams,
+) -> Result<(), ChainViolation> {
+    let mut margins = ChainMargins {
+        joint: f64::INFINITY,
+        patch: f64::INFINITY,
+        clearance: f64::INFINITY,
+        gap: f64::INFINITY,
+        torque_share: 0.0,
+        samples: 0,
+    };
+    let mut at = Sample {
+        hand,
+        params,
+        step: 0,
+        at: 0.0,
+    };
+    at.steps(steps, joints, &mut margins, false)
 }
 
 /// Where the check is, for its verdicts.
@@ -178,6 +176,49 @@ impl Sample<'_> {
             finger,
             kind,
         }
+    }
+
+    /// Every sample of `steps` (carries every `carry_step`, free motions
+    /// every `free_step`), with the load where `load` says.
+    fn steps(
+        &mut self,
+        steps: &[Step],
+        joints: &mut [Option<Vector3<f64>>; FINGERS],
+        margins: &mut ChainMargins,
+        load: bool,
+    ) -> Result<(), ChainViolation> {
+        for (i, st) in steps.iter().enumerate() {
+            self.step = i;
+            let length = st.dofs().length;
+            let (n, turning) = match st.motion {
+                Motion::Carry { axis, angle, .. } => (
+                    (angle / self.params.carry_step).ceil().max(1.0) as usize,
+                    Some(axis),
+                ),
+                Motion::Free(m) => (
+                    (m.path.length() / self.params.free_step).ceil().max(1.0) as usize,
+                    None,
+                ),
+                Motion::Rotate { .. } | Motion::Roll { .. } | Motion::RollSegment { .. } => {
+                    return Err(ChainViolation {
+                        step: i,
+                        at: 0.0,
+                        finger: st.finger(),
+                        kind: ViolationKind::Unsupported,
+                    });
+                }
+            };
+            for k in 0..=n {
+                self.at = k as f64 / n as f64;
+                let state = st.eval(&length.map(|l| l * self.at), &[0.0; 3]).state;
+                self.kinematics(&state, joints, margins)?;
+                // The contacts move only in a carry; otherwise once a step.
+                if load && (turning.is_some() || k == 0) {
+                    self.load(&state, joints, turning.as_ref(), margins)?;
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Reach, joint limits, patch, clearance and gaps at `state`; `joints`

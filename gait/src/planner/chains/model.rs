@@ -33,7 +33,7 @@ use nalgebra::Vector3;
 
 use super::ChainHand;
 use super::carry_load::CarryLoads;
-use super::certify::{ChainViolation, CheckParams, check, grasp_share};
+use super::certify::{ChainViolation, CheckParams, check, check_way, grasp_share};
 use super::steps::{ChainBuilder, carried};
 use crate::HandConfig;
 use crate::hand_state::{FINGERS, FingerMode, HandState};
@@ -370,6 +370,21 @@ impl HandModel for ChainModel {
         f.center = f.center.normalize() * rho;
     }
 
+    // The lift checked as the plan's check samples it (its links can
+    // sweep into a neighbour's as it rises).
+    fn can_lift(&self, hand: &HandState, k: usize) -> bool {
+        let mut b = ChainBuilder::new(
+            &self.hand,
+            self.config.limits,
+            0.0,
+            self.config.planner.transfer_height,
+            self.params,
+            *hand,
+        );
+        let mut joints = b.joints();
+        b.lift(k).is_ok() && check_way(&self.hand, &b.steps, &mut joints, &self.params).is_ok()
+    }
+
     fn hover_dir(&self, hand: &HandState, k: usize) -> Vector3<f64> {
         hand.fingers[k].center.normalize()
     }
@@ -471,6 +486,7 @@ impl HandModel for ChainModel {
             self.config.limits,
             self.config.load.handover_time,
             self.config.planner.transfer_height,
+            self.params,
             *start,
         );
         for a in actions {

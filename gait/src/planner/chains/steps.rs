@@ -5,18 +5,21 @@
 //!   contacts fitted along the rolling law ([`CarryPath`]) in pieces the
 //!   fit accepts (at most [`MAX_PIECE`], halved until it fits).
 //! - A lift is a straight move out along the contact normal to the hover
-//!   height; a placement an arc at the finger's hover radius to above the
-//!   new contact, then a straight descent onto it.
+//!   height; a placement an arc at the finger's hover radius (or higher,
+//!   below) to above the new contact, then a straight descent onto it.
 //! - As for the free fingertips, the grip passes between fingers at rest
 //!   (`load.handover_time`): the step before a lift ends with a handover
 //!   that releases the finger, a placement with one that takes it.
 //!
-//! The builder does not decide whether a finger's way is clear: the exact
-//! check ([`super::certify`]) samples every step.
+//! A placing finger's way is checked as the exact check
+//! ([`super::certify`]) samples it, without the load: where the way at the
+//! hover height passes too near another finger, the finger rises higher
+//! first. Everything else the exact check decides on the whole plan.
 
 use nalgebra::Vector3;
 
 use super::ChainHand;
+use super::certify::{CheckParams, check_way};
 use crate::config::LimitsConfig;
 use crate::hand_state::{FINGERS, FingerMode, HandState};
 use crate::planner::carry_path::{CarriedFinger, CarryPath, FitError};
@@ -32,12 +35,18 @@ pub const MAX_PIECE: f64 = 1.5;
 /// tip centre on a tennis ball, far below any tracking a hand does.
 pub const FIT_TOLERANCE: f64 = 1e-7;
 
+/// The heights a placing finger travels at, in multiples of the hover
+/// height: the first whose way is clear.
+pub const RISES: [f64; 3] = [1.0, 2.0, 4.0];
+
 /// Builds a chain plan's steps, keeping the state after the last.
 pub struct ChainBuilder<'a> {
     hand: &'a ChainHand,
     limits: LimitsConfig,
     handover_time: f64,
     hover: f64,
+    /// How a finger's way is sampled.
+    check: CheckParams,
     /// Steps so far.
     pub steps: Vec<Step>,
     /// State after the last step.
@@ -49,12 +58,13 @@ pub struct ChainBuilder<'a> {
 impl<'a> ChainBuilder<'a> {
     /// Starts at `state`: steps timed at `limits`, handovers of
     /// `handover_time` \[s\] (none if 0), free fingers `hover` \[m\] above
-    /// the object.
+    /// the object, their ways sampled as `check` says.
     pub fn new(
         hand: &'a ChainHand,
         limits: LimitsConfig,
         handover_time: f64,
         hover: f64,
+        check: CheckParams,
         state: HandState,
     ) -> Self {
         Self {
@@ -63,9 +73,16 @@ impl<'a> ChainBuilder<'a> {
             limits,
             handover_time,
             hover,
+            check,
             steps: Vec::with_capacity(32),
             state,
         }
+    }
+
+    /// Each finger's joints after the last step (on the branch it has
+    /// been on).
+    pub fn joints(&self) -> [Option<Vector3<f64>>; FINGERS] {
+        self.joints
     }
 
     fn push(&mut self, kind: StepKind, motion: Motion) -> Result<(), usize> {
@@ -170,17 +187,49 @@ impl<'a> ChainBuilder<'a> {
         )
     }
 
-    /// Free finger `k` over to above `contact` at its height, then down
-    /// onto it; its grip taken after.
+    /// Free finger `k` over to above `contact`, then down onto it; its
+    /// grip taken after. The way goes at the finger's height if that is
+    /// clear ([`check_way`]: limits, the object, the other fingers), else
+    /// the finger first rises to the next of [`RISES`] that is; where
+    /// none is, the way at its height stands (the plan's check refuses
+    /// it).
     pub fn place(&mut self, k: usize, contact: &Vector3<f64>) -> Result<(), usize> {
+        let mark = (self.steps.len(), self.state, self.joints);
+        let rho = self.state.fingers[k].center.norm();
+        for rise in RISES {
+            let top = rho.max(self.contact_radius(k) + rise * self.hover);
+            self.way(k, contact, top)?;
+            let mut joints = mark.2;
+            let clear =
+                check_way(self.hand, &self.steps[mark.0..], &mut joints, &self.check).is_ok();
+            if clear {
+                return Ok(());
+            }
+            self.steps.truncate(mark.0);
+            (self.state, self.joints) = (mark.1, mark.2);
+        }
+        self.way(k, contact, rho)
+    }
+
+    /// Free finger `k` up to `top` from the centre, over to above
+    /// `contact` there, and down onto it; its grip taken after.
+    fn way(&mut self, k: usize, contact: &Vector3<f64>, top: f64) -> Result<(), usize> {
         let c = self.state.fingers[k].center;
         let rho = c.norm();
         let from = c / rho;
+        if top > rho + 1e-12 {
+            let rise = FreePath::Radial {
+                dir: from,
+                from: rho,
+                to: top,
+            };
+            self.free(StepKind::Transfer, k, rise, false)?;
+        }
         if (from - contact).norm() > 1e-12 {
             self.free(
                 StepKind::Transfer,
                 k,
-                FreePath::arc(&from, contact, rho),
+                FreePath::arc(&from, contact, top),
                 false,
             )?;
         }
@@ -189,7 +238,7 @@ impl<'a> ChainBuilder<'a> {
             k,
             FreePath::Radial {
                 dir: *contact,
-                from: rho,
+                from: top,
                 to: self.contact_radius(k),
             },
             true,

@@ -499,6 +499,9 @@ impl<H: HandModel> Search<'_, '_, H> {
             if !self.hand.good_pair(&ci, &cj) {
                 continue;
             }
+            if !self.hand.can_lift(&node.hand, lose) {
+                continue;
+            }
             let mut hand = node.hand;
             self.hand.lift(&mut hand, lose);
             if !(self
@@ -517,7 +520,7 @@ impl<H: HandModel> Search<'_, '_, H> {
     }
 
     /// Three fingers' turns towards the goal.
-    fn triple_turns(&mut self, idx: u32, node: &Node) {
+    pub(super) fn triple_turns(&mut self, idx: u32, node: &Node) {
         let rem = node.rem.angle;
         let axis = node.rem.axis;
         let range = node.range.min(rem);

@@ -86,6 +86,8 @@ pub struct Mode {
     /// a turn that goes on after it. Three fingers turned as far as they
     /// can may leave no roll to a pair for the next piece.
     pub ends_in_pair: bool,
+    /// Whether walks offer their end's turn at once ([`Pass::eager_walks`]).
+    pub eager_walks: bool,
 }
 
 impl Mode {
@@ -102,7 +104,9 @@ impl Mode {
     ) -> Option<Self> {
         let (bound, cap) = match (pass.role, found) {
             (Role::Find, None) => (f64::INFINITY, u32::MAX),
-            (Role::Improve { effort }, Some(duration)) => (duration, effort * used.max(1)),
+            (Role::Improve { effort, at_least }, Some(duration)) => {
+                (duration, (effort * used.max(1)).max(at_least))
+            }
             _ => return None,
         };
         Some(Self {
@@ -111,6 +115,7 @@ impl Mode {
             cap,
             detours,
             ends_in_pair,
+            eager_walks: pass.eager_walks,
         })
     }
 }

@@ -12,15 +12,24 @@
 //! finger moved twice in a row), each move's placement among the
 //! candidates with the longest own range about the axis, and keeps the
 //! first that brings every finger's own range to the target (or the one
-//! that raises the least of them most). Every state on the way is what a
+//! that raises the least of them most), each end's reach cut to how far
+//! the three carry the object together (their gaps and limits along the
+//! way, which their own ranges leave out). Every state on the way is what a
 //! lift and a placement of the search would check: the pair left holds
-//! the load at rest, the new contact is apart from the others, the three
-//! are force-closure and hold the load at rest.
+//! the load at rest, the lifted finger's way out is clear, the new contact
+//! is apart from the others, the three are force-closure and hold the load
+//! at rest. Where the pass asks ([`Pass::eager_walks`]), a walk's end
+//! offers its turns at once, each weighed by its own cost: the estimate
+//! counts a segment as one gait, so an end five moves away would otherwise
+//! wait behind every cheap alternative.
 
 use std::collections::HashMap;
 
 use nalgebra::Vector3;
 
+use super::super::alternatives::MIN_TURN;
+#[cfg(doc)]
+use super::super::alternatives::Pass;
 use super::super::budget::Stop;
 use super::super::geometry::angle_between;
 use super::super::hand_model::{Action, At, HandModel};
@@ -36,8 +45,9 @@ pub const WALK_DEPTH: usize = 5;
 /// Placements tried per move, the longest own ranges first.
 pub const WALK_BEAM: usize = 2;
 
-/// Most load tests (a pair or a grasp at rest) one walk may spend: it
-/// bounds the walk's cost where no sequence exists.
+/// Most load tests (a pair or a grasp at rest) and carry ranges (an end's
+/// reach) one walk may spend: it bounds the walk's cost where no sequence
+/// exists.
 pub const WALK_TESTS: u32 = 400;
 
 /// A walk ends when every finger's own range is the rotation left or this
@@ -63,7 +73,9 @@ struct Walker<'a, H: HandModel> {
     /// Per finger: candidate indices, the longest range first.
     order: [Vec<usize>; 3],
     target: f64,
-    /// Load tests run (the memo's misses).
+    /// The rotation's axis.
+    axis: Vector3<f64>,
+    /// Load tests and carry ranges run (the memos' misses).
     tests: u32,
     /// The caller's clock and cancel flag.
     stop: &'a mut dyn Stop,
@@ -72,6 +84,10 @@ struct Walker<'a, H: HandModel> {
     /// Load verdicts by the contacts tested (the search's: sequences
     /// share their first moves, and walks their candidates).
     memo: &'a mut HashMap<Vec<u64>, bool>,
+    /// Verdicts of [`HandModel::can_lift`] in this walk.
+    lift_memo: HashMap<(usize, [[u64; 3]; 3]), bool>,
+    /// Carry ranges of the ends reached in this walk, by their tips.
+    carries: HashMap<[[u64; 3]; 3], f64>,
     /// Verdicts of [`HandModel::apart`] in this walk.
     apart_memo: HashMap<(usize, usize, [u64; 3], [u64; 3]), bool>,
     moves: Vec<(usize, usize)>,
@@ -113,11 +129,14 @@ impl<H: HandModel> Search<'_, '_, H> {
             touch,
             order,
             target,
+            axis: *axis,
             tests: 0,
             stop,
             halted: false,
             memo: &mut self.walk_memo.borrow_mut(),
             apart_memo: HashMap::new(),
+            carries: HashMap::new(),
+            lift_memo: HashMap::new(),
             moves: Vec::with_capacity(WALK_DEPTH),
             best: None,
         };
@@ -171,7 +190,16 @@ impl<H: HandModel> Search<'_, '_, H> {
                 ..at
             };
             if n + 1 == walk.moves.len() {
+                let before = self.nodes.len();
                 self.push(next);
+                // Where the pass asks, the end offers its turns at once,
+                // each weighed by its own cost rather than the estimate's.
+                if self.mode.eager_walks && self.nodes.len() > before {
+                    let end = self.nodes[before];
+                    if end.range >= MIN_TURN {
+                        self.triple_turns(before as u32, &end);
+                    }
+                }
             } else {
                 // On the way: kept for the plan, never expanded.
                 self.nodes.push(next);
@@ -189,7 +217,14 @@ impl<H: HandModel> Walker<'_, H> {
     /// before placing).
     fn step(&mut self, state: &HandState, seq: &[usize], own: [f64; 3], untested: bool) {
         let Some((&f, rest)) = seq.split_first() else {
-            let reach = own.iter().copied().fold(f64::INFINITY, f64::min);
+            let own_reach = own.iter().copied().fold(f64::INFINITY, f64::min);
+            if self.best.as_ref().is_some_and(|b| own_reach <= b.reach) {
+                return;
+            }
+            let h = self.hand;
+            let (axis, target) = (self.axis, self.target);
+            let reach = own_reach
+                .min(self.carry(state, || h.carry_range(state, &[0, 1, 2], &axis, target)));
             if self.best.as_ref().is_none_or(|b| reach > b.reach) {
                 self.best = Some(Walk {
                     moves: self.moves.clone(),
@@ -204,6 +239,9 @@ impl<H: HandModel> Walker<'_, H> {
         let mut lifted = *state;
         h.lift(&mut lifted, f);
         if untested && !(h.good_pair(&c[g], &c[k]) && self.pair_holds((g, &c[g]), (k, &c[k]))) {
+            return;
+        }
+        if !self.can_lift(state, f) {
             return;
         }
         let mut taken = 0;
@@ -260,6 +298,18 @@ impl<H: HandModel> Walker<'_, H> {
         }
     }
 
+    /// [`HandModel::can_lift`], remembered (a state recurs as sequences
+    /// share their first moves).
+    fn can_lift(&mut self, state: &HandState, f: usize) -> bool {
+        let key = (f, state.fingers.map(|x| bits(&x.center)));
+        if let Some(&v) = self.lift_memo.get(&key) {
+            return v;
+        }
+        let v = self.hand.can_lift(state, f);
+        self.lift_memo.insert(key, v);
+        v
+    }
+
     /// [`HandModel::apart`], remembered (the contacts recur from sequence
     /// to sequence).
     fn apart(&mut self, a: At<'_>, b: At<'_>) -> bool {
@@ -269,6 +319,24 @@ impl<H: HandModel> Walker<'_, H> {
         }
         let v = self.hand.apart(a, b);
         self.apart_memo.insert(key, v);
+        v
+    }
+
+    /// How far the three of `state` carry the object about the axis
+    /// together (the fingers' clearance and limits along the way, which
+    /// their own ranges leave out): remembered, counted as a test.
+    fn carry(&mut self, state: &HandState, f: impl FnOnce() -> f64) -> f64 {
+        let key = state.fingers.map(|x| bits(&x.center));
+        if let Some(&v) = self.carries.get(&key) {
+            return v;
+        }
+        if self.stop.poll().is_some() {
+            self.halted = true;
+            return 0.0;
+        }
+        self.tests += 1;
+        let v = f();
+        self.carries.insert(key, v);
         v
     }
 
