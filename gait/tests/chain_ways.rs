@@ -215,6 +215,19 @@ fn a_lift_that_sweeps_into_another_finger_is_refused() {
     assert!(allowed > 0);
 }
 
+/// The planner's builder from `s`, no handovers.
+fn builder<'a>(m: &'a ChainModel, s: &HandState) -> ChainBuilder<'a> {
+    let c = m.config();
+    ChainBuilder::new(
+        m.hand(),
+        c.limits,
+        0.0,
+        c.planner.transfer_height,
+        *m.check_params(),
+        *s,
+    )
+}
+
 /// Finger `k` of `s` lifted, then placed at `contact` by the builder.
 fn placed<'a>(
     m: &'a ChainModel,
@@ -222,15 +235,7 @@ fn placed<'a>(
     k: usize,
     contact: &Vector3<f64>,
 ) -> Option<ChainBuilder<'a>> {
-    let c = m.config();
-    let mut b = ChainBuilder::new(
-        m.hand(),
-        c.limits,
-        0.0,
-        c.planner.transfer_height,
-        *m.check_params(),
-        *s,
-    );
+    let mut b = builder(m, s);
     b.lift(k).ok()?;
     b.place(k, contact).ok()?;
     Some(b)
@@ -290,15 +295,7 @@ fn a_placement_blocked_at_the_hover_height_rises_first() {
 
 /// Every finger's joints once finger `k` of `s` is lifted.
 fn lifted_joints(m: &ChainModel, s: &HandState, k: usize) -> [Option<Vector3<f64>>; 3] {
-    let c = m.config();
-    let mut b = ChainBuilder::new(
-        m.hand(),
-        c.limits,
-        0.0,
-        c.planner.transfer_height,
-        *m.check_params(),
-        *s,
-    );
+    let mut b = builder(m, s);
     b.lift(k).expect("lifted");
     b.joints()
 }

@@ -64,6 +64,18 @@ pub struct ChainMargins {
     pub samples: usize,
 }
 
+impl ChainMargins {
+    /// Nothing checked yet: every margin unbounded, no share used.
+    const NONE: Self = Self {
+        joint: f64::INFINITY,
+        patch: f64::INFINITY,
+        clearance: f64::INFINITY,
+        gap: f64::INFINITY,
+        torque_share: 0.0,
+        samples: 0,
+    };
+}
+
 /// What a sample broke.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ViolationKind {
@@ -112,21 +124,9 @@ pub fn check(
     steps: &[Step],
     params: &CheckParams,
 ) -> Result<ChainMargins, ChainViolation> {
-    let mut margins = ChainMargins {
-        joint: f64::INFINITY,
-        patch: f64::INFINITY,
-        clearance: f64::INFINITY,
-        gap: f64::INFINITY,
-        torque_share: 0.0,
-        samples: 0,
-    };
+    let mut margins = ChainMargins::NONE;
     let mut joints: [Option<Vector3<f64>>; FINGERS] = [None; FINGERS];
-    let mut at = Sample {
-        hand,
-        params,
-        step: 0,
-        at: 0.0,
-    };
+    let mut at = Sample::new(hand, params);
     at.kinematics(start, &mut joints, &mut margins)?;
     at.steps(steps, &mut joints, &mut margins, true)?;
     Ok(margins)
@@ -143,20 +143,8 @@ pub fn check_way(
     joints: &mut [Option<Vector3<f64>>; FINGERS],
     params: &CheckParams,
 ) -> Result<(), ChainViolation> {
-    let mut margins = ChainMargins {
-        joint: f64::INFINITY,
-        patch: f64::INFINITY,
-        clearance: f64::INFINITY,
-        gap: f64::INFINITY,
-        torque_share: 0.0,
-        samples: 0,
-    };
-    let mut at = Sample {
-        hand,
-        params,
-        step: 0,
-        at: 0.0,
-    };
+    let mut margins = ChainMargins::NONE;
+    let mut at = Sample::new(hand, params);
     at.steps(steps, joints, &mut margins, false)
 }
 
@@ -168,7 +156,16 @@ struct Sample<'a> {
     at: f64,
 }
 
-impl Sample<'_> {
+impl<'a> Sample<'a> {
+    fn new(hand: &'a ChainHand, params: &'a CheckParams) -> Self {
+        Self {
+            hand,
+            params,
+            step: 0,
+            at: 0.0,
+        }
+    }
+
     fn fail(&self, finger: Option<usize>, kind: ViolationKind) -> ChainViolation {
         ChainViolation {
             step: self.step,
