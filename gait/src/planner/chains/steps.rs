@@ -188,20 +188,20 @@ impl<'a> ChainBuilder<'a> {
     }
 
     /// Free finger `k` over to above `contact`, then down onto it; its
-    /// grip taken after. The way goes at the finger's height if that is
-    /// clear ([`check_way`]: limits, the object, the other fingers), else
-    /// the finger first rises to the next of [`RISES`] that is; where
-    /// none is, the way at its height stands (the plan's check refuses
-    /// it).
+    /// grip taken after. The way goes at the finger's height if it can be
+    /// made and is clear ([`check_way`]: limits, the object, the other
+    /// fingers), else the finger first rises to the next of [`RISES`]
+    /// where it is; where none is, the way at its height stands (the
+    /// plan's check refuses it, or `Err(k)` where it cannot be made).
     pub fn place(&mut self, k: usize, contact: &Vector3<f64>) -> Result<(), usize> {
         let mark = (self.steps.len(), self.state, self.joints);
         let rho = self.state.fingers[k].center.norm();
         for rise in RISES {
             let top = rho.max(self.contact_radius(k) + rise * self.hover);
-            self.way(k, contact, top)?;
+            // (A height the finger cannot reach is one more not clear.)
             let mut joints = mark.2;
-            let clear =
-                check_way(self.hand, &self.steps[mark.0..], &mut joints, &self.check).is_ok();
+            let clear = self.way(k, contact, top).is_ok()
+                && check_way(self.hand, &self.steps[mark.0..], &mut joints, &self.check).is_ok();
             if clear {
                 return Ok(());
             }
