@@ -90,12 +90,17 @@ fn run(s: HousekeepingSetup, stop: &AtomicBool) {
         let now = Instant::now();
 
         let c = node.try_cleanup_dead_nodes();
+        // The count is stored before the cleanup is announced (release/
+        // acquire with the loop): the status published with the
+        // `ClientsCleaned` event already counts without the dead.
+        let clients = count_clients(&s.config, s.daemon_node, node.id());
+        s.shared.clients.store(clients, Ordering::Relaxed);
         if c.cleanups > 0 {
             info!(
                 nodes = c.cleanups,
                 "cleaned up dead iceoryx2 nodes (crashed clients)"
             );
-            s.shared.cleaned.fetch_add(c.cleanups, Ordering::Relaxed);
+            s.shared.cleaned.fetch_add(c.cleanups, Ordering::Release);
         }
         if c.failed_cleanups > 0 {
             warn!(
@@ -103,9 +108,6 @@ fn run(s: HousekeepingSetup, stop: &AtomicBool) {
                 "dead iceoryx2 nodes could not be cleaned up (permissions?)"
             );
         }
-
-        let clients = count_clients(&s.config, s.daemon_node, node.id());
-        s.shared.clients.store(clients, Ordering::Relaxed);
         if clients != last_clients {
             info!(clients, "client count changed");
             last_clients = clients;

@@ -445,7 +445,7 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
             self.events.push(e);
             self.shared.overruns.fetch_add(w.missed, Ordering::Relaxed);
         }
-        let cleaned = self.shared.cleaned.load(Ordering::Relaxed);
+        let cleaned = self.shared.cleaned.load(Ordering::Acquire);
         if cleaned != self.last_cleaned {
             let mut e = Event::new(EventKind::ClientsCleaned);
             e.count = cleaned.wrapping_sub(self.last_cleaned);
