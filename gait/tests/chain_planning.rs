@@ -13,60 +13,21 @@
 //! the figures test only says how to run it; `GAIT_DUMP=1` prints each
 //! goal's result as well).
 
+mod chain_hand;
 #[path = "../../kinematics/tests/common/mod.rs"]
 mod common;
 
 use common::q_dot;
 use gait::planner::budget::{Budget, Halt, Stop};
-use gait::planner::chains::ChainHand;
-use gait::planner::chains::model::ChainModel;
 use gait::planner::chains::planner::ChainPlanner;
+use gait::planner::hand_model::Turn;
 use gait::planner::route::RouteStep;
 use gait::planner::{Motion, Plan, PlanError};
-use gait::{FingerMode, HandConfig, HandState};
+use gait::{FingerMode, HandState};
 use nalgebra::{UnitQuaternion, Vector3};
 
+use chain_hand::{planner, planner_with, start};
 use common::LIMITS;
-
-/// Motion limits for a hand this size: the ball turns at up to 1 rad/s,
-/// a free tip travels at up to 0.1 m/s, 15 mm above the ball.
-fn config() -> HandConfig {
-    let mut c = HandConfig::default();
-    c.limits.fingertip.velocity = 0.1;
-    c.limits.fingertip.acceleration = 1.0;
-    c.limits.fingertip.jerk = 10.0;
-    c.planner.transfer_height = 0.015;
-    c.planner.max_expansions = 3000;
-    c
-}
-
-fn planner_with(d: &kinematics::HandDescription) -> ChainPlanner {
-    let hand = ChainHand::new(d, LIMITS).expect("TriFingerPro is a chain hand");
-    ChainPlanner::new(ChainModel::new(hand, &config()))
-}
-
-fn planner() -> ChainPlanner {
-    planner_with(&common::hand())
-}
-
-/// Finger 0 near the ball's top, finger 1 below the equator on its side,
-/// finger 2 above it on the other: pairs (0, 1) and (1, 2) are
-/// force-closure and hold the ball, so either outer finger can lift.
-fn start(p: &ChainPlanner) -> HandState {
-    let normals = [
-        Vector3::new(-0.07, 0.07, 1.0),
-        Vector3::new(0.55, -0.57, -0.61),
-        Vector3::new(-0.64, 0.66, 0.40),
-    ];
-    let mut s = HandState::paper_start(&config());
-    for (k, f) in s.fingers.iter_mut().enumerate() {
-        let r = p.model().hand().object().radius + p.model().hand().chain(k).tip_radius;
-        f.mode = FingerMode::Grasping;
-        f.center = normals[k].normalize() * r;
-    }
-    s.object = UnitQuaternion::identity();
-    s
-}
 
 fn about(axis: Vector3<f64>, deg: f64) -> UnitQuaternion<f64> {
     UnitQuaternion::from_axis_angle(&nalgebra::Unit::new_normalize(axis), deg.to_radians())
@@ -179,7 +140,7 @@ fn read(p: &ChainPlanner, start: &HandState, plan: &Plan) -> Reading {
 #[test]
 fn a_turn_the_three_fingers_reach_is_one_carry() {
     let p = planner();
-    let s = start(&p);
+    let s = start(p.model());
     let plan = p.plan(&s, &about(Vector3::z(), 30.0)).expect("planned");
     let r = read(&p, &s, &plan);
     eprintln!("30° about z: {:?}; {r:?}", plan.summary);
@@ -198,7 +159,7 @@ fn a_turn_the_three_fingers_reach_is_one_carry() {
 #[test]
 fn gaits_turn_the_ball_further_than_one_grasp_reaches() {
     let p = planner();
-    let s = start(&p);
+    let s = start(p.model());
     let mut rng = common::rng(5);
     let draws: Vec<UnitQuaternion<f64>> = (0..30)
         .map(|_| test_support::random::haar(&mut rng))
@@ -223,6 +184,77 @@ fn gaits_turn_the_ball_further_than_one_grasp_reaches() {
     }
 }
 
+/// A grasp a plan ended in (a random goal from the start grasp) from
+/// which no finger can lift: no two of the three hold the ball at rest.
+/// The three turn the ball first, about another axis, until a pair holds;
+/// a search offering only turns towards the goal and tilts about the
+/// pairs' chords finds nothing from here.
+#[test]
+fn a_grasp_no_finger_can_leave_turns_the_ball_until_one_can() {
+    use gait::planner::hand_model::HandModel;
+    let p = planner();
+    let mut s = start(p.model());
+    s.object = UnitQuaternion::new_normalize(nalgebra::Quaternion::new(
+        0.3368213738855246,
+        0.055370232527997915,
+        0.6256552961874349,
+        0.7014563064056638,
+    ));
+    let centres = [
+        [
+            0.02948333189637227,
+            0.02137126393303011,
+            0.023796054677049396,
+        ],
+        [
+            0.038441938150756964,
+            0.020358040652142584,
+            -0.0001325594926309246,
+        ],
+        [
+            -0.018185388107359073,
+            -0.03884595086770485,
+            0.007248017699246111,
+        ],
+    ];
+    for (f, c) in s.fingers.iter_mut().zip(centres) {
+        f.center = Vector3::from(c);
+    }
+    let m = p.model();
+    for lose in 0..3 {
+        let mut lifted = s;
+        m.lift(&mut lifted, lose);
+        assert!(!m.holds_at_rest(&lifted), "finger {lose} could lift");
+    }
+    let mut rng = common::rng(777);
+    let goal = (0..15)
+        .map(|_| test_support::random::haar(&mut rng))
+        .last()
+        .unwrap();
+    let plan = p.plan(&s, &goal).expect("planned");
+    let r = read(&p, &s, &plan);
+    eprintln!(
+        "{}: {} steps, {:.2} s; joint margin {:.3} rad, patch {:.3} rad",
+        plan.route,
+        plan.steps.len(),
+        plan.summary.duration,
+        r.joint,
+        r.patch
+    );
+    assert!(
+        matches!(
+            plan.route.steps.first(),
+            Some(RouteStep::Turn {
+                why: Turn::Detour,
+                fingers: 3,
+                ..
+            })
+        ),
+        "{}",
+        plan.route
+    );
+}
+
 /// Goals whose turn the start grasp cannot begin to make: finger 1 binds
 /// and cannot lift (fingers 0 and 2 do not hold the ball as a pair), so
 /// the others walk first — lifted and placed anew one at a time on the
@@ -234,7 +266,7 @@ fn gaits_turn_the_ball_further_than_one_grasp_reaches() {
 #[test]
 fn fingers_walk_on_the_still_ball_to_a_grasp_that_turns_far() {
     let p = planner();
-    let s = start(&p);
+    let s = start(p.model());
     let mut rng = common::rng(5);
     let draws: Vec<UnitQuaternion<f64>> = (0..56)
         .map(|_| test_support::random::haar(&mut rng))
@@ -278,7 +310,7 @@ fn fingers_walk_on_the_still_ball_to_a_grasp_that_turns_far() {
 #[test]
 fn a_plan_found_at_once_is_still_improved() {
     let p = planner();
-    let s = start(&p);
+    let s = start(p.model());
     let mut rng = common::rng(5);
     let goal = (0..52)
         .map(|_| test_support::random::haar(&mut rng))
@@ -319,7 +351,7 @@ impl Stop for Polls {
 #[test]
 fn a_walk_asks_the_callers_stop_between_its_load_tests() {
     let p = planner();
-    let s = start(&p);
+    let s = start(p.model());
     let mut rng = common::rng(5);
     let goal = (0..56)
         .map(|_| test_support::random::haar(&mut rng))
@@ -350,7 +382,7 @@ fn a_walk_asks_the_callers_stop_between_its_load_tests() {
 #[test]
 fn a_start_the_hand_cannot_hold_or_reach_is_refused() {
     let p = planner();
-    let s = start(&p);
+    let s = start(p.model());
     let goal = about(Vector3::z(), 30.0);
     // Ten kilograms: no grasp within the motors' torques.
     let mut heavy = common::hand();
@@ -396,7 +428,7 @@ fn chain_figures() {
         return;
     }
     let p = planner();
-    let s = start(&p);
+    let s = start(p.model());
     let mut rng = common::rng(5);
     let (mut times, mut goals_t, mut gaits, mut refused) = (vec![], vec![], vec![], vec![]);
     let mut tight = (f64::INFINITY, f64::INFINITY, 0.0f64);

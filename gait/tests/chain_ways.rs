@@ -6,37 +6,22 @@
 //! check. TriFingerPro holding the tennis ball, random grasps of the
 //! planner's own candidate contacts.
 
+mod chain_hand;
 #[path = "../../kinematics/tests/common/mod.rs"]
 mod common;
 
-use gait::planner::chains::ChainHand;
 use gait::planner::chains::certify::check_way;
 use gait::planner::chains::model::ChainModel;
 use gait::planner::chains::steps::ChainBuilder;
 use gait::planner::hand_model::HandModel;
 use gait::planner::plan::Reorientation;
 use gait::planner::{FreeMove, FreePath, Motion, StepKind};
-use gait::{FingerMode, HandConfig, HandState};
+use gait::{FingerMode, HandState};
 use kinematics::workspace::object_clearance;
 use nalgebra::Vector3;
 use rand::Rng;
 
-use common::LIMITS;
-
-/// The planner's settings for this hand: a free tip 15 mm above the ball.
-fn config() -> HandConfig {
-    let mut c = HandConfig::default();
-    c.limits.fingertip.velocity = 0.1;
-    c.limits.fingertip.acceleration = 1.0;
-    c.limits.fingertip.jerk = 10.0;
-    c.planner.transfer_height = 0.015;
-    c
-}
-
-fn model() -> ChainModel {
-    let hand = ChainHand::new(&common::hand(), LIMITS).expect("TriFingerPro is a chain hand");
-    ChainModel::new(hand, &config())
-}
+use chain_hand::{config, model};
 
 /// Random three-finger grasps of the candidate contacts that are
 /// force-closure with every pair apart, each then carried as far as the

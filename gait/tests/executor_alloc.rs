@@ -5,12 +5,15 @@
 //! `Executor::command` (planning, which allocates, runs outside them, as it
 //! does on the daemon's planner thread).
 
+mod chain_hand;
+#[path = "../../kinematics/tests/common/mod.rs"]
+mod common;
 mod planning;
 
 use std::cell::Cell;
 
 use gait::executor::{Executor, ExecutorCommand, ExecutorEvent, GoalTarget};
-use gait::planner::{Planner, StepKind};
+use gait::planner::{GoalPlanner, Planner, StepKind};
 use gait::sim::{InjectedFault, KinematicHand, Plant};
 use gait::{HandConfig, HandState};
 use rand::{Rng, SeedableRng};
@@ -41,7 +44,18 @@ fn counted<T>(f: impl FnOnce() -> T) -> T {
 /// drifts recovered from.
 fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool; 5], u64, u64) {
     let planner = Planner::new(cfg).unwrap();
-    let mut exec = Executor::new(cfg, 1e-3, start).unwrap();
+    let exec = Executor::new(cfg, 1e-3, start).unwrap();
+    run_mix_with(&planner, exec, start, ticks, seed)
+}
+
+/// [`run_mix`] with `exec` of any hand, planned by `planner`.
+fn run_mix_with(
+    planner: &impl GoalPlanner,
+    mut exec: Executor,
+    start: HandState,
+    ticks: u64,
+    seed: u64,
+) -> ([bool; 5], u64, u64) {
     let mut plant = KinematicHand::new(start, 1e-3);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut old_plans = Vec::new();
@@ -65,7 +79,7 @@ fn run_mix(cfg: &HandConfig, start: HandState, ticks: u64, seed: u64) -> ([bool;
             n
         });
         if let Some(req) = exec.take_plan_request() {
-            let plan = req.plan(&planner).map(Box::new);
+            let plan = req.plan(planner).map(Box::new);
             let old = counted(|| exec.deliver_plan(req.goal, plan));
             old_plans.extend(old); // freed here, off the "loop"
         }
@@ -154,4 +168,32 @@ fn executor_ticks_do_not_allocate() {
     assert!(counting::is_installed());
     let heap = HEAP.with(Cell::get);
     assert!(heap.is_zero(), "{heap} in {ticks} ticks");
+}
+
+/// The same mix on TriFingerPro's chains: the per-tick check of the
+/// chain's limits (inverse and forward kinematics, capsules) allocates
+/// nothing either.
+#[test]
+fn chain_hand_ticks_do_not_allocate() {
+    let planner = chain_hand::planner();
+    let start = chain_hand::start(planner.model());
+    let cfg = *planner.model().config();
+    let exec = Executor::for_chains(&cfg, planner.model().hand().clone(), 1e-3, start).unwrap();
+    let (seen, goals, drifts) = run_mix_with(&planner, exec, start, 40_000, 97);
+    println!("{goals} goals, {drifts} drifts, step kinds seen {seen:?}");
+    for k in [
+        StepKind::Rotate,
+        StepKind::Lift,
+        StepKind::Transfer,
+        StepKind::Place,
+    ] {
+        assert!(
+            seen[k as usize],
+            "no {k:?} step ran ({seen:?}, {goals} goals)"
+        );
+    }
+    assert!(goals > 5, "{goals} goals");
+    assert!(counting::is_installed());
+    let heap = HEAP.with(Cell::get);
+    assert!(heap.is_zero(), "{heap} in 40000 ticks");
 }

@@ -194,7 +194,10 @@ fn slacks_match_constructions() {
         assert!((f.workspace.slack - (beta - ws_margin - alpha)).abs() < 1e-9);
         assert_eq!(f.workspace.pass, alpha <= beta - ws_margin + 1e-9);
         assert!((f.hemisphere.unwrap().slack - (FRAC_PI_2 - off)).abs() < 1e-9);
-        assert!((f.roll.slack - (c.model.roll_limit_deg.to_radians() - roll.abs())).abs() < 1e-12);
+        assert!(
+            (f.roll.unwrap().slack - (c.model.roll_limit_deg.to_radians() - roll.abs())).abs()
+                < 1e-12
+        );
         assert!(f.contact.unwrap().pass);
         // Self-consistency: ok() ⇔ no violations; each verdict follows its slack.
         assert_eq!(r.ok(), r.violations().next().is_none());

@@ -8,7 +8,7 @@ use super::Reason;
 use crate::config::LimitsConfig;
 use crate::hand_state::HandState;
 use crate::planner::timing::step_profiles;
-use crate::planner::{Budget, Plan, PlanError, Target, Unbounded};
+use crate::planner::{Budget, GoalPlanner, Plan, PlanError, Target, Unbounded};
 
 /// Where a goal wants the object.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,11 +50,7 @@ impl GoalTarget {
     }
 
     /// Plans it from `start` within the planner's expansion budget.
-    pub fn plan(
-        &self,
-        planner: &crate::planner::Planner,
-        start: &HandState,
-    ) -> Result<Plan, PlanError> {
+    pub fn plan(&self, planner: &impl GoalPlanner, start: &HandState) -> Result<Plan, PlanError> {
         let mut never = Unbounded;
         let mut budget = Budget::new(planner.config().planner.max_expansions, &mut never);
         self.plan_within(planner, start, &mut budget)
@@ -63,7 +59,7 @@ impl GoalTarget {
     /// Plans it from `start` within `budget`.
     pub fn plan_within(
         &self,
-        planner: &crate::planner::Planner,
+        planner: &impl GoalPlanner,
         start: &HandState,
         budget: &mut Budget<'_>,
     ) -> Result<Plan, PlanError> {
@@ -71,7 +67,7 @@ impl GoalTarget {
             Self::Orientation(q) => Target::Orientation(q),
             Self::Rotation { axis, angle } => Target::Turn { axis, angle },
         };
-        planner.plan_within(start, &target, budget)
+        planner.plan_target(start, &target, budget)
     }
 }
 
@@ -127,7 +123,7 @@ impl PlanRequest {
     /// Plans it with `planner`, re-timed for the request's limits when they
     /// differ from the planner's (SPEC §4.3: a plan's cost is its execution
     /// time under the limits it runs with).
-    pub fn plan(&self, planner: &crate::planner::Planner) -> Result<Plan, PlanError> {
+    pub fn plan(&self, planner: &impl GoalPlanner) -> Result<Plan, PlanError> {
         let mut never = Unbounded;
         let mut budget = Budget::new(planner.config().planner.max_expansions, &mut never);
         self.plan_within(planner, &mut budget)
@@ -137,7 +133,7 @@ impl PlanRequest {
     /// cancel flag, and the expansion count).
     pub fn plan_within(
         &self,
-        planner: &crate::planner::Planner,
+        planner: &impl GoalPlanner,
         budget: &mut Budget<'_>,
     ) -> Result<Plan, PlanError> {
         let mut plan = if self.limits == planner.config().limits {

@@ -29,6 +29,7 @@ use super::lifecycle::FaultKind;
 use crate::HandConfig;
 use crate::hand::{InvariantChecker, Unit};
 use crate::hand_state::{FingerMode, HandState};
+use crate::planner::chains::ChainHand;
 use crate::sim::Measurement;
 
 use super::feedback::NOT_A_FINGER;
@@ -52,14 +53,20 @@ pub struct LimitGuard {
 }
 
 impl LimitGuard {
-    /// From the configuration.
-    pub fn new(config: &HandConfig) -> Self {
+    /// From the configuration; on a chain hand (`chains`), its margins:
+    /// the joint-limit margin for the workspace, the finger gap for the
+    /// clearance (SPEC §14.1).
+    pub fn new(config: &HandConfig, chains: Option<&ChainHand>) -> Self {
         let m = &config.model;
+        let (workspace, clearance) = match chains {
+            Some(h) => (h.chain(0).margin, h.limits().finger_gap),
+            None => (m.workspace_margin_deg.to_radians(), m.fingertip_clearance),
+        };
         Self {
             keep: config.feedback.limit_guard,
-            workspace: m.workspace_margin_deg.to_radians(),
+            workspace,
             force_closure: m.fc_margin_deg.to_radians(),
-            clearance: m.fingertip_clearance,
+            clearance,
             near_ticks: 0,
         }
     }

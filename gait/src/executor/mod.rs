@@ -176,9 +176,9 @@ fn invariant_fault(v: crate::hand::Violation) -> (FaultKind, u8) {
     };
     let kind = match v.invariant {
         I::ForceClosure => FaultKind::ForceClosure,
-        I::Workspace | I::FreeSpace => FaultKind::Workspace,
-        I::Hemisphere | I::Roll => FaultKind::Fingertip,
-        I::Collision => FaultKind::Collision,
+        I::Workspace | I::FreeSpace | I::JointLimit => FaultKind::Workspace,
+        I::Hemisphere | I::Roll | I::TipPatch => FaultKind::Fingertip,
+        I::Collision | I::LinkClearance => FaultKind::Collision,
         I::Contact | I::Slip | I::Spin => FaultKind::Contact,
     };
     (kind, finger)
@@ -190,8 +190,32 @@ fn step_finger(step: &Step) -> u8 {
 }
 
 impl Executor {
-    /// An executor holding `start` still, ticking every `dt` seconds.
+    /// An executor of the free-fingertip hand holding `start` still,
+    /// ticking every `dt` seconds.
     pub fn new(config: &HandConfig, dt: f64, start: HandState) -> Result<Self, ConfigError> {
+        Self::build(config, None, dt, start)
+    }
+
+    /// An executor of the chain hand `hand` (SPEC §14) holding `start`
+    /// still: every tick checked against the chain's limits as well
+    /// ([`InvariantChecker::for_chains`]); `config` as the chain planner's
+    /// model sets it (the hand's radii and friction). It runs the chain
+    /// planner's plans (carries and free moves of the tip centres).
+    pub fn for_chains(
+        config: &HandConfig,
+        hand: crate::planner::chains::ChainHand,
+        dt: f64,
+        start: HandState,
+    ) -> Result<Self, ConfigError> {
+        Self::build(config, Some(hand), dt, start)
+    }
+
+    fn build(
+        config: &HandConfig,
+        chains: Option<crate::planner::chains::ChainHand>,
+        dt: f64,
+        start: HandState,
+    ) -> Result<Self, ConfigError> {
         config.validate()?;
         let runner = StepRunner::new(dt).map_err(|_| ConfigError::OutOfRange {
             key: "control.tick_hz",
@@ -199,16 +223,20 @@ impl Executor {
             expected: "a finite positive rate",
         })?;
         let sp = rest(start);
+        let guard = guard::LimitGuard::new(config, chains.as_ref());
         // The closed forms and the planar certificate decide every case the
         // conic test would (gait::hand docs); the conic solve allocates and
         // costs ~70 µs, so it stays off the tick.
-        let mut checker = InvariantChecker::new(config)?;
+        let mut checker = match chains {
+            Some(hand) => InvariantChecker::for_chains(config, hand)?,
+            None => InvariantChecker::new(config)?,
+        };
         checker.set_conic_fallback(false);
         Ok(Self {
             limits: config.limits,
             checker,
             feedback: Feedback::new(&config.feedback, config.model.object_radius),
-            guard: guard::LimitGuard::new(config),
+            guard,
             runner,
             progress: progress::Progress::default(),
             phase: Mode::Holding,

@@ -4,6 +4,8 @@ use core::f64::consts::PI;
 
 use nalgebra::Vector3;
 
+use super::chain_check::ChainLimits;
+use super::chain_hand::ChainHand;
 use super::invariant_report::{
     Check, FcMethod, FingerReport, ForceClosureCheck, InvariantReport, PAIRS, SlipCheck,
     SlipReport, Unit,
@@ -87,6 +89,10 @@ pub struct InvariantChecker {
     cache: Option<ConicCache>,
     conic_solves: u64,
     conic_fallback: bool,
+    /// A chain hand's limits in place of the fingertips' (boxed: a hand
+    /// description is a few kilobytes the fingertip checker does not
+    /// carry).
+    chains: Option<Box<ChainLimits>>,
 }
 
 fn finger_finite(f: &FingerState) -> bool {
@@ -128,7 +134,30 @@ impl InvariantChecker {
             cache: None,
             conic_solves: 0,
             conic_fallback: true,
+            chains: None,
         })
+    }
+
+    /// The checker of a hand of finger chains (SPEC §14.1): force closure
+    /// and contact as for the fingertips (`config` holds the hand's
+    /// friction and radii, as `ChainModel` (the chain planner's model)
+    /// sets them), the chain's limits in place of the fingertips'
+    /// ([`ChainLimits`]).
+    pub fn for_chains(config: &HandConfig, hand: ChainHand) -> Result<Self, ConfigError> {
+        let mut c = Self::new(config)?;
+        c.chains = Some(Box::new(ChainLimits::new(hand)));
+        Ok(c)
+    }
+
+    /// The chain hand's limits and the joints of the state checked last
+    /// (`None` for free fingertips).
+    pub fn chain_limits(&self) -> Option<&ChainLimits> {
+        self.chains.as_deref()
+    }
+
+    /// See [`Self::chain_limits`].
+    pub fn chain_limits_mut(&mut self) -> Option<&mut ChainLimits> {
+        self.chains.as_deref_mut()
     }
 
     /// Whether three-finger states without a closed-form or planar
@@ -154,7 +183,8 @@ impl InvariantChecker {
         self.conic_solves
     }
 
-    /// Checks I1–I4 and the state part of I5 (see the type docs).
+    /// Checks I1–I4 and the state part of I5 (see the type docs); on a
+    /// chain hand, with the limits of SPEC §14.1 ([`ChainLimits`]).
     pub fn check(&mut self, state: &HandState) -> Result<InvariantReport, StateError> {
         validate_state(state)?;
         let m = self.model;
@@ -165,11 +195,16 @@ impl InvariantChecker {
                 Unit::Metre,
             )
         });
-        Ok(InvariantReport {
+        let mut report = InvariantReport {
             force_closure: self.force_closure(state),
             fingers,
             collisions,
-        })
+            chains: false,
+        };
+        if let Some(c) = &mut self.chains {
+            c.apply(state, &mut report);
+        }
+        Ok(report)
     }
 
     /// I1 alone.
@@ -336,7 +371,10 @@ fn bits_equal(a: &[Vector3<f64>; 3], b: &[Vector3<f64>; 3]) -> bool {
 }
 
 fn finger_report(m: &FingertipLimits, k: usize, f: &FingerState) -> FingerReport {
-    let roll = Check::closed(m.roll_slack(f.roll, Bound::Limit), Unit::Radian);
+    let roll = Some(Check::closed(
+        m.roll_slack(f.roll, Bound::Limit),
+        Unit::Radian,
+    ));
     let workspace = Check::closed(m.workspace_slack(k, &f.center, Bound::Margin), Unit::Radian);
     match f.mode {
         FingerMode::Grasping => FingerReport {
@@ -349,6 +387,7 @@ fn finger_report(m: &FingertipLimits, k: usize, f: &FingerState) -> FingerReport
                 Unit::Radian,
             )),
             roll,
+            links: None,
         },
         FingerMode::Free => {
             let d = f.center.norm();
@@ -365,6 +404,7 @@ fn finger_report(m: &FingertipLimits, k: usize, f: &FingerState) -> FingerReport
                 contact: None,
                 hemisphere: None,
                 roll,
+                links: None,
             }
         }
     }

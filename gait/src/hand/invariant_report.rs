@@ -72,6 +72,15 @@ pub enum Invariant {
     Slip,
     /// I5 no spin about the normal in a two-finger grasp.
     Spin,
+    /// A chain finger's workspace (SPEC §14.1, replaces the cone W_k): a
+    /// branch of its inverse kinematics puts the tip there inside the
+    /// joint limits with the chain's margin.
+    JointLimit,
+    /// A chain finger's contact on its tip patch (SPEC §14.1, replaces
+    /// the hemisphere and the roll limit).
+    TipPatch,
+    /// A chain finger's links clear of the object (SPEC §14.1).
+    LinkClearance,
 }
 
 /// What a check is about.
@@ -143,52 +152,75 @@ pub struct ForceClosureCheck {
 pub struct FingerReport {
     /// Grasping or free.
     pub mode: FingerMode,
-    /// I2: workspace cone with margin, of the contact normal (grasping) or
-    /// of the fingertip-centre direction (free) \[rad\].
+    /// I2 workspace \[rad\]. Free fingertips: the cone with margin, of the
+    /// contact normal (grasping) or of the fingertip-centre direction
+    /// (free). Chains ([`Invariant::JointLimit`]): the joint-limit margin,
+    /// beyond the chain's own, of the branch the finger is on (of the best
+    /// branch where none is inside the limits; −π where none reaches).
     pub workspace: Check,
     /// I2: free fingers only, radial slack inside the shell \[m\] (open at
-    /// R + r).
+    /// R + r). Chains: the tip's height above the object (no outer bound:
+    /// reach and clearance bound a chain's free tip).
     pub shell: Option<Check>,
     /// I5 object-centre part: grasping fingers only, contact tolerance −
     /// ||p| − (R + r)| \[m\].
     pub contact: Option<Check>,
-    /// I3: grasping fingers only, fingertip hemisphere asin(m_z) \[rad\].
+    /// I3: grasping fingers only \[rad\]. Free fingertips: the hemisphere,
+    /// asin(m_z). Chains ([`Invariant::TipPatch`]): the tip-patch margin
+    /// beyond the hand's.
     pub hemisphere: Option<Check>,
-    /// I3: γ − |τ| \[rad\].
-    pub roll: Check,
+    /// I3: γ − |τ| \[rad\]; `None` on chains (the joints set the tip's
+    /// orientation: no roll to limit).
+    pub roll: Option<Check>,
+    /// Chains only: the finger's links off the object, beyond the hand's
+    /// clearance \[m\] ([`Invariant::LinkClearance`]).
+    pub links: Option<Check>,
 }
 
 /// Finger pairs in the order of [`InvariantReport::collisions`].
 pub const PAIRS: [(usize, usize); 3] = [(0, 1), (0, 2), (1, 2)];
 
-/// The invariants of SPEC §1.3 for one hand state.
+/// The invariants of SPEC §1.3 for one hand state (of a chain hand, with
+/// the limits of §14.1 in place of the fingertips' own).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InvariantReport {
     /// I1.
     pub force_closure: ForceClosureCheck,
     /// I2, I3, I5 (contact) per finger.
     pub fingers: [FingerReport; FINGERS],
-    /// I4 per pair of [`PAIRS`], fingertip distance − (2r + clearance) \[m\].
+    /// I4 per pair of [`PAIRS`] \[m\]: free fingertips, fingertip distance
+    /// − (2r + clearance); chains, the gap between the two fingers' parts
+    /// (link capsules and tips) − the hand's finger gap.
     pub collisions: [Check; 3],
+    /// Whether the hand is one of finger chains (which limits the
+    /// `fingers` checks are).
+    pub chains: bool,
 }
 
 impl InvariantReport {
     /// Every check, in order I1, per finger (I2 workspace, I2 shell, I5
-    /// contact, I3 hemisphere, I3 roll), then I4 pairs.
+    /// contact, I3 hemisphere, I3 roll; chains: joint limits, shell,
+    /// contact, tip patch, link clearance), then I4 pairs.
     pub fn checks(&self) -> impl Iterator<Item = (Invariant, Subject, Check)> + '_ {
         let fc = core::iter::once((
             Invariant::ForceClosure,
             Subject::Grasp,
             self.force_closure.check,
         ));
-        let fingers = self.fingers.iter().enumerate().flat_map(|(k, f)| {
+        let (workspace, tip) = if self.chains {
+            (Invariant::JointLimit, Invariant::TipPatch)
+        } else {
+            (Invariant::Workspace, Invariant::Hemisphere)
+        };
+        let fingers = self.fingers.iter().enumerate().flat_map(move |(k, f)| {
             let s = Subject::Finger(k as u8);
             [
-                Some((Invariant::Workspace, s, f.workspace)),
+                Some((workspace, s, f.workspace)),
                 f.shell.map(|c| (Invariant::FreeSpace, s, c)),
                 f.contact.map(|c| (Invariant::Contact, s, c)),
-                f.hemisphere.map(|c| (Invariant::Hemisphere, s, c)),
-                Some((Invariant::Roll, s, f.roll)),
+                f.hemisphere.map(|c| (tip, s, c)),
+                f.roll.map(|c| (Invariant::Roll, s, c)),
+                f.links.map(|c| (Invariant::LinkClearance, s, c)),
             ]
             .into_iter()
             .flatten()

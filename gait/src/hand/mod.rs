@@ -11,14 +11,26 @@
 //!   passes or fails and by how much; [`InvariantChecker::check_slip`] does
 //!   the no-slip part of I5 between consecutive states.
 //!
+//! - [`ChainHand`]: a hand of three 3-joint finger chains (SPEC §14.1):
+//!   chains, object, friction, the limits a grasp keeps, the joints of a
+//!   tip centre.
+//! - [`ChainLimits`]: for a hand of finger chains, the limits of SPEC
+//!   §14.1 (joint limits, tip patch, link clearance, finger gaps) in place
+//!   of the fingertips' workspace cone, hemisphere, roll and collision
+//!   ([`InvariantChecker::for_chains`]).
+//!
 //! Everything here is allocation-free and deterministic. The only costly
 //! path, the conic test for three fingers when the closed forms do not
 //! decide, is owned and cached by the checker (`&mut self`).
 
+mod chain_check;
+mod chain_hand;
 mod check;
 mod invariant_report;
 mod limits;
 
+pub use chain_check::ChainLimits;
+pub use chain_hand::{ChainHand, ChainHandError};
 pub use check::{InvariantChecker, StateError, validate_state};
 pub use invariant_report::{
     Check, FcMethod, FingerReport, ForceClosureCheck, Invariant, InvariantReport, PAIRS, SlipCheck,

@@ -162,7 +162,11 @@ pub enum ActionKind {
     /// turn goal's first piece only), `planner.detour_axes` directions by
     /// their range and half of it; from a node where no gait
     /// can follow (paper Theory 1), the least turn about each of
-    /// `planner.escape_axes` directions after which one can.
+    /// `planner.escape_axes` directions after which one can. On a hand
+    /// whose pairs do not turn, from three fingers none of which can lift
+    /// (at a root, or where a turn ended): [`TRIPLE_ESCAPE_FRACTIONS`] of
+    /// how far the three carry the object about each of
+    /// [`TRIPLE_ESCAPE_AXES`] directions, so that a pair holds after.
     Detour,
     /// On a hand whose pairs do not turn, from three fingers that cannot
     /// turn as far as the goal (at a root, or after a turn as far as they
@@ -197,13 +201,22 @@ pub const PAIR_ACTIONS: [ActionKind; 6] = [
 pub const STILL_PAIR_ACTIONS: [ActionKind; 1] = [ActionKind::Place];
 
 /// The children of a three-finger node, in order.
-pub const TRIPLE_ACTIONS: [ActionKind; 5] = [
+pub const TRIPLE_ACTIONS: [ActionKind; 6] = [
     ActionKind::Lift,
     ActionKind::Toward,
     ActionKind::Tilt,
     ActionKind::Regrasp,
     ActionKind::Walk,
+    ActionKind::Detour,
 ];
+
+/// Directions (a Fibonacci sphere) three fingers none of which can lift
+/// turn the object about ([`ActionKind::Detour`]).
+pub const TRIPLE_ESCAPE_AXES: usize = 16;
+
+/// Those turns, in fractions of how far the three carry the object (at
+/// most [`MAX_TILT`]).
+pub const TRIPLE_ESCAPE_FRACTIONS: [f64; 2] = [0.5, 1.0];
 
 /// A pair's turn towards the goal: as far as it can, and half as far
 /// (stopping early can keep a better gait possible).

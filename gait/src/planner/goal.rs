@@ -15,7 +15,9 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
+use super::alternatives::TURN_PIECE;
 use super::geometry::rotation;
+use super::{PlanError, Target};
 
 /// The rotation still to do.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -67,6 +69,71 @@ impl Remaining {
                 axis: self.axis,
                 angle: 0.0,
             },
+        }
+    }
+}
+
+/// Where a request's target leads from a start orientation, and the
+/// orientations it is planned through (module docs): one for an
+/// orientation goal, a turn's pieces of at most
+/// [`super::alternatives::TURN_PIECE`] for a turn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Course {
+    /// The orientation the object ends at.
+    pub goal: UnitQuaternion<f64>,
+    /// The angle asked for: to the goal (shortest), or the turn's own.
+    pub angle: f64,
+    /// How many orientations are planned to in turn (≥ 1).
+    pub pieces: usize,
+    /// A turn's unit axis (`None`: an orientation goal).
+    turn: Option<Vector3<f64>>,
+    from: UnitQuaternion<f64>,
+}
+
+impl Course {
+    /// The course of `target` from `from`; a goal that is not finite, a
+    /// zero axis: [`PlanError::InvalidGoal`].
+    pub fn new(from: &UnitQuaternion<f64>, target: &Target) -> Result<Self, PlanError> {
+        let (goal, angle, turn) = match *target {
+            Target::Orientation(q) => {
+                let gq = q.quaternion();
+                if !gq.coords.iter().all(|x| x.is_finite()) || gq.norm() < 1e-9 {
+                    return Err(PlanError::InvalidGoal);
+                }
+                let goal = UnitQuaternion::new_normalize(*gq);
+                (goal, from.angle_to(&goal), None)
+            }
+            Target::Turn { axis, angle } => {
+                let n = axis.norm();
+                if !(n.is_finite() && n > 1e-9 && angle.is_finite()) {
+                    return Err(PlanError::InvalidGoal);
+                }
+                let (axis, angle) = if angle < 0.0 {
+                    (-axis / n, -angle)
+                } else {
+                    (axis / n, angle)
+                };
+                (rotation(&axis, angle) * from, angle, Some(axis))
+            }
+        };
+        let pieces = match turn {
+            Some(_) => (angle / TURN_PIECE).ceil().max(1.0) as usize,
+            None => 1,
+        };
+        Ok(Self {
+            goal,
+            angle,
+            pieces,
+            turn,
+            from: *from,
+        })
+    }
+
+    /// The orientation piece `k` (1 ..= `pieces`) ends at.
+    pub fn piece(&self, k: usize) -> UnitQuaternion<f64> {
+        match self.turn {
+            Some(axis) => rotation(&axis, self.angle * k as f64 / self.pieces as f64) * self.from,
+            None => self.goal,
         }
     }
 }

@@ -57,10 +57,10 @@ pub use route::Route;
 
 use crate::config::{ConfigError, HandConfig};
 use crate::hand_state::{FingerMode, HandState};
-use alternatives::{PASSES, TURN_PIECE};
+use alternatives::PASSES;
 use fingertips::Fingertips;
 use geometry::{Geometry, rotation};
-use goal::Remaining;
+use goal::{Course, Remaining};
 use hand_model::HandModel;
 use search::{NotFound, Params};
 use timing::DurationModel;
@@ -180,6 +180,42 @@ pub enum Target {
         /// Angle \[rad\] (negative: the other way).
         angle: f64,
     },
+}
+
+/// What plans a goal for the executor, whichever hand it plans for: the
+/// free fingertips' [`Planner`] or a chain hand's
+/// [`chains::planner::ChainPlanner`].
+pub trait GoalPlanner: Sized {
+    /// The configuration it plans with (its motion limits and budget).
+    fn config(&self) -> &HandConfig;
+    /// The same planner under other motion limits (a goal's overrides).
+    fn with_limits(&self, limits: &crate::config::LimitsConfig) -> Result<Self, ConfigError>;
+    /// Plans `target` from `start` within `budget`.
+    fn plan_target(
+        &self,
+        start: &HandState,
+        target: &Target,
+        budget: &mut Budget<'_>,
+    ) -> Result<Plan, PlanError>;
+}
+
+impl GoalPlanner for Planner {
+    fn config(&self) -> &HandConfig {
+        &self.config
+    }
+
+    fn with_limits(&self, limits: &crate::config::LimitsConfig) -> Result<Self, ConfigError> {
+        Planner::with_limits(self, limits)
+    }
+
+    fn plan_target(
+        &self,
+        start: &HandState,
+        target: &Target,
+        budget: &mut Budget<'_>,
+    ) -> Result<Plan, PlanError> {
+        self.plan_within(start, target, budget)
+    }
 }
 
 /// The planner: configuration plus precomputed geometry. Cheap to share
@@ -309,41 +345,14 @@ impl Planner {
             return Err(PlanError::NonFiniteState);
         }
         // The orientations to reach in turn: the goal, or a turn's pieces.
-        let (goal, angle, turn) = match *target {
-            Target::Orientation(q) => {
-                let gq = q.quaternion();
-                if !gq.coords.iter().all(|x| x.is_finite()) || gq.norm() < 1e-9 {
-                    return Err(PlanError::InvalidGoal);
-                }
-                let goal = UnitQuaternion::new_normalize(*gq);
-                (goal, start.object.angle_to(&goal), None)
-            }
-            Target::Turn { axis, angle } => {
-                let n = axis.norm();
-                if !(n.is_finite() && n > 1e-9 && angle.is_finite()) {
-                    return Err(PlanError::InvalidGoal);
-                }
-                let (axis, angle) = if angle < 0.0 {
-                    (-axis / n, -angle)
-                } else {
-                    (axis / n, angle)
-                };
-                (rotation(&axis, angle) * start.object, angle, Some(axis))
-            }
-        };
+        let course = Course::new(&start.object, target)?;
         self.check_start(start)?;
         let mut effort = Effort::default();
-        let pieces = match turn {
-            Some(_) => (angle / TURN_PIECE).ceil().max(1.0) as usize,
-            None => 1,
-        };
+        let pieces = course.pieces;
         let mut at = *start;
         let (mut steps, mut route, mut pass) = (Vec::new(), Vec::new(), 0);
         for k in 1..=pieces {
-            let to = match turn {
-                Some(axis) => rotation(&axis, angle * k as f64 / pieces as f64) * start.object,
-                None => goal,
-            };
+            let to = course.piece(k);
             let rem = Remaining::orientation(&at.object, &to);
             if rem.reached() {
                 continue;
@@ -362,8 +371,8 @@ impl Planner {
         }
         Ok(assemble(
             start,
-            goal,
-            angle,
+            course.goal,
+            course.angle,
             join_turns(steps, &self.config.limits),
             Route {
                 passes: &alternatives::PASSES,

@@ -121,6 +121,10 @@ impl ChainModel {
         config.model.friction_angle_deg = hand.friction_mu().atan().to_degrees();
         config.load.object_mass = o.mass;
         config.load.gravity = (*hand.gravity()).into();
+        // The free fingertips' shell is no limit of a chain (reach and
+        // clearance bound its free tip); its greatest valid height keeps
+        // the configuration valid for the executor's checks.
+        config.model.free_space_height = o.radius;
         let geom = Geometry::new(&config);
         let params = CheckParams {
             carry_step: std::f64::consts::PI / 180.0,
@@ -139,6 +143,27 @@ impl ChainModel {
             grids,
             resting: Arc::default(),
             carries: Arc::default(),
+        }
+    }
+
+    /// The same model timing and costing plans under `limits` (a goal's
+    /// motion-limit overrides): the grids and the verdicts at rest are
+    /// shared; the load tests along carries, which depend on the ball's
+    /// acceleration, start afresh.
+    pub fn with_limits(&self, limits: &crate::config::LimitsConfig) -> Self {
+        let config = HandConfig {
+            limits: *limits,
+            ..self.config
+        };
+        Self {
+            timing: DurationModel::new(&config),
+            params: CheckParams {
+                max_acceleration: limits.object.acceleration,
+                ..self.params
+            },
+            carries: Arc::default(),
+            config,
+            ..self.clone()
         }
     }
 

@@ -16,14 +16,17 @@ use nalgebra::UnitQuaternion;
 
 use super::certify::{ChainViolation, check};
 use super::model::ChainModel;
+use crate::HandConfig;
+use crate::config::{ConfigError, LimitsConfig};
+use crate::hand::PAIRS;
 use crate::hand_state::HandState;
 use crate::planner::alternatives::STILL_PAIR_PASSES;
 use crate::planner::budget::{Budget, Effort, Halt, Unbounded};
-use crate::planner::goal::Remaining;
+use crate::planner::goal::{Course, Remaining};
 use crate::planner::hand_model::HandModel;
 use crate::planner::route::Route;
 use crate::planner::search::{self, Mode, NotFound, Params};
-use crate::planner::{Plan, PlanError, assemble, fibonacci_sphere};
+use crate::planner::{GoalPlanner, Plan, PlanError, Target, assemble, fibonacci_sphere};
 
 /// How far a grasping tip's centre may be from the object's surface
 /// shell R + r \[m\] (a start's rounding, not a gap: the plan's first carry
@@ -57,6 +60,20 @@ impl ChainPlanner {
         &self.model
     }
 
+    /// The same planner timing and costing plans under `limits` (a goal's
+    /// motion-limit overrides; SPEC §4.3), validated as a configuration.
+    pub fn with_limits(&self, limits: &LimitsConfig) -> Result<Self, ConfigError> {
+        let config = HandConfig {
+            limits: *limits,
+            ..*self.model.config()
+        };
+        config.validate()?;
+        Ok(Self {
+            model: self.model.with_limits(limits),
+            params: self.params.clone(),
+        })
+    }
+
     /// Plans from `start` to the object orientation `goal` within the
     /// configured expansion budget (deterministic).
     pub fn plan(&self, start: &HandState, goal: &UnitQuaternion<f64>) -> Result<Plan, PlanError> {
@@ -72,11 +89,19 @@ impl ChainPlanner {
         goal: &UnitQuaternion<f64>,
         budget: &mut Budget<'_>,
     ) -> Result<Plan, PlanError> {
-        let gq = goal.quaternion();
-        if !gq.coords.iter().all(|x| x.is_finite()) || gq.norm() < 1e-9 {
-            return Err(PlanError::InvalidGoal);
-        }
-        let goal = UnitQuaternion::new_normalize(*gq);
+        self.plan_target(start, &Target::Orientation(*goal), budget)
+    }
+
+    /// Plans `target` from `start` within `budget`: an orientation, or a
+    /// turn of any size about an axis, planned as consecutive pieces as on
+    /// the free fingertips ([`crate::planner::goal::Course`]; the ball
+    /// comes to rest where two pieces meet).
+    pub fn plan_target(
+        &self,
+        start: &HandState,
+        target: &Target,
+        budget: &mut Budget<'_>,
+    ) -> Result<Plan, PlanError> {
         let finite = start.object.coords.iter().all(|x| x.is_finite())
             && start
                 .fingers
@@ -85,20 +110,50 @@ impl ChainPlanner {
         if !finite {
             return Err(PlanError::NonFiniteState);
         }
+        let course = Course::new(&start.object, target)?;
         self.check_start(start)?;
-        let rem = Remaining::orientation(&start.object, &goal);
-        let angle = start.object.angle_to(&goal);
         let mut effort = Effort::default();
-        if rem.reached() {
-            return Ok(assemble(
-                start,
-                goal,
-                angle,
-                Vec::new(),
-                Route::default(),
-                effort,
-            ));
+        let mut at = *start;
+        let (mut steps, mut route, mut pass) = (Vec::new(), Vec::new(), 0);
+        for k in 1..=course.pieces {
+            let rem = Remaining::orientation(&at.object, &course.piece(k));
+            if rem.reached() {
+                continue;
+            }
+            let (found, p) = self.search(&at, rem, budget, &mut effort)?;
+            let r = Route::new(&STILL_PAIR_PASSES, p, &at, &self.model, &found.actions);
+            at = found
+                .steps
+                .last()
+                .map_or(at, |st| st.eval(&st.dofs().length, &[0.0; 3]).state);
+            steps.extend(found.steps);
+            route.extend(r.steps);
+            pass = pass.max(p);
         }
+        let route = Route {
+            passes: &STILL_PAIR_PASSES,
+            pass,
+            steps: route,
+        };
+        Ok(assemble(
+            start,
+            course.goal,
+            course.angle,
+            steps,
+            route,
+            effort,
+        ))
+    }
+
+    /// The passes of [`STILL_PAIR_PASSES`] for `rem` from `start`: what
+    /// the best found, and the pass that found it.
+    fn search(
+        &self,
+        start: &HandState,
+        rem: Remaining,
+        budget: &mut Budget<'_>,
+        effort: &mut Effort,
+    ) -> Result<(search::Found<ChainModel>, usize), PlanError> {
         let m = &self.model;
         let mut best: Option<(search::Found<ChainModel>, usize)> = None;
         let mut last = NotFound::Capped;
@@ -108,16 +163,15 @@ impl ChainPlanner {
                 continue;
             };
             effort.passes += 1;
-            match search::run(m, &self.params, mode, start, rem, budget, &mut effort) {
+            match search::run(m, &self.params, mode, start, rem, budget, effort) {
                 Ok(found) => best = Some((found, i)),
                 Err(NotFound::Halted(Halt::Canceled)) => return Err(PlanError::Canceled),
                 Err(e) if best.is_none() => last = e,
                 Err(_) => {}
             }
         }
-        if let Some((found, pass)) = best {
-            let route = Route::new(&STILL_PAIR_PASSES, pass, start, m, &found.actions);
-            return Ok(assemble(start, goal, angle, found.steps, route, effort));
+        if let Some(best) = best {
+            return Ok(best);
         }
         Err(match last {
             NotFound::Halted(Halt::Canceled) => PlanError::Canceled,
@@ -133,7 +187,7 @@ impl ChainPlanner {
         })
     }
 
-    /// The start must be a force-closure grasp of two or three fingers
+    /// The start must be a force-closure grasp (with margin) of two or three fingers
     /// touching the object, keep every limit of §14.1 (a finger that does
     /// not: [`PlanError::Blocked`]), and hold the load.
     fn check_start(&self, start: &HandState) -> Result<(), PlanError> {
@@ -148,9 +202,15 @@ impl ChainPlanner {
             return Err(PlanError::NoGrasp);
         }
         let normal = |k: usize| start.fingers[k].center.normalize();
+        // Three fingers: force closure as a placement needs it (Fact 4)
+        // or through one pair of them (Fact 3), as the executor's check
+        // accepts it; a turn may end where only a pair closes the grasp.
         let closed = match n {
             2 => m.good_pair(&normal(idx[0]), &normal(idx[1])),
-            3 => m.fc_triple(&[normal(0), normal(1), normal(2)]),
+            3 => {
+                let c = [normal(0), normal(1), normal(2)];
+                m.fc_triple(&c) || PAIRS.iter().any(|&(a, b)| m.good_pair(&c[a], &c[b]))
+            }
             _ => false,
         };
         if !closed {
@@ -165,5 +225,24 @@ impl ChainPlanner {
             Ok(_) if !m.holds_at_rest(start) => Err(PlanError::LoadInfeasible { start: true }),
             Ok(_) => Ok(()),
         }
+    }
+}
+
+impl GoalPlanner for ChainPlanner {
+    fn config(&self) -> &HandConfig {
+        self.model.config()
+    }
+
+    fn with_limits(&self, limits: &LimitsConfig) -> Result<Self, ConfigError> {
+        ChainPlanner::with_limits(self, limits)
+    }
+
+    fn plan_target(
+        &self,
+        start: &HandState,
+        target: &Target,
+        budget: &mut Budget<'_>,
+    ) -> Result<Plan, PlanError> {
+        ChainPlanner::plan_target(self, start, target, budget)
     }
 }

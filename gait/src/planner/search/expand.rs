@@ -7,13 +7,14 @@ use nalgebra::Vector3;
 use super::super::alternatives::{
     ActionKind, ESCAPE_STEP, MAX_ESCAPE, MAX_TILT, MIN_DETOUR, MIN_PAIR_TURN, MIN_TURN,
     PAIR_ACTIONS, PAIR_TURN_FRACTIONS, STILL_PAIR_ACTIONS, TILT_FRACTIONS, TRIPLE_ACTIONS,
-    TRIPLE_TURN_FRACTIONS,
+    TRIPLE_ESCAPE_AXES, TRIPLE_ESCAPE_FRACTIONS, TRIPLE_TURN_FRACTIONS,
 };
 use super::super::goal::Remaining;
 use super::super::hand_model::{Action, At, HandModel, RegraspFor, Turn};
 use super::Search;
 use super::node::{Deferred, Edge, Last, NONE, Node};
 use crate::hand_state::HandState;
+use crate::planner::fibonacci_sphere;
 
 /// Step by which a pair's turn is shortened until a gait can follow it.
 const THEORY1_BACKOFF: f64 = 0.035;
@@ -164,6 +165,14 @@ impl<H: HandModel> Search<'_, '_, H> {
                     if let Some(z) = placed {
                         self.pair_tilts(idx, node, z);
                     }
+                }
+                ActionKind::Detour
+                    if !self.hand.pairs_turn()
+                        && self.hand.load_active()
+                        && lifted == [false; 3]
+                        && node.last == Last::Root =>
+                {
+                    self.triple_escapes(idx, node);
                 }
                 ActionKind::Walk
                     if !self.hand.pairs_turn()
@@ -532,6 +541,23 @@ impl<H: HandModel> Search<'_, '_, H> {
             let t = f * range;
             if t >= MIN_TURN {
                 self.turn(idx, node, axis, t, Turn::Toward, true);
+            }
+        }
+    }
+
+    /// Three fingers none of which can lift turn the object about other
+    /// axes ([`ActionKind::Detour`] on a hand whose pairs do not turn).
+    fn triple_escapes(&mut self, idx: u32, node: &Node) {
+        for axis in fibonacci_sphere(TRIPLE_ESCAPE_AXES) {
+            let range = self
+                .hand
+                .carry_range(&node.hand, &[0, 1, 2], &axis, MAX_TILT)
+                .min(MAX_TILT);
+            for f in TRIPLE_ESCAPE_FRACTIONS {
+                let t = f * range;
+                if t >= MIN_TURN {
+                    self.turn(idx, node, axis, t, Turn::Detour, true);
+                }
             }
         }
     }
