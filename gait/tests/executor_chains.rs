@@ -2,7 +2,8 @@
 //! plans run tick by tick on the kinematic hand, graded on the plant's
 //! truth by the test's own reading of each finger (inverse kinematics on
 //! the branch it is on, verified by forward kinematics, against the
-//! limits and the tip patch stated here); and the per-tick check's chain
+//! limits and the tip patch stated here), the joints the executor
+//! commands compared with that reading; and the per-tick check's chain
 //! limits compared, on random grasps, with the test's own judgement.
 //!
 //! More chained goals: `GAIT_CHAIN_EXEC_GOALS=100 cargo test --release -p
@@ -145,6 +146,19 @@ fn run_goal(
         let truth = *plant.state();
         for (k, f) in truth.fingers.iter().enumerate() {
             let now = own_joints(h, k, &f.center, &q[k]);
+            // The joints commanded: they put the tip where the setpoint
+            // does, and (this plant follows the setpoint) where the plant
+            // has it, on the branch the finger is on.
+            let cmd = rep.joints[k].unwrap_or_else(|| panic!("goal {id}: finger {k} no joints"));
+            let tip = h.chain(k).forward(&cmd).tip_centre() - h.object().centre;
+            assert!(
+                (tip - rep.setpoint.state.fingers[k].center).norm() < 1e-9,
+                "goal {id}, tick {tick}: finger {k}'s joints miss its setpoint"
+            );
+            assert!(
+                (cmd - now).amax() < 1e-9,
+                "goal {id}, tick {tick}: finger {k} commanded {cmd:?}, read {now:?}"
+            );
             let jump = (now - q[k]).amax();
             assert!(
                 jump < 0.01,

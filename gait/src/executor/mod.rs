@@ -282,6 +282,7 @@ impl Executor {
                 load_margin: config.load.max_grip,
                 force_closure: (false, 0.0),
                 workspace_slack: [0.0; 3],
+                joints: [None; 3],
                 fault: None,
             },
             tick: 0,

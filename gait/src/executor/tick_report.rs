@@ -40,8 +40,15 @@ pub struct TickReport {
     pub load_margin: f64,
     /// Force-closure flag and margin of the commanded grasp.
     pub force_closure: (bool, f64),
-    /// Workspace slack per finger \[rad\] (negative: outside).
+    /// Workspace slack per finger \[rad\] (negative: outside); on a chain
+    /// hand, the joint-limit margin of the commanded state (SPEC §14.1).
     pub workspace_slack: [f64; 3],
+    /// A chain hand's commanded joints per finger \[rad\]: the joints that
+    /// put each tip where `setpoint` writes it, on the branch nearest the
+    /// joints commanded the tick before (SPEC §14.3). `None` for free
+    /// fingertips, and for a finger no branch reaches (the check has
+    /// faulted it).
+    pub joints: [Option<Vector3<f64>>; 3],
     /// Active fault, if any.
     pub fault: Option<(FaultKind, u8)>,
 }
@@ -105,6 +112,26 @@ impl Executor {
         r.grip_capped = g.capped;
         r.grip_peak = g.peak;
         r.load_margin = self.grips.max_grip() - g.peak;
+        self.command_joints();
+    }
+
+    /// A chain hand's joints for the tips just written (the report's
+    /// `joints`): each finger on the branch nearest its joints a tick
+    /// before, so that a finger moving along its path stays on its branch;
+    /// a finger seen for the first time takes the branch the workspace
+    /// test picks. Allocation-free.
+    fn command_joints(&mut self) {
+        let Some(chains) = self.checker.chain_limits() else {
+            return;
+        };
+        let hand = chains.hand();
+        let r = &mut self.report;
+        for (k, f) in r.setpoint.state.fingers.iter().enumerate() {
+            r.joints[k] = match &r.joints[k] {
+                Some(before) => hand.nearest_branch(k, &f.center, before),
+                None => hand.joints(k, &f.center, None),
+            };
+        }
     }
 }
 
