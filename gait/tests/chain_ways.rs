@@ -322,3 +322,28 @@ fn hover_way(
     }
     out
 }
+
+/// The gap test's verdicts are remembered (the search asks the same
+/// candidates again and again): asked twice, in both orders, a model
+/// answers as another model asked once does, for pairs of the planner's
+/// candidates.
+#[test]
+fn remembered_gap_verdicts_are_the_fresh_ones() {
+    let (m, other) = (model(), model());
+    let mut rng = common::rng(41);
+    let mut seen = [0usize; 2];
+    for _ in 0..400 {
+        let a = rng.random_range(0..3);
+        let b = (a + rng.random_range(1..3)) % 3;
+        let na = m.candidates(a)[rng.random_range(0..m.candidates(a).len())];
+        let nb = m.candidates(b)[rng.random_range(0..m.candidates(b).len())];
+        let first = m.apart((a, &na), (b, &nb));
+        // Asked once of the other model (a pair drawn twice is rare).
+        let fresh = other.apart((a, &na), (b, &nb));
+        assert_eq!(first, fresh);
+        assert_eq!(m.apart((a, &na), (b, &nb)), fresh, "remembered");
+        assert_eq!(m.apart((b, &nb), (a, &na)), fresh, "the other way round");
+        seen[fresh as usize] += 1;
+    }
+    assert!(seen[0] >= 20 && seen[1] >= 20, "{seen:?}");
+}

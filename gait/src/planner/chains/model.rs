@@ -105,7 +105,16 @@ pub struct ChainModel {
     resting: Arc<Mutex<HashMap<RestingKey, bool>>>,
     /// The load tests along carries so far.
     carries: Arc<CarryLoads>,
+    /// `apart` verdicts by (fingers, contacts' bits), at most
+    /// [`APART_MEMO`].
+    apart_memo: Arc<Mutex<HashMap<ApartKey, bool>>>,
 }
+
+/// Two fingers and their contacts' bits.
+type ApartKey = (usize, usize, [u64; 3], [u64; 3]);
+
+/// Most `apart` verdicts kept (about 10 MB); the memo starts afresh past it.
+const APART_MEMO: usize = 1 << 17;
 
 impl ChainModel {
     /// The model of `hand` with the planner's settings from `config`: its
@@ -143,6 +152,7 @@ impl ChainModel {
             grids,
             resting: Arc::default(),
             carries: Arc::default(),
+            apart_memo: Arc::default(),
         }
     }
 
@@ -188,6 +198,28 @@ impl ChainModel {
 
     fn contact_radius(&self, k: usize) -> f64 {
         self.hand.object().radius + self.hand.chain(k).tip_radius
+    }
+
+    /// Whether fingers `a` and `b` at those contacts keep the finger gap
+    /// ([`HandModel::apart`], computed).
+    fn apart_now(&self, (a, na): At<'_>, (b, nb): At<'_>) -> bool {
+        let (Some(qa), Some(qb)) = (self.joints_at(a, na), self.joints_at(b, nb)) else {
+            return false;
+        };
+        let (sa, sb) = (
+            self.hand.chain(a).forward(&qa),
+            self.hand.chain(b).forward(&qb),
+        );
+        let gap = if a < b {
+            self.hand
+                .gap(a, b)
+                .gap((self.hand.chain(a), &sa), (self.hand.chain(b), &sb))
+        } else {
+            self.hand
+                .gap(b, a)
+                .gap((self.hand.chain(b), &sb), (self.hand.chain(a), &sa))
+        };
+        gap >= self.hand.limits().finger_gap
     }
 
     /// The torque box's verdict on a state's grasp (turning about `axis`).
@@ -285,23 +317,20 @@ impl HandModel for ChainModel {
         if a == b {
             return false;
         }
-        let (Some(qa), Some(qb)) = (self.joints_at(a, na), self.joints_at(b, nb)) else {
-            return false;
-        };
-        let (sa, sb) = (
-            self.hand.chain(a).forward(&qa),
-            self.hand.chain(b).forward(&qb),
-        );
-        let gap = if a < b {
-            self.hand
-                .gap(a, b)
-                .gap((self.hand.chain(a), &sa), (self.hand.chain(b), &sb))
-        } else {
-            self.hand
-                .gap(b, a)
-                .gap((self.hand.chain(b), &sb), (self.hand.chain(a), &sa))
-        };
-        gap >= self.hand.limits().finger_gap
+        let bits = |n: &Vector3<f64>| [n.x.to_bits(), n.y.to_bits(), n.z.to_bits()];
+        let key = (a, b, bits(na), bits(nb));
+        if let Some(&v) = self.apart_memo.lock().expect("not poisoned").get(&key) {
+            return v;
+        }
+        let v = self.apart_now((a, na), (b, nb));
+        let mut memo = self.apart_memo.lock().expect("not poisoned");
+        // Bounded: carried contacts are continuous, so a long-lived planner
+        // would otherwise keep every pair it was ever asked about.
+        if memo.len() >= APART_MEMO {
+            memo.clear();
+        }
+        memo.insert(key, v);
+        v
     }
 
     fn fc_triple(&self, c: &[Vector3<f64>; 3]) -> bool {
