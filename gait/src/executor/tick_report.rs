@@ -127,10 +127,7 @@ impl Executor {
         let hand = chains.hand();
         let r = &mut self.report;
         for (k, f) in r.setpoint.state.fingers.iter().enumerate() {
-            r.joints[k] = match &r.joints[k] {
-                Some(before) => hand.nearest_branch(k, &f.center, before),
-                None => hand.joints(k, &f.center, None),
-            };
+            r.joints[k] = hand.follow(k, &f.center, r.joints[k].as_ref());
         }
     }
 }

@@ -62,12 +62,6 @@ impl ChainLimits {
         &self.joints
     }
 
-    /// Forgets the branches: the next state takes them as a first state
-    /// does (after the estimate of where the fingers are was replaced).
-    pub fn forget_branches(&mut self) {
-        self.joints = [None; FINGERS];
-    }
-
     /// Replaces the fingertip limits of `report` (made for `state` by the
     /// fingertip checks, which keep force closure and contact) with the
     /// chain's (module docs).
@@ -78,10 +72,7 @@ impl ChainLimits {
         let mut states: [Option<ChainState<3>>; FINGERS] = [None; FINGERS];
         for (k, f) in state.fingers.iter().enumerate() {
             let chain = hand.chain(k);
-            let q = match &self.joints[k] {
-                Some(before) => hand.nearest_branch(k, &f.center, before),
-                None => hand.joints(k, &f.center, None),
-            };
+            let q = hand.follow(k, &f.center, self.joints[k].as_ref());
             let out = &mut report.fingers[k];
             out.roll = None;
             out.hemisphere = None;

@@ -202,6 +202,23 @@ impl ChainHand {
         }
     }
 
+    /// Finger `k`'s joints with its tip centre at `center`, moving on from
+    /// `before` (its joints a moment earlier): the branch nearest them,
+    /// inside the limits or not ([`Self::nearest_branch`]); without
+    /// `before`, the branch [`Self::joints`] picks for a finger seen for
+    /// the first time.
+    pub fn follow(
+        &self,
+        k: usize,
+        center: &Vector3<f64>,
+        before: Option<&Vector3<f64>>,
+    ) -> Option<Vector3<f64>> {
+        match before {
+            Some(b) => self.nearest_branch(k, center, b),
+            None => self.joints(k, center, None),
+        }
+    }
+
     /// Of the branches that put finger `k`'s tip at `center`, limits or
     /// not, the one nearest `reference` (each joint taken 2π-turn nearest
     /// it): where a finger moving along a path goes, inside its limits or

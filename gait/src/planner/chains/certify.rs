@@ -235,10 +235,7 @@ impl<'a> Sample<'a> {
             let chain = hand.chain(k);
             // The branch the finger is on (the limits are checked below),
             // or at the start the admissible one with the most margin.
-            let q = match &joints[k] {
-                Some(before) => hand.nearest_branch(k, &f.center, before),
-                None => hand.joints(k, &f.center, None),
-            };
+            let q = hand.follow(k, &f.center, joints[k].as_ref());
             let Some(q) = q else {
                 let kind = hand
                     .best_limit_margin(k, &f.center)
