@@ -6,6 +6,7 @@ use anyhow::{Context, Result};
 use clap::Parser;
 use gaitd::config::{DEFAULT_CONFIG_PATH, DaemonConfig};
 use gaitd::io::ipc;
+use gaitd::process::hand_setup::HandSetup;
 use gaitd::process::logging::{self, LogFormat};
 use gaitd::process::startup::Daemon;
 use gaitd::process::{check, load_check, signals};
@@ -99,6 +100,9 @@ fn load_config(path: &str) -> Result<DaemonConfig> {
 /// overrides applied, where the iceoryx2 resources will live); loading the
 /// iceoryx2 config file it names, so a bad one fails here.
 fn check_config(cfg: &DaemonConfig, path: &str) -> Result<()> {
+    // A chain hand's description and start grasp are read and checked
+    // (its start must hold the load within the torque box).
+    let setup = HandSetup::load(cfg)?;
     let ipc = ipc::resolve_explained(&cfg.ipc)?;
     println!("{}", check::effective_config(cfg, &ipc, path)?);
     let s = &ipc.settings;
@@ -106,8 +110,19 @@ fn check_config(cfg: &DaemonConfig, path: &str) -> Result<()> {
         "ipc: service prefix {}, iceoryx2 root {}, file prefix {}",
         s.service_prefix, s.root_path, s.file_prefix
     );
+    if let Some(m) = &setup.chains {
+        let h = m.hand();
+        eprintln!(
+            "hand: three finger chains; ball R = {} m, {} kg, centre {:?} m; μ = {}; the start \
+             grasp holds it within every limit",
+            h.object().radius,
+            h.object().mass,
+            h.object().centre.as_slice(),
+            h.friction_mu()
+        );
+    }
     let load = load_check::paper_start_load(cfg);
-    if !load.holds() {
+    if setup.chains.is_none() && !load.holds() {
         let which = "the paper's start grasp (the embedded hand's, and gaitctl plant sim's)";
         eprintln!(
             "gaitd: warning: {}",

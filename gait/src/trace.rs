@@ -6,6 +6,9 @@
 //! {"t":T,"object_q":[w,x,y,z],"phase":"...","fingers":[F0,F1,F2],...}
 //! Fi = {"p":[x,y,z],"q":[w,x,y,z],"contact":true|false,"grip_force":N,"roll":rad}
 //! ```
+//! On a chain hand (SPEC §14) each finger also has `"joints":[q1,q2,q3]`,
+//! the commanded joint positions \[rad\], and the line `joint_margin`, the
+//! tightest joint's distance inside its limits less their margin \[rad\].
 //! Tick lines also carry `fc`, `fc_margin`, `load_margin` (`load.max_grip`
 //! minus the largest normal force the load needs, SPEC §1.3 I1'; `null`
 //! when no grip holds it), `remaining_angle`, `gaits` and
@@ -134,6 +137,8 @@ pub struct FingerSample {
     pub grip_force: f64,
     /// Roll angle \[rad\].
     pub roll: f64,
+    /// A chain hand's commanded joints \[rad\].
+    pub joints: Option<Vector3<f64>>,
 }
 
 /// Everything one tick's line holds, as a small fixed-size `Copy` value.
@@ -164,6 +169,9 @@ pub struct Sample {
     /// where the controller re-based its object estimate on a measurement
     /// (after a slip, SPEC §6.3), so `object_q` jumps there without motion.
     pub estimate_epoch: u32,
+    /// A chain hand's tightest joint margin \[rad\] (`None`: free
+    /// fingertips).
+    pub joint_margin: Option<f64>,
 }
 
 impl Sample {
@@ -179,7 +187,15 @@ impl Sample {
                 contact,
                 grip_force: if contact { r.grip[k] } else { 0.0 },
                 roll: f.roll,
+                joints: r.joints[k],
             }
+        });
+        let chains = r.link_slack.iter().any(Option::is_some);
+        let joint_margin = chains.then(|| {
+            r.workspace_slack
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min)
         });
         Self {
             object_q: s.object,
@@ -191,6 +207,7 @@ impl Sample {
             remaining_angle: r.remaining_angle,
             gaits: r.gaits.0,
             estimate_epoch: r.setpoint.estimate_epoch,
+            joint_margin,
         }
     }
 }
@@ -219,6 +236,10 @@ pub fn sample_line(out: &mut String, t: f64, s: &Sample) {
         num(out, f.grip_force);
         out.push_str(",\"roll\":");
         num(out, f.roll);
+        if let Some(q) = &f.joints {
+            out.push_str(",\"joints\":");
+            vec3(out, q);
+        }
         out.push('}');
     }
     out.push_str("],\"fc\":");
@@ -234,5 +255,9 @@ pub fn sample_line(out: &mut String, t: f64, s: &Sample) {
         ",\"gaits\":{},\"estimate_epoch\":{}",
         s.gaits, s.estimate_epoch
     );
+    if let Some(m) = s.joint_margin {
+        out.push_str(",\"joint_margin\":");
+        num(out, m);
+    }
     out.push_str("}\n");
 }

@@ -10,7 +10,7 @@ use iceoryx2::prelude::ZeroCopySend;
 /// Type name `gaitd::Answer.v5`, 56 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Answer.v5")]
+#[type_name("gaitd::Answer.v6")]
 pub struct Answer {
     /// Echo of the command's `client_id`.
     pub client_id: u64,

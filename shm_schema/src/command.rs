@@ -20,7 +20,7 @@ pub const LIMIT_OVERRIDES: u32 = 9;
 /// Velocity, acceleration and jerk limits of one motion kind (SPEC §5).
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::MotionLimits.v5")]
+#[type_name("gaitd::MotionLimits.v6")]
 pub struct MotionLimits {
     /// Velocity limit (> 0), unit of the motion kind per second.
     pub velocity: f64,
@@ -63,7 +63,7 @@ pub const fn limit_bit(kind: LimitKind, order: LimitOrder) -> u32 {
 /// Type name `gaitd::Command.v5`, 144 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Command.v5")]
+#[type_name("gaitd::Command.v6")]
 pub struct Command {
     /// [`CommandKind`] code.
     pub kind: u32,

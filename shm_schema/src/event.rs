@@ -9,7 +9,7 @@ use iceoryx2::prelude::ZeroCopySend;
 /// Type name `gaitd::Event.v5`, 88 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Event.v5")]
+#[type_name("gaitd::Event.v6")]
 pub struct Event {
     /// Sequence number within this daemon instance, from 1, no gaps.
     pub seq: u64,

@@ -61,11 +61,18 @@ pub use iceoryx2;
 
 /// Version of the payload layout. It is part of every payload's type name, so
 /// a client built against another version fails to open the services.
-pub const SCHEMA_VERSION: u32 = 5;
+pub const SCHEMA_VERSION: u32 = 6;
 
 /// What each schema version changed, newest first (rendered into
 /// `LAYOUT.md`; a test checks the newest entry is [`SCHEMA_VERSION`]).
 pub const SCHEMA_CHANGES: &[(u32, &str)] = &[
+    (
+        6,
+        "a chain hand in the status: `Status.reserved` became `hand` (0 free \
+         fingertips, 1 finger chains); `FingerStatus` gained `commanded_joints`, \
+         `tip_margin` and `link_clearance`: `FingerStatus` is 272 bytes, `Status` 1328; \
+         on a chain hand `workspace_margin` is the joints' margin inside their limits.",
+    ),
     (
         5,
         "the `plan` service: `PlanPath` (with `PathPoint`), where each plan the \

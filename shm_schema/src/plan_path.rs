@@ -11,7 +11,7 @@ pub const PATH_POINTS: usize = 256;
 /// Type name `gaitd::PathPoint.v5`, 120 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PathPoint.v5")]
+#[type_name("gaitd::PathPoint.v6")]
 pub struct PathPoint {
     /// Time since the plan's first tick \[s\].
     pub t: f64,
@@ -38,7 +38,7 @@ const _: () = assert!(core::mem::align_of::<PathPoint>() == 8);
 /// Type name `gaitd::PlanPath.v5`, 30 768 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlanPath.v5")]
+#[type_name("gaitd::PlanPath.v6")]
 pub struct PlanPath {
     /// Daemon instance id (as in [`Status::instance`](crate::Status)).
     pub instance: u64,

@@ -84,7 +84,7 @@ pub mod plant_state {
 /// Type name `gaitd::PlantFingerCommand.v5`, 152 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantFingerCommand.v5")]
+#[type_name("gaitd::PlantFingerCommand.v6")]
 pub struct PlantFingerCommand {
     /// [`PlantFingerMode`] code.
     pub mode: u32,
@@ -111,7 +111,7 @@ pub struct PlantFingerCommand {
 /// Type name `gaitd::PlantCommand.v5`, 560 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantCommand.v5")]
+#[type_name("gaitd::PlantCommand.v6")]
 pub struct PlantCommand {
     /// The daemon's session id (random per daemon start).
     pub session: u64,
@@ -141,7 +141,7 @@ pub struct PlantCommand {
 /// Type name `gaitd::PlantFingerMeasurement.v5`, 128 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantFingerMeasurement.v5")]
+#[type_name("gaitd::PlantFingerMeasurement.v6")]
 pub struct PlantFingerMeasurement {
     /// 1: the fingertip touches the object; 0: it does not.
     pub contact: u32,
@@ -166,7 +166,7 @@ pub struct PlantFingerMeasurement {
 /// Type name `gaitd::PlantMeasurement.v5`, 512 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantMeasurement.v5")]
+#[type_name("gaitd::PlantMeasurement.v6")]
 pub struct PlantMeasurement {
     /// Session id of the last command applied (0 before the first one).
     pub session: u64,

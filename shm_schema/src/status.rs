@@ -37,7 +37,7 @@ pub const NO_FINGER: u32 = u32::MAX;
 /// The active goal and its progress.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::GoalStatus.v5")]
+#[type_name("gaitd::GoalStatus.v6")]
 pub struct GoalStatus {
     /// Id of the current (or last) goal, 0 if none.
     pub goal_id: u64,
@@ -84,7 +84,7 @@ pub mod measured {
 /// otherwise.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::FingerStatus.v5")]
+#[type_name("gaitd::FingerStatus.v6")]
 pub struct FingerStatus {
     /// [`FingerPhase`] code.
     pub state: u32,
@@ -118,13 +118,24 @@ pub struct FingerStatus {
     /// one commanded by the setpoint the measurement answers (see
     /// `Status::measured_age`) \[m\] (valid with `measured::TIPS`).
     pub tip_error: f64,
+    /// A chain hand's commanded joint positions, base to tip: the joints
+    /// that put the tip where the setpoint commands it \[rad\]; 0 on
+    /// free fingertips (`Status::hand`).
+    pub commanded_joints: [f64; 3],
+    /// Margin of the commanded contact on the fingertip, positive inside
+    /// \[rad\]: to the tip patch's edge less its margin on a chain hand, to
+    /// the hemisphere's edge on free fingertips; 0 when not touching.
+    pub tip_margin: f64,
+    /// A chain hand's links off the object beyond the configured
+    /// clearance, the closest link \[m\]; 0 on free fingertips.
+    pub link_clearance: f64,
 }
 
 /// Loop timing (SPEC §7.2, §11). Percentiles are refreshed every
 /// [`TIMING_REFRESH_TICKS`] ticks; last and max every tick.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Timing.v5")]
+#[type_name("gaitd::Timing.v6")]
 pub struct Timing {
     /// Loop period \[ns\].
     pub period_ns: u64,
@@ -174,10 +185,10 @@ pub const TIMING_REFRESH_TICKS: u64 = 100;
 /// (SPEC §7.3): the commanded state beside the measured one, named so that
 /// neither is mistaken for the other.
 ///
-/// Type name `gaitd::Status.v5`, 1208 bytes, alignment 8.
+/// Type name `gaitd::Status.v6`, 1328 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Status.v5")]
+#[type_name("gaitd::Status.v6")]
 pub struct Status {
     /// Tick counter since daemon start.
     pub tick: u64,
@@ -242,19 +253,28 @@ pub struct Status {
     /// Client nodes alive (seen by housekeeping, once per housekeeping
     /// period, about a second).
     pub clients: u32,
-    /// Padding, 0.
-    pub reserved: u32,
+    /// The hand model ([`hand`] codes): free fingertips, or finger chains
+    /// (whose fingers report their joints).
+    pub hand: u32,
+}
+
+/// Values of [`Status::hand`].
+pub mod hand {
+    /// The paper's free fingertips.
+    pub const FINGERTIPS: u32 = 0;
+    /// Finger joint chains (a URDF hand, e.g. TriFingerPro).
+    pub const CHAINS: u32 = 1;
 }
 
 const _: () = assert!(core::mem::size_of::<GoalStatus>() == 56);
-const _: () = assert!(core::mem::size_of::<FingerStatus>() == 232);
+const _: () = assert!(core::mem::size_of::<FingerStatus>() == 272);
 const _: () = assert!(core::mem::size_of::<Timing>() == 248);
-const _: () = assert!(core::mem::size_of::<Status>() == 1208);
+const _: () = assert!(core::mem::size_of::<Status>() == 1328);
 const _: () = assert!(core::mem::align_of::<Status>() == 8);
 
 impl Status {
     /// Size of the payload in bytes.
-    pub const SIZE: usize = 1208;
+    pub const SIZE: usize = 1328;
 
     /// The payload that `bytes` encode (e.g. as received from a bridge).
     /// Every bit pattern is a `Status` (integers and floats only, no implicit
@@ -291,6 +311,12 @@ impl Status {
                     code: f.measured_contact,
                 });
             }
+        }
+        if self.hand > hand::CHAINS {
+            return Err(UnknownCode {
+                kind: "hand",
+                code: self.hand,
+            });
         }
         if self.measured_mask & !measured::ALL != 0 {
             return Err(UnknownCode {
@@ -370,7 +396,28 @@ mod tests {
         let b = s.to_bytes();
         assert_eq!(Status::from_bytes(&b), s);
         assert_eq!(u64::from_ne_bytes(b[0..8].try_into().unwrap()), 42);
-        assert_eq!(u64::from_ne_bytes(b[1184..1192].try_into().unwrap()), 9);
+        assert_eq!(u64::from_ne_bytes(b[1304..1312].try_into().unwrap()), 9);
+    }
+
+    #[test]
+    fn a_hand_code_no_daemon_sends_is_refused() {
+        let mut s = Status {
+            daemon_state: DaemonState::Running.code(),
+            phase: Phase::Hold.code(),
+            fault: FaultCode::None.code(),
+            grasp: GraspState::Unknown.code(),
+            ..Status::default()
+        };
+        s.goal.state = GoalState::None.code();
+        s.goal.reason = ReasonCode::None.code();
+        for f in &mut s.fingers {
+            f.state = FingerPhase::Free.code();
+        }
+        assert_eq!(s.check(), Ok(()));
+        s.hand = hand::CHAINS;
+        assert_eq!(s.check(), Ok(()));
+        s.hand = 2;
+        assert_eq!(s.check().map_err(|e| e.kind), Err("hand"));
     }
 
     #[test]

@@ -226,3 +226,72 @@ fn a_bad_environment_value_names_its_variable() {
         "{err}"
     );
 }
+
+/// The shipped TriFingerPro folder copied to a scratch folder, its
+/// daemon configuration edited by `edit`; `--check-config` on it.
+fn check_trifingerpro(tag: &str, edit: impl Fn(String) -> String) -> Output {
+    let dir = test_support::scratch_dir(tag);
+    let shipped = gaitd_tests::repo_root().join("deploy/hands/trifingerpro");
+    for f in ["hand.toml", "trifingerpro.urdf"] {
+        std::fs::copy(shipped.join(f), dir.join(f)).unwrap();
+    }
+    let cfg = std::fs::read_to_string(shipped.join("gaitd.toml")).unwrap();
+    let path = dir.join("gaitd.toml");
+    std::fs::write(&path, edit(cfg)).unwrap();
+    let out = check_config(&path);
+    std::fs::remove_dir_all(&dir).ok();
+    out
+}
+
+#[test]
+fn the_shipped_trifingerpro_config_is_valid() {
+    let path = gaitd_tests::repo_root().join("deploy/hands/trifingerpro/gaitd.toml");
+    let out = check_config(&path);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("three finger chains"), "{err}");
+    assert!(err.contains("R = 0.0335 m"), "{err}");
+}
+
+/// Every finger on the ball's top: no pair holds it, the tips collide.
+#[test]
+fn a_chain_start_grasp_that_cannot_be_is_named() {
+    let out = check_trifingerpro("check-chain-start", |c| {
+        let line = c.lines().find(|l| l.starts_with("start_normals")).unwrap();
+        c.replace(
+            line,
+            "start_normals = [[0.0, 0.1, 1.0], [0.1, 0.0, 1.0], [-0.1, 0.0, 1.0]]",
+        )
+    });
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("hand.start_normals"), "{err}");
+    assert!(err.contains("not valid"), "{err}");
+    assert_eq!(err.lines().count(), 1, "one line: {err}");
+}
+
+#[test]
+fn a_chain_hand_without_its_description_is_named() {
+    let missing = check_trifingerpro("check-chain-missing", |c| {
+        c.replace(
+            "description = \"hand.toml\"",
+            "description = \"no-such.toml\"",
+        )
+    });
+    assert!(!missing.status.success());
+    let err = String::from_utf8_lossy(&missing.stderr);
+    assert!(err.contains("no-such.toml"), "{err}");
+    let unset = check_trifingerpro("check-chain-unset", |c| {
+        c.replace("description = \"hand.toml\"", "")
+    });
+    assert!(!unset.status.success());
+    let err = String::from_utf8_lossy(&unset.stderr);
+    assert!(err.contains("hand.description"), "{err}");
+    // A chain hand on an external plant: refused, naming the key.
+    let shm = check_trifingerpro("check-chain-shm", |c| {
+        format!("{c}\n[plant]\nkind = \"shm\"\n")
+    });
+    assert!(!shm.status.success());
+    let err = String::from_utf8_lossy(&shm.stderr);
+    assert!(err.contains("hand.kind"), "{err}");
+}

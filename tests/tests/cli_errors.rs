@@ -162,6 +162,14 @@ fn gaitctl_mistakes_give_a_message_not_a_backtrace() {
         &run("gaitctl", &["reorient", "--limit", "object.speed=1"]),
         &["speed"],
     );
+    assert_user_error(
+        "a chain hand on an external plant",
+        &run(
+            "gaitctl",
+            &["demo", "--hand", "trifingerpro", "--plant", "sim"],
+        ),
+        &["--hand trifingerpro", "embedded"],
+    );
     let missing = Path::new("/nonexistent/trace.jsonl");
     assert_user_error(
         "missing trace",

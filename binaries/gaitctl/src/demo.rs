@@ -37,9 +37,15 @@ pub struct Args {
     /// gaitd binary for the embedded daemon (default: next to gaitctl).
     #[arg(long, value_name = "PATH")]
     gaitd: Option<PathBuf>,
-    /// Give up on a goal after this many seconds.
-    #[arg(long, default_value_t = 120.0)]
-    goal_timeout: f64,
+    /// The hand: the paper's free fingertips, or TriFingerPro's finger
+    /// chains holding a tennis ball (the embedded kinematic hand; the
+    /// description shipped in deploy/hands/trifingerpro/).
+    #[arg(long, value_enum, default_value_t = DemoHand::Fingertips)]
+    hand: DemoHand,
+    /// Give up on a goal after this many seconds [default: 120; 300 on
+    /// TriFingerPro, whose plans take up to a minute].
+    #[arg(long)]
+    goal_timeout: Option<f64>,
     /// Open the live 3D view beside the demo (starts gaitd-view on its
     /// default ports and prints the address to open in a browser).
     #[arg(long)]
@@ -47,6 +53,32 @@ pub struct Args {
     #[command(flatten)]
     live: LiveArg,
 }
+
+/// The hands the demo runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum DemoHand {
+    /// The paper's free fingertips (R = 0.5 m, r = 0.1 m).
+    Fingertips,
+    /// TriFingerPro's three 3-joint fingers holding a tennis ball.
+    Trifingerpro,
+}
+
+/// The shipped TriFingerPro description and daemon settings, written
+/// beside the embedded daemon's configuration.
+const TRIFINGERPRO: [(&str, &str); 3] = [
+    (
+        "hand.toml",
+        include_str!("../../../deploy/hands/trifingerpro/hand.toml"),
+    ),
+    (
+        "trifingerpro.urdf",
+        include_str!("../../../deploy/hands/trifingerpro/trifingerpro.urdf"),
+    ),
+    (
+        "gaitd-hand.toml",
+        include_str!("../../../deploy/hands/trifingerpro/gaitd.toml"),
+    ),
+];
 
 /// A daemon started for the demo, in its own IPC namespace (and its
 /// external plant, if any).
@@ -100,10 +132,24 @@ pub const PHYSICS_FEEDBACK: &str = "[feedback]\nobject_tolerance_deg = 2.0\nfing
 
 impl Embedded {
     pub(crate) fn start(bin: PathBuf, extra: &str) -> Result<Self, String> {
+        Self::start_with(bin, extra, &[])
+    }
+
+    /// Starts the daemon with `files` (name, text) written beside its
+    /// configuration first.
+    pub(crate) fn start_with(
+        bin: PathBuf,
+        extra: &str,
+        files: &[(&str, &str)],
+    ) -> Result<Self, String> {
         let pid = std::process::id();
         let dir = std::env::temp_dir().join(format!("gaitd-demo-{pid}"));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        for (name, text) in files {
+            let path = dir.join(name);
+            std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        }
         let root = dir.join("iceoryx2");
         let prefix = format!("gaitd-demo-{pid}");
         let file_prefix = format!("gdemo{pid}_");
@@ -360,8 +406,16 @@ fn run_goal(
 
 /// Runs `gaitctl demo`.
 pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
+    let chains = a.hand == DemoHand::Trifingerpro;
+    if chains && a.plant.is_some() {
+        return Err(
+            "--hand trifingerpro runs on the daemon's embedded kinematic hand: the plant \
+             interface carries fingertips, not joints"
+                .into(),
+        );
+    }
     let mut embedded = None;
-    let mut client = if a.embedded || a.plant.is_some() {
+    let mut client = if a.embedded || a.plant.is_some() || chains {
         None
     } else {
         let mut quick = conn.clone();
@@ -376,11 +430,18 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
                 .unwrap_or_else(|| PathBuf::from("gaitd"))
         });
         let extra = match a.plant {
+            // The ball's weight is the description's.
+            None if chains => TRIFINGERPRO[2].1.to_owned(),
             Some(p) => plant_config(p, a.gravity),
             None if !a.gravity => WEIGHTLESS.to_owned(),
             None => String::new(),
         };
         match a.plant {
+            None if chains => println!(
+                "starting gaitd ({}) with an embedded kinematic TriFingerPro holding a tennis \
+                 ball, gravity on (the hand description's)",
+                bin.display()
+            ),
             None => println!(
                 "no gaitd running: starting an embedded one ({}), gravity {}",
                 bin.display(),
@@ -392,7 +453,8 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
                 if a.gravity { "on" } else { "off" }
             ),
         }
-        let mut e = Embedded::start(bin, &extra)?;
+        let files: &[(&str, &str)] = if chains { &TRIFINGERPRO[..2] } else { &[] };
+        let mut e = Embedded::start_with(bin, &extra, files)?;
         let c = Client::connect(e.opts.clone()).map_err(|err| {
             let log = std::fs::read_to_string(e.dir.join("gaitd.log")).unwrap_or_default();
             format!("the embedded gaitd did not come up: {err}\n{log}")
@@ -428,18 +490,29 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
             .wait_status(Duration::from_secs(5))
             .map_err(|e| e.to_string())?,
     };
-    println!(
-        "paper scenario (paper §4, Fig. 4): R = 0.5, r = 0.1, θ = 20°, workspace cones 60°\n\
-         start: object q = {:.3?}; fingers f1 f2 f3 on the equator 120° apart (no two-finger\n\
-         force-closure pair): the hand rolls two of them apart, then turns the object by gaits.",
-        object_q(&s0)
-    );
+    if chains {
+        println!(
+            "the paper's scenario (paper §4, Fig. 4) on TriFingerPro: a tennis ball (R = 33.5 mm,\n\
+             58 g) in three 3-joint fingers (10 mm tips, μ = 0.6), every joint within its limits,\n\
+             every link clear of the ball; start: object q = {:.3?}, the tips on the configured\n\
+             grasp. Plans take seconds to a minute (the status says planning).",
+            object_q(&s0)
+        );
+    } else {
+        println!(
+            "paper scenario (paper §4, Fig. 4): R = 0.5, r = 0.1, θ = 20°, workspace cones 60°\n\
+             start: object q = {:.3?}; fingers f1 f2 f3 on the equator 120° apart (no two-finger\n\
+             force-closure pair): the hand rolls two of them apart, then turns the object by gaits.",
+            object_q(&s0)
+        );
+    }
     let mut view = ProgressView::new(a.live.live);
     if view.redraws() {
         println!("fingers: G grasping, R rolling, L lifting, P placing, . free");
     }
     let tau = std::f64::consts::TAU;
-    let timeout = Duration::from_secs_f64(a.goal_timeout);
+    let timeout =
+        Duration::from_secs_f64(a.goal_timeout.unwrap_or(if chains { 300.0 } else { 120.0 }));
     let goals = [
         (
             "a full turn about z (360°)",

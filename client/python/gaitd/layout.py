@@ -1,4 +1,4 @@
-"""The payloads, codes and constants of the gaitd shared-memory schema v5, for ctypes.
+"""The payloads, codes and constants of the gaitd shared-memory schema v6, for ctypes.
 
 Generated from the ``shm_schema`` crate (``shm_schema/src/layout/python.rs``) by
 ``cargo test -p shm_schema`` (set ``GAITD_BLESS=1`` to rewrite it); a test fails when this
@@ -14,7 +14,7 @@ import enum
 from typing import ClassVar
 
 #: Version of the payload layout (part of every type name).
-SCHEMA_VERSION = 5
+SCHEMA_VERSION = 6
 #: The iceoryx2 release the daemon is built with; resource names are
 #: version-tagged, so the Python bindings must be exactly this version.
 ICEORYX2_VERSION = "0.10.0"
@@ -51,7 +51,7 @@ class Payload(ctypes.Structure):
 class MotionLimits(Payload):
     """Velocity, acceleration and jerk limit overrides of one motion kind."""
 
-    _type_name = "gaitd::MotionLimits.v5"
+    _type_name = "gaitd::MotionLimits.v6"
     _fields_ = [
         # unit/s: velocity limit, > 0 when set
         ("velocity", f64),
@@ -65,7 +65,7 @@ class MotionLimits(Payload):
 class Command(Payload):
     """client → daemon: a goal, cancel, hold or reset."""
 
-    _type_name = "gaitd::Command.v5"
+    _type_name = "gaitd::Command.v6"
     _fields_ = [
         # CommandKind: what is asked
         ("kind", u32),
@@ -95,7 +95,7 @@ class Command(Payload):
 class Answer(Payload):
     """daemon → client: one per command, matched by client_id + request_id."""
 
-    _type_name = "gaitd::Answer.v5"
+    _type_name = "gaitd::Answer.v6"
     _fields_ = [
         # echo of the command's client_id
         ("client_id", u64),
@@ -121,7 +121,7 @@ class Answer(Payload):
 class GoalStatus(Payload):
     """The current goal and its progress (part of :class:`Status`)."""
 
-    _type_name = "gaitd::GoalStatus.v5"
+    _type_name = "gaitd::GoalStatus.v6"
     _fields_ = [
         # current or last goal, 0 = none
         ("goal_id", u64),
@@ -152,7 +152,7 @@ class GoalStatus(Payload):
 class FingerStatus(Payload):
     """One finger in the status: commanded and measured."""
 
-    _type_name = "gaitd::FingerStatus.v5"
+    _type_name = "gaitd::FingerStatus.v6"
     _fields_ = [
         # FingerPhase: finger state
         ("state", u32),
@@ -170,7 +170,8 @@ class FingerStatus(Payload):
         ("tip_contact", f64 * 3),
         # rad: commanded roll τ about the pole axis Q_f e_z (τ̇ = ω_f · Q_f e_z, 0 in the start grasp)
         ("roll", f64),
-        # rad: angle to the workspace cone boundary, > 0 inside
+        # rad: angle to the workspace cone boundary, > 0 inside; on a chain hand the joints' margin inside their limits
+        # (less the description's margin)
         ("workspace_margin", f64),
         # N: intended normal force (the plant command's `grip_force`): this finger's share of the current load (weight,
         # acceleration torque) plus the squeeze that holds every disturbance; 0 if it carries nothing
@@ -184,13 +185,21 @@ class FingerStatus(Payload):
         # m: distance measured → commanded fingertip centre, against the setpoint the measurement answers
         # (`Status.measured_age`) (mask bit TIPS)
         ("tip_error", f64),
+        # rad: chain hand: the commanded joint positions, base to tip (0 on free fingertips)
+        ("commanded_joints", f64 * 3),
+        # rad: commanded contact on the fingertip to the edge of its tip patch (chains, less its margin) or hemisphere
+        # (free fingertips), > 0 inside; 0 when not touching
+        ("tip_margin", f64),
+        # m: chain hand: the closest link's distance from the object beyond the configured clearance (0 on free
+        # fingertips)
+        ("link_clearance", f64),
     ]
 
 
 class Timing(Payload):
     """Loop timing statistics (part of :class:`Status`)."""
 
-    _type_name = "gaitd::Timing.v5"
+    _type_name = "gaitd::Timing.v6"
     _fields_ = [
         # ns: loop period
         ("period_ns", u64),
@@ -231,7 +240,7 @@ class Timing(Payload):
 class Status(Payload):
     """daemon → clients, every tick (latest value)."""
 
-    _type_name = "gaitd::Status.v5"
+    _type_name = "gaitd::Status.v6"
     _fields_ = [
         # tick: tick counter since start
         ("tick", u64),
@@ -287,15 +296,15 @@ class Status(Payload):
         ("rejected", u64),
         # client nodes alive
         ("clients", u32),
-        # padding, 0
-        ("reserved", u32),
+        # 0/1: hand model: 0 free fingertips, 1 finger chains (fingers report their joints)
+        ("hand", u32),
     ]
 
 
 class Event(Payload):
     """daemon → clients, with history: goal transitions, gaits, faults."""
 
-    _type_name = "gaitd::Event.v5"
+    _type_name = "gaitd::Event.v6"
     _fields_ = [
         # sequence number, from 1, no gaps
         ("seq", u64),
@@ -332,7 +341,7 @@ class Event(Payload):
 class PathPoint(Payload):
     """The hand at one instant of a plan (part of :class:`PlanPath`)."""
 
-    _type_name = "gaitd::PathPoint.v5"
+    _type_name = "gaitd::PathPoint.v6"
     _fields_ = [
         # s: time since the plan's first tick
         ("t", f64),
@@ -350,7 +359,7 @@ class PathPoint(Payload):
 class PlanPath(Payload):
     """daemon → clients: where each plan takes the hand (latest value)."""
 
-    _type_name = "gaitd::PlanPath.v5"
+    _type_name = "gaitd::PlanPath.v6"
     _fields_ = [
         # daemon instance id
         ("instance", u64),
@@ -374,7 +383,7 @@ class PlanPath(Payload):
 class PlantFingerCommand(Payload):
     """One fingertip's setpoint (part of :class:`PlantCommand`)."""
 
-    _type_name = "gaitd::PlantFingerCommand.v5"
+    _type_name = "gaitd::PlantFingerCommand.v6"
     _fields_ = [
         # PlantFingerMode: what the fingertip does
         ("mode", u32),
@@ -400,7 +409,7 @@ class PlantFingerCommand(Payload):
 class PlantCommand(Payload):
     """daemon → plant, every tick."""
 
-    _type_name = "gaitd::PlantCommand.v5"
+    _type_name = "gaitd::PlantCommand.v6"
     _fields_ = [
         # daemon session id, random per start
         ("session", u64),
@@ -430,7 +439,7 @@ class PlantCommand(Payload):
 class PlantFingerMeasurement(Payload):
     """One fingertip as measured (part of :class:`PlantMeasurement`)."""
 
-    _type_name = "gaitd::PlantFingerMeasurement.v5"
+    _type_name = "gaitd::PlantFingerMeasurement.v6"
     _fields_ = [
         # 0/1: 1 = touching the object
         ("contact", u32),
@@ -454,7 +463,7 @@ class PlantFingerMeasurement(Payload):
 class PlantMeasurement(Payload):
     """plant → daemon, one per plant step."""
 
-    _type_name = "gaitd::PlantMeasurement.v5"
+    _type_name = "gaitd::PlantMeasurement.v6"
     _fields_ = [
         # session of the last command applied, 0 = none yet
         ("session", u64),

@@ -6,6 +6,7 @@
 //! every part of the daemon reads them, and this module uses none of
 //! those parts.
 
+pub mod hand;
 pub mod plant;
 
 use gait::config::{FeedbackConfig, LimitsConfig, LoadConfig, ModelConfig, PlannerConfig};
@@ -197,6 +198,12 @@ pub struct DaemonConfig {
     pub rt: RtSection,
     /// `[plant]`: which hand (embedded, or another process over shared memory).
     pub plant: PlantSection,
+    /// `[hand]`: the hand model (free fingertips, or finger chains).
+    pub hand: hand::HandSection,
+    /// The folder relative paths in the file are read from (the file's
+    /// own; the working directory for text not read from a file).
+    #[serde(skip)]
+    pub dir: std::path::PathBuf,
 }
 
 /// A key whose value is refused. Every variant names the key as written in
@@ -565,7 +572,15 @@ impl DaemonConfig {
         }
         self.ipc.validate()?;
         self.rt.validate()?;
-        self.plant.validate()
+        self.plant.validate()?;
+        self.hand.validate()?;
+        if self.hand.chains() && self.plant.external() {
+            return Err(KeyError::Invalid {
+                key: "hand.kind",
+                why: "a chain hand runs on the embedded hand: the plant interface carries fingertips, not joints",
+            });
+        }
+        Ok(())
     }
 
     /// Parses and validates TOML text; `path` is only used in messages.
@@ -587,7 +602,11 @@ impl DaemonConfig {
             path: path.to_owned(),
             source,
         })?;
-        Self::from_toml(&text, path)
+        let mut cfg = Self::from_toml(&text, path)?;
+        if let Some(dir) = std::path::Path::new(path).parent() {
+            cfg.dir = dir.to_path_buf();
+        }
+        Ok(cfg)
     }
 }
 

@@ -140,6 +140,28 @@ pub struct FingerOutput {
     pub workspace_margin: f64,
     /// Intended normal force \[N\] (0 when not in contact or unknown).
     pub normal_force: f64,
+    /// A chain hand's commanded joints \[rad\] (`None`: free fingertips,
+    /// or no branch reaches the tip).
+    pub joints: Option<Vector3<f64>>,
+    /// The commanded contact's margin on the fingertip \[rad\] (0 when
+    /// not touching).
+    pub tip_margin: f64,
+    /// A chain hand's links off the object beyond the clearance \[m\].
+    pub link_clearance: Option<f64>,
+}
+
+impl FingerOutput {
+    /// A finger in `phase` with nothing else known.
+    pub fn bare(phase: FingerPhase) -> Self {
+        Self {
+            phase,
+            workspace_margin: 0.0,
+            normal_force: 0.0,
+            joints: None,
+            tip_margin: 0.0,
+            link_clearance: None,
+        }
+    }
 }
 
 /// A measurement as the status reports it, with the setpoint it answers.
@@ -176,6 +198,8 @@ pub struct ControlOutput {
     pub goal: GoalReport,
     /// Per-finger extras.
     pub fingers: [FingerOutput; gait::FINGERS],
+    /// Whether the hand is a chain hand (its fingers have joints).
+    pub chains: bool,
     /// Force closure of the grasping fingers.
     pub grasp: GraspState,
     /// Force-closure margin \[rad\] (0 when unknown).

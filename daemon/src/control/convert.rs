@@ -106,7 +106,16 @@ pub fn fill_status(out: &ControlOutput, object_radius: f64, status: &mut Status)
         fs.state = out.fingers[k].phase.code();
         fs.workspace_margin = out.fingers[k].workspace_margin;
         fs.commanded_normal_force = out.fingers[k].normal_force;
+        let f = &out.fingers[k];
+        fs.commanded_joints = f.joints.map_or([0.0; 3], |q| vec_to_wire(&q));
+        fs.tip_margin = f.tip_margin;
+        fs.link_clearance = f.link_clearance.unwrap_or(0.0);
     }
+    status.hand = if out.chains {
+        shm_schema::status::hand::CHAINS
+    } else {
+        shm_schema::status::hand::FINGERTIPS
+    };
     fill_measured(out, status);
 }
 
@@ -225,11 +234,9 @@ mod tests {
             phase: shm_schema::Phase::Hold,
             fault: shm_schema::FaultCode::None,
             goal: Default::default(),
-            fingers: [crate::control::controller::FingerOutput {
-                phase: shm_schema::FingerPhase::Free,
-                workspace_margin: 0.0,
-                normal_force: 0.0,
-            }; 3],
+            fingers: [crate::control::controller::FingerOutput::bare(shm_schema::FingerPhase::Free);
+                3],
+            chains: false,
             grasp: shm_schema::GraspState::Unknown,
             grasp_margin: 0.0,
             load_grip: 0.0,

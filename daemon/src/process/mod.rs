@@ -4,6 +4,8 @@
 //!
 //! - [`startup`]: the start-up steps in their order, and the shut-down.
 //! - [`check`]: what `--check-config` prints: the configuration in effect.
+//! - [`hand_setup`]: the configured hand (fingertips or chains), read
+//!   and checked.
 //! - [`load_check`]: whether the start grasp can hold the load.
 //! - [`housekeeping`]: dead-node cleanup, client bookkeeping, `STATUS=`,
 //!   rate-limited warnings for what the loop counted.
@@ -11,6 +13,7 @@
 //! - [`logging`]: tracing set-up: human or JSON logs.
 
 pub mod check;
+pub mod hand_setup;
 pub mod housekeeping;
 pub mod load_check;
 pub mod logging;

@@ -22,6 +22,7 @@
 //!    the node.
 
 use crate::config::DaemonConfig;
+use crate::control::gait_controller::hand_planner::HandPlanner;
 use crate::control::gait_controller::{GaitController, GaitPlanner};
 use crate::control::plan_thread::{self, PlannerThread};
 use crate::io::ipc::{self, IpcError};
@@ -30,6 +31,7 @@ use crate::io::plan_paths::PathPublisher;
 use crate::io::tracer::{self, TraceError, TraceSettings, TraceWriter};
 use crate::plant::external::ExternalPlant;
 use crate::plant::ports::PlantInput;
+use crate::process::hand_setup::{HandSetup, HandSetupError};
 use crate::process::housekeeping::{self, Housekeeping, HousekeepingSetup};
 use crate::process::signals;
 use crate::realtime::runtime::Runtime;
@@ -37,6 +39,7 @@ use crate::sys::clock::MonotonicClock;
 use crate::sys::doorbell::Doorbell;
 use crate::sys::shared::Shared;
 use crate::sys::{rt, sd_notify};
+use gait::planner::chains::planner::ChainPlanner;
 use iceoryx2::config::Config;
 use iceoryx2::node::Node;
 use iceoryx2::port::subscriber::Subscriber;
@@ -70,6 +73,9 @@ pub enum StartupError {
     /// The housekeeping thread could not be started.
     #[error("starting the housekeeping thread: {0}")]
     Housekeeping(std::io::Error),
+    /// The configured hand cannot be set up.
+    #[error(transparent)]
+    Hand(#[from] HandSetupError),
     /// The planner refused the model.
     #[error("building the planner: {0}")]
     Planner(gait::ConfigError),
@@ -207,6 +213,7 @@ pub struct Background {
 /// §7.2), the trace thread.
 pub fn start_background(
     cfg: &DaemonConfig,
+    setup: &HandSetup,
     ipc: &mut IpcUp,
     instance: u64,
 ) -> Result<Background, StartupError> {
@@ -223,22 +230,28 @@ pub fn start_background(
             .plant
             .external()
             .then(|| Duration::from_millis(cfg.plant.connect_timeout_ms.into())),
-        load: cfg.load,
+        load: setup.config.load,
     })
     .map_err(StartupError::Housekeeping)?;
-    let gait_planner = gait::planner::Planner::new(&cfg.hand()).map_err(StartupError::Planner)?;
+    let hand = &setup.config;
+    let gait_planner: HandPlanner = match &setup.chains {
+        Some(model) => ChainPlanner::new(model.clone()).into(),
+        None => gait::planner::Planner::new(hand)
+            .map_err(StartupError::Planner)?
+            .into(),
+    };
     let cpus = cfg.rt.background_cpus.clone();
     // In lockstep the expansion budget alone bounds planning: a plan must
     // not depend on how fast this machine was.
-    let budget = (!cfg.plant.lockstep())
-        .then(|| Duration::from_secs_f64(cfg.hand().planner.budget_ms * 1e-3));
+    let budget =
+        (!cfg.plant.lockstep()).then(|| Duration::from_secs_f64(hand.planner.budget_ms * 1e-3));
     // The planner's notes on its plans go to the trace headers (off the
     // loop), when traces are written.
     let notes = (!cfg.daemon.trace_dir.is_empty()).then(|| Arc::new(tracer::PlanNotes::default()));
     let mut planning = GaitPlanner::new(gait_planner, budget);
-    // The controller starts from the paper's start (an external plant's
-    // first measurement re-bases it, usually to the same grasp).
-    planning.prepare_from(gait::HandState::paper_start(&cfg.hand()));
+    // The controller starts from the configured hand's start (an external
+    // plant's first measurement re-bases it, usually to the same grasp).
+    planning.prepare_from(setup.start);
     if let Some(n) = &notes {
         planning.keep_notes(n.clone());
     }
@@ -253,12 +266,13 @@ pub fn start_background(
     let dt = 1.0 / cfg.control.tick_hz;
     let mut controller = if cfg.plant.external() {
         let plant = ExternalPlant::new(instance, cfg.period_ns(), &cfg.plant);
-        GaitController::new_external(&cfg.hand(), dt, link, plant)
+        GaitController::new_external(hand, dt, link, plant)
     } else {
-        GaitController::new(&cfg.hand(), dt, link)
+        let chains = setup.chains.as_ref().map(|m| m.hand().clone());
+        GaitController::embedded_hand(hand, chains, setup.start, dt, link)
     }
     .map_err(StartupError::Controller)?;
-    let tracer = start_tracer(cfg, instance, &mut controller, notes)?;
+    let tracer = start_tracer(cfg, hand, instance, &mut controller, notes)?;
     Ok(Background {
         controller,
         housekeeping,
@@ -271,6 +285,7 @@ pub fn start_background(
 /// ring, the trace thread formats and writes them.
 fn start_tracer(
     cfg: &DaemonConfig,
+    hand: &gait::HandConfig,
     instance: u64,
     controller: &mut GaitController,
     plan_notes: Option<Arc<tracer::PlanNotes>>,
@@ -282,7 +297,7 @@ fn start_tracer(
         TraceSettings {
             dir: cfg.daemon.trace_dir.clone().into(),
             instance,
-            hand: cfg.hand(),
+            hand: *hand,
             dt: 1.0 / cfg.control.tick_hz,
             cpus: cfg.rt.background_cpus.clone(),
             keep: cfg.daemon.trace_keep as usize,
@@ -424,11 +439,12 @@ impl std::fmt::Debug for Daemon {
 impl Daemon {
     /// Steps 1–5 (module docs); the calling thread becomes the loop thread.
     pub fn start(cfg: &DaemonConfig) -> Result<Self, StartupError> {
+        let setup = HandSetup::load(cfg)?;
         let mut ipc = open_ipc(cfg)?;
         lock_memory(cfg);
         let sd = sd_notify::Notifier::from_env().map_err(StartupError::NotifySocket)?;
         let instance = crate::new_instance_id();
-        let bg = start_background(cfg, &mut ipc, instance)?;
+        let bg = start_background(cfg, &setup, &mut ipc, instance)?;
         let ports = (ipc.commands, ipc.outbox, ipc.shared, ipc.plant);
         let runtime = build_loop(cfg, ports, bg.controller, instance, sd.is_some())?;
         become_loop_thread(cfg, &ipc.writer);

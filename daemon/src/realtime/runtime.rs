@@ -149,11 +149,8 @@ impl ControlOutput {
             phase: Phase::Hold,
             fault: FaultCode::None,
             goal: GoalReport::default(),
-            fingers: [FingerOutput {
-                phase: FingerPhase::Grasping,
-                workspace_margin: 0.0,
-                normal_force: 0.0,
-            }; gait::FINGERS],
+            fingers: [FingerOutput::bare(FingerPhase::Grasping); gait::FINGERS],
+            chains: false,
             grasp: GraspState::Unknown,
             grasp_margin: 0.0,
             load_grip: 0.0,
@@ -546,7 +543,6 @@ impl<C: Controller, K: Clock> Runtime<C, K> {
         s.commands = self.intake.received();
         s.rejected = self.intake.rejected();
         s.clients = self.shared.clients.load(Ordering::Relaxed);
-        s.reserved = 0;
         // Stamped by the writer just before it publishes.
         s.publish_time_ns = 0;
         self.outbox.push(Outbound::Status(self.status));

@@ -45,7 +45,7 @@ impl HoldController {
                 FingerMode::Free => FingerPhase::Free,
             },
             workspace_margin: workspace_margin(config, &hand, k),
-            normal_force: 0.0,
+            ..FingerOutput::bare(FingerPhase::Free)
         });
         Self {
             out: ControlOutput {
@@ -56,6 +56,7 @@ impl HoldController {
                 fault: FaultCode::None,
                 goal: GoalReport::default(),
                 fingers,
+                chains: false,
                 grasp: GraspState::Unknown,
                 grasp_margin: 0.0,
                 load_grip: 0.0,

@@ -321,8 +321,8 @@ impl PlannerConfig {
             "planner.budget_ms",
             p.budget_ms,
             0.0,
-            6e4,
-            "in (0, 60000] ms",
+            6e5,
+            "in (0, 600000] ms",
         )?;
         in_range(
             "planner.detour_axes",

@@ -193,7 +193,7 @@ impl Executor {
     /// An executor of the free-fingertip hand holding `start` still,
     /// ticking every `dt` seconds.
     pub fn new(config: &HandConfig, dt: f64, start: HandState) -> Result<Self, ConfigError> {
-        Self::build(config, None, dt, start)
+        Self::for_hand(config, None, dt, start)
     }
 
     /// An executor of the chain hand `hand` (SPEC §14) holding `start`
@@ -207,10 +207,13 @@ impl Executor {
         dt: f64,
         start: HandState,
     ) -> Result<Self, ConfigError> {
-        Self::build(config, Some(hand), dt, start)
+        Self::for_hand(config, Some(hand), dt, start)
     }
 
-    fn build(
+    /// The executor of either hand: the free fingertips of `config`
+    /// ([`Executor::new`]) or the chain hand `chains`
+    /// ([`Executor::for_chains`]).
+    pub fn for_hand(
         config: &HandConfig,
         chains: Option<crate::planner::chains::ChainHand>,
         dt: f64,
@@ -282,6 +285,8 @@ impl Executor {
                 load_margin: config.load.max_grip,
                 force_closure: (false, 0.0),
                 workspace_slack: [0.0; 3],
+                tip_slack: [0.0; 3],
+                link_slack: [None; 3],
                 joints: [None; 3],
                 fault: None,
             },
@@ -618,6 +623,8 @@ impl Executor {
                     (r.force_closure.check.pass, r.force_closure.check.slack);
                 for (k, f) in r.fingers.iter().enumerate() {
                     self.report.workspace_slack[k] = f.workspace.slack;
+                    self.report.tip_slack[k] = f.hemisphere.map_or(0.0, |c| c.slack);
+                    self.report.link_slack[k] = f.links.map(|c| c.slack);
                 }
                 if let Some(v) = r.first_violation() {
                     let (kind, finger) = invariant_fault(v);

@@ -43,6 +43,13 @@ pub struct TickReport {
     /// Workspace slack per finger \[rad\] (negative: outside); on a chain
     /// hand, the joint-limit margin of the commanded state (SPEC §14.1).
     pub workspace_slack: [f64; 3],
+    /// The commanded contact's margin on each fingertip \[rad\]: the
+    /// hemisphere's (free fingertips) or the tip patch's beyond its margin
+    /// (chains); 0 for a finger not grasping.
+    pub tip_slack: [f64; 3],
+    /// A chain hand's links off the object beyond the clearance, per
+    /// finger \[m\] (`None` on free fingertips).
+    pub link_slack: [Option<f64>; 3],
     /// A chain hand's commanded joints per finger \[rad\]: the joints that
     /// put each tip where `setpoint` writes it, on the branch nearest the
     /// joints commanded the tick before (SPEC §14.3). `None` for free

@@ -129,6 +129,13 @@ pub const GREEDIER: [(u32, f64); 2] = [(4000, 3.0), (12_000, 6.0)];
 /// pieces meet with the same pair turning on, the two turns are one.
 pub const TURN_PIECE: f64 = std::f64::consts::FRAC_PI_2;
 
+/// On chains, a piece of a turn whose search is exhausted from where the
+/// last piece ended (no plan, not out of budget) is not the end: the rest
+/// of the turn is cut into one piece more — other orientations to pass
+/// through, other grasps to rest in between — at most this many times
+/// per goal.
+pub const CHAIN_TURN_RECUTS: usize = 3;
+
 /// The kinds of children a node gets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ActionKind {

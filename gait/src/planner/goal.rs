@@ -131,10 +131,21 @@ impl Course {
 
     /// The orientation piece `k` (1 ..= `pieces`) ends at.
     pub fn piece(&self, k: usize) -> UnitQuaternion<f64> {
+        self.along(self.angle * k as f64 / self.pieces as f64)
+    }
+
+    /// The orientation `turned` along the course: a turn's start turned
+    /// that far about its axis; an orientation goal's goal.
+    pub fn along(&self, turned: f64) -> UnitQuaternion<f64> {
         match self.turn {
-            Some(axis) => rotation(&axis, self.angle * k as f64 / self.pieces as f64) * self.from,
+            Some(axis) => rotation(&axis, turned) * self.from,
             None => self.goal,
         }
+    }
+
+    /// Whether the course is a turn (its pieces can be cut otherwise).
+    pub fn is_turn(&self) -> bool {
+        self.turn.is_some()
     }
 }
 

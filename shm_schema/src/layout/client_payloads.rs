@@ -198,7 +198,12 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                 f!(Status, commands, "", "commands received since start"),
                 f!(Status, rejected, "", "commands rejected since start"),
                 f!(Status, clients, "", "client nodes alive"),
-                f!(Status, reserved, "", "padding, 0"),
+                f!(
+                    Status,
+                    hand,
+                    "0/1",
+                    "hand model: 0 free fingertips, 1 finger chains (fingers report their joints)"
+                ),
             ],
         ),
         layout::<GoalStatus>(
@@ -281,7 +286,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     FingerStatus,
                     workspace_margin,
                     "rad",
-                    "angle to the workspace cone boundary, > 0 inside"
+                    "angle to the workspace cone boundary, > 0 inside; on a chain hand the joints' margin inside their limits (less the description's margin)"
                 ),
                 f!(
                     FingerStatus,
@@ -312,6 +317,24 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     tip_error,
                     "m",
                     "distance measured → commanded fingertip centre, against the setpoint the measurement answers (`Status.measured_age`) (mask bit TIPS)"
+                ),
+                f!(
+                    FingerStatus,
+                    commanded_joints,
+                    "rad",
+                    "chain hand: the commanded joint positions, base to tip (0 on free fingertips)"
+                ),
+                f!(
+                    FingerStatus,
+                    tip_margin,
+                    "rad",
+                    "commanded contact on the fingertip to the edge of its tip patch (chains, less its margin) or hemisphere (free fingertips), > 0 inside; 0 when not touching"
+                ),
+                f!(
+                    FingerStatus,
+                    link_clearance,
+                    "m",
+                    "chain hand: the closest link's distance from the object beyond the configured clearance (0 on free fingertips)"
                 ),
             ],
         ),

@@ -30,6 +30,10 @@ pub fn layout_markdown() -> String {
          that may touch, and its roll τ about a_f is the integral of τ̇ = ω_f · a_f (ω_f its\n\
          angular velocity, hand frame), 0 in the start grasp: [PLANT-GUIDE.md](PLANT-GUIDE.md),\n\
          \"The start grasp and the fingertip frame\".\n\n\
+         A chain hand (`Status.hand` = 1) is described in its URDF's frame, where the object\n\
+         centre is at O (the description's `object.centre`): positions here are the URDF\n\
+         frame's less O, in its axes; the fingertip orientations and rolls carry no meaning\n\
+         (the joints, `commanded_joints`, set the tip's orientation).\n\n\
          ## Services (prefix `{DEFAULT_PREFIX}`, configurable)\n\n\
          | service | pattern | payload | notes |\n|---|---|---|---|\n\
          | `{}` | publish-subscribe | `Command` | client → daemon, one publisher per client |\n\
@@ -71,7 +75,7 @@ pub fn layout_markdown() -> String {
     );
     s.push_str(
         "## Schema versions\n\n\
-         Every payload's type name carries the version (`gaitd::Status.v5`): a client of\n\
+         Every payload's type name carries the version (`gaitd::Status.v6`): a client of\n\
          another version cannot open the services (iceoryx2 answers `IncompatibleTypes`).\n\
          So a client first opens the event service `version` (no payload type: any\n\
          version opens it) and reads its attributes: `gaitd.schema`, the daemon's\n\

@@ -74,11 +74,16 @@ impl GaitController {
             out.fingers[k] = FingerOutput {
                 phase,
                 // The executor's invariant check measured it this tick
-                // against β − margin; the status reports it against β.
+                // against β − margin; the status reports it against β (on
+                // a chain hand: against the limits less their margin).
                 workspace_margin: r.workspace_slack[k] + self.workspace_margin,
                 normal_force: r.grip[k],
+                joints: r.joints[k],
+                tip_margin: r.tip_slack[k],
+                link_clearance: r.link_slack[k],
             };
         }
+        out.chains = self.chains;
         out.grasp = if r.force_closure.0 {
             GraspState::ForceClosure
         } else {

@@ -18,6 +18,7 @@
 pub mod codes;
 mod control_output;
 pub mod goal_ids;
+pub mod hand_planner;
 pub mod plan_link;
 mod trace_recording;
 mod wire_events;
@@ -35,11 +36,14 @@ use codes::reason_code;
 use gait::executor::TickReport;
 use gait::executor::feedback::NOT_A_FINGER;
 use gait::executor::{self, Executor, ExecutorCommand, FaultKind, PlanRequest, Reason};
+use gait::planner::GoalPlanner;
+use gait::planner::chains::ChainHand;
 use gait::planner::gaiting::GaitTracker;
 use gait::planner::{Budget, Halt, Plan, PlanError, Stop};
 use gait::sim::{KinematicHand, Measurement, Plant};
 use gait::{HandConfig, HandState};
 use goal_ids::GoalIds;
+use hand_planner::HandPlanner;
 use nalgebra::Vector3;
 use plan_link::PlanShuttle;
 use shm_schema::{
@@ -56,7 +60,7 @@ use std::time::{Duration, Instant};
 /// canceled or preempted while planned stops its planning at once.
 #[derive(Debug)]
 pub struct GaitPlanner {
-    planner: gait::planner::Planner,
+    planner: HandPlanner,
     budget: Option<Duration>,
     notes: Option<Arc<PlanNotes>>,
     /// Where each plan's path goes (the `plan` service), if anywhere.
@@ -67,9 +71,9 @@ pub struct GaitPlanner {
 
 impl GaitPlanner {
     /// `planner`, with a wall-clock budget per request or none.
-    pub fn new(planner: gait::planner::Planner, budget: Option<Duration>) -> Self {
+    pub fn new(planner: impl Into<HandPlanner>, budget: Option<Duration>) -> Self {
         Self {
-            planner,
+            planner: planner.into(),
             budget,
             notes: None,
             paths: None,
@@ -79,7 +83,7 @@ impl GaitPlanner {
 
     /// Before its first request, the planner thread does what planning
     /// from `start` begins with and the goal does not change
-    /// ([`gait::planner::Planner::prepare`]).
+    /// ([`HandPlanner::prepare`]).
     pub fn prepare_from(&mut self, start: HandState) {
         self.prepare_from = Some(start);
     }
@@ -194,8 +198,10 @@ pub struct GaitController {
     /// Recognises substitutions and rewinds in the finished steps.
     gaits: GaitTracker,
     safe_hold_requested: bool,
-    /// The configured workspace margin \[rad\].
+    /// The configured workspace margin \[rad\] (0 on a chain hand).
     workspace_margin: f64,
+    /// Whether the hand is a chain hand.
+    chains: bool,
     /// The last fresh measurement, the tick it was read at and the
     /// setpoint it answers.
     measured: Option<MeasuredReport>,
@@ -227,13 +233,21 @@ impl GaitController {
         dt: f64,
         link: GaitPlannerLink,
     ) -> Result<Self, gait::ConfigError> {
-        let start = HandState::paper_start(config);
-        Self::with_hand(
-            config,
-            dt,
-            link,
-            Hand::Embedded(KinematicHand::new(start, dt)),
-        )
+        Self::embedded_hand(config, None, HandState::paper_start(config), dt, link)
+    }
+
+    /// The embedded kinematic hand at `start`: the free fingertips of
+    /// `config`, or the chain hand `chains` (SPEC §14; `config` as its
+    /// model sets it), every tick checked against its limits.
+    pub fn embedded_hand(
+        config: &HandConfig,
+        chains: Option<ChainHand>,
+        start: HandState,
+        dt: f64,
+        link: GaitPlannerLink,
+    ) -> Result<Self, gait::ConfigError> {
+        let hand = Hand::Embedded(KinematicHand::new(start, dt));
+        Self::with_hand(config, chains, start, dt, (link, hand))
     }
 
     /// An external plant over `plant`'s link: nothing moves until its
@@ -247,7 +261,8 @@ impl GaitController {
         plant: ExternalPlant,
     ) -> Result<Self, gait::ConfigError> {
         let lockstep = plant.lockstep();
-        let mut c = Self::with_hand(config, dt, link, Hand::External(plant))?;
+        let start = HandState::paper_start(config);
+        let mut c = Self::with_hand(config, None, start, dt, (link, Hand::External(plant)))?;
         if lockstep {
             c.planning.deliver_deterministically();
         }
@@ -259,13 +274,13 @@ impl GaitController {
 
     fn with_hand(
         config: &HandConfig,
+        chains: Option<ChainHand>,
+        start: HandState,
         dt: f64,
-        link: GaitPlannerLink,
-        hand: Hand,
+        (link, hand): (GaitPlannerLink, Hand),
     ) -> Result<Self, gait::ConfigError> {
-        let start = HandState::paper_start(config);
         Ok(Self {
-            exec: Executor::new(config, dt, start)?,
+            exec: Executor::for_hand(config, chains.clone(), dt, start)?,
             hand,
             reading: None,
             plant_fault: PlantFault::None,
@@ -274,7 +289,13 @@ impl GaitController {
             ids: GoalIds::new(),
             gaits: GaitTracker::new(),
             safe_hold_requested: false,
-            workspace_margin: config.model.workspace_margin_deg.to_radians(),
+            // On chains the slack is already against the joint limits.
+            workspace_margin: if chains.is_some() {
+                0.0
+            } else {
+                config.model.workspace_margin_deg.to_radians()
+            },
+            chains: chains.is_some(),
             measured: None,
             sent: vec![start; executor::WRITTEN].into_boxed_slice(),
             sent_next: 0,

@@ -180,6 +180,7 @@ mod tests {
             contact: true,
             grip_force: 1.0,
             roll: 0.0,
+            joints: None,
         });
         Sample {
             object_q: s.object,
@@ -191,6 +192,7 @@ mod tests {
             remaining_angle: 0.0,
             gaits: 0,
             estimate_epoch: 0,
+            joint_margin: None,
         }
     }
 

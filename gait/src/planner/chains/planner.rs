@@ -20,7 +20,7 @@ use crate::HandConfig;
 use crate::config::{ConfigError, LimitsConfig};
 use crate::hand::PAIRS;
 use crate::hand_state::HandState;
-use crate::planner::alternatives::STILL_PAIR_PASSES;
+use crate::planner::alternatives::{CHAIN_TURN_RECUTS, STILL_PAIR_PASSES, TURN_PIECE};
 use crate::planner::budget::{Budget, Effort, Halt, Unbounded};
 use crate::planner::goal::{Course, Remaining};
 use crate::planner::hand_model::HandModel;
@@ -115,12 +115,38 @@ impl ChainPlanner {
         let mut effort = Effort::default();
         let mut at = *start;
         let (mut steps, mut route, mut pass) = (Vec::new(), Vec::new(), 0);
-        for k in 1..=course.pieces {
-            let rem = Remaining::orientation(&at.object, &course.piece(k));
+        // The turn done so far, the pieces left for the rest, the recuts
+        // made ([`CHAIN_TURN_RECUTS`]), where each planned piece began.
+        let (mut turned, mut left, mut recuts) = (0.0, course.pieces, 0);
+        let mut began: Vec<(HandState, f64, usize, usize, usize)> = Vec::new();
+        while left > 0 {
+            let next = turned + (course.angle - turned) / left as f64;
+            let rem = Remaining::orientation(&at.object, &course.along(next));
             if rem.reached() {
+                (turned, left) = (next, left - 1);
                 continue;
             }
-            let (found, p) = self.search(&at, rem, budget, &mut effort)?;
+            let (found, p) = match self.search(&at, rem, budget, &mut effort) {
+                Ok(f) => f,
+                // The grasp the last piece ended in may be one no gait
+                // leaves: that piece is planned again, and the rest of the
+                // turn through other orientations.
+                Err(PlanError::LoadInfeasible { .. } | PlanError::SearchExhausted)
+                    if course.is_turn() && recuts < CHAIN_TURN_RECUTS =>
+                {
+                    recuts += 1;
+                    if let Some((state, t, n_steps, n_route, p)) = began.pop() {
+                        (at, turned, pass) = (state, t, p);
+                        steps.truncate(n_steps);
+                        route.truncate(n_route);
+                    }
+                    let rest = course.angle - turned;
+                    left = (rest / TURN_PIECE).ceil() as usize + recuts;
+                    continue;
+                }
+                Err(e) => return Err(e),
+            };
+            began.push((at, turned, steps.len(), route.len(), pass));
             let r = Route::new(&STILL_PAIR_PASSES, p, &at, &self.model, &found.actions);
             at = found
                 .steps
@@ -129,6 +155,7 @@ impl ChainPlanner {
             steps.extend(found.steps);
             route.extend(r.steps);
             pass = pass.max(p);
+            (turned, left) = (next, left - 1);
         }
         let route = Route {
             passes: &STILL_PAIR_PASSES,
@@ -157,9 +184,13 @@ impl ChainPlanner {
         let m = &self.model;
         let mut best: Option<(search::Found<ChainModel>, usize)> = None;
         let mut last = NotFound::Capped;
+        // An improving pass's effort is a multiple of this search's, not
+        // of the whole goal's (earlier pieces of a turn).
+        let before = budget.used();
         for (i, pass) in STILL_PAIR_PASSES.iter().enumerate() {
             let found = best.as_ref().map(|(f, _)| f.duration);
-            let Some(mode) = Mode::for_pass(pass, found, budget.used(), true, false) else {
+            let used = budget.used() - before;
+            let Some(mode) = Mode::for_pass(pass, found, used, true, false) else {
                 continue;
             };
             effort.passes += 1;
@@ -190,7 +221,7 @@ impl ChainPlanner {
     /// The start must be a force-closure grasp (with margin) of two or three fingers
     /// touching the object, keep every limit of §14.1 (a finger that does
     /// not: [`PlanError::Blocked`]), and hold the load.
-    fn check_start(&self, start: &HandState) -> Result<(), PlanError> {
+    pub fn check_start(&self, start: &HandState) -> Result<(), PlanError> {
         let m = &self.model;
         let (idx, n) = start.grasping();
         let o = m.hand().object();
