@@ -8,7 +8,9 @@
 //!
 //! More chained goals: `GAIT_CHAIN_EXEC_GOALS=100 cargo test --release -p
 //! gait --test executor_chains -- --nocapture chain_plans` (default 7
-//! after the first turn).
+//! after the first turn); `GAIT_CHAIN_EXEC_DUMP=FILE` appends a line per
+//! plan (planning time, effort, duration, gaits) to FILE,
+//! `GAIT_CHAIN_EXEC_STATES=FILE` each goal's start state and goal.
 //!
 //! The numbers this test holds the hand to are TriFingerPro's (the
 //! shipped URDF's soft limits, from `robot_properties_fingers`) and the
@@ -126,7 +128,9 @@ fn run_goal(
         let rep = *exec.tick(m.as_ref());
         plant.write(&rep.setpoint);
         if let Some(req) = exec.take_plan_request() {
+            let t0 = std::time::Instant::now();
             let plan = req.plan(p).map(Box::new);
+            dump_plan(id, t0.elapsed().as_secs_f64(), &plan);
             drop(exec.deliver_plan(req.goal, plan));
         }
         while let Some(e) = exec.pop_event() {
@@ -193,6 +197,33 @@ fn run_goal(
     end.expect("the goal ended")
 }
 
+/// With `GAIT_CHAIN_EXEC_DUMP=FILE`, one line per plan request appended
+/// to FILE: goal, planning seconds (this thread's wall clock), and the
+/// plan's expansions, duration \[s\] and gaits, or its error.
+fn dump_plan(
+    id: u64,
+    secs: f64,
+    plan: &Result<Box<gait::planner::Plan>, gait::planner::PlanError>,
+) {
+    let Ok(path) = std::env::var("GAIT_CHAIN_EXEC_DUMP") else {
+        return;
+    };
+    let line = match plan {
+        Ok(p) => format!(
+            "{id} ok {secs:.4} {} {:.3} {}\n",
+            p.summary.effort.expansions, p.summary.duration, p.summary.gaits
+        ),
+        Err(e) => format!("{id} err {secs:.4} {e:?}\n"),
+    };
+    use std::io::Write;
+    let mut f = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .unwrap();
+    f.write_all(line.as_bytes()).unwrap();
+}
+
 /// The executor of the shipped hand and its kinematic plant, holding
 /// the start grasp, and each finger's joints there.
 fn rig(p: &ChainPlanner) -> (Executor, KinematicHand, [Vector3<f64>; 3]) {
@@ -227,6 +258,16 @@ fn chain_plans_run_to_their_goals_within_the_hands_limits() {
         let from = plant.state().object;
         let goal = target.resolve(&from);
         let id = i as u64 + 1;
+        if let Ok(path) = std::env::var("GAIT_CHAIN_EXEC_STATES") {
+            // The goal's start and target, to replay one goal alone.
+            use std::io::Write;
+            let mut f = std::fs::OpenOptions::new()
+                .create(true)
+                .append(true)
+                .open(path)
+                .unwrap();
+            writeln!(f, "{id} {:?} -> {:?}", plant.state(), goal).unwrap();
+        }
         match run_goal(&mut exec, &mut plant, &p, id, *target, &mut q, &mut t) {
             GoalStage::Succeeded => {
                 let err = plant.state().object.angle_to(&goal);

@@ -74,6 +74,27 @@ fn a_chain_hand_turns_the_ball_to_its_goal() {
     d.spawn();
     let mut c = d.client();
     let s0 = c.wait_status(T).unwrap();
+    // gaitctl shows the joints: in its JSON, and in `watch` beside the
+    // margins.
+    let out = d.gaitctl().args(["status", "--json"]).output().unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["hand"], "chains");
+    for (k, f) in v["fingers"].as_array().unwrap().iter().enumerate() {
+        let q: Vec<f64> = f["commanded_joints"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        assert_eq!(q, s0.fingers[k].commanded_joints.to_vec());
+    }
+    let out = d
+        .gaitctl()
+        .args(["watch", "--frames", "1", "--live", "always"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("joints [deg]"), "{text}");
     let start = s0.measured_object_q;
     // A quarter turn about −x: a few gaits from the configured grasp.
     let (h, q) = (

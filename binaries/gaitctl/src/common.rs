@@ -75,6 +75,15 @@ pub fn object_q(s: &Status) -> [f64; 4] {
     }
 }
 
+/// The name of a [`Status::hand`] code.
+pub fn hand_name(code: u32) -> String {
+    match code {
+        shm_schema::status::hand::FINGERTIPS => "fingertips".into(),
+        shm_schema::status::hand::CHAINS => "chains".into(),
+        other => format!("unknown({other})"),
+    }
+}
+
 /// The status as JSON (every field, codes decoded to names).
 pub fn status_json(s: &Status) -> serde_json::Value {
     use serde_json::json;
@@ -97,6 +106,9 @@ pub fn status_json(s: &Status) -> serde_json::Value {
                 "measured_tip_orientation": f.measured_tip_orientation,
                 "measured_normal_force": f.measured_normal_force,
                 "tip_error": f.tip_error,
+                "commanded_joints": f.commanded_joints,
+                "tip_margin": f.tip_margin,
+                "link_clearance": f.link_clearance,
             })
         })
         .collect();
@@ -107,6 +119,7 @@ pub fn status_json(s: &Status) -> serde_json::Value {
         "publish_time_ns": s.publish_time_ns,
         "instance": format!("{:016x}", s.instance),
         "daemon_state": code(s.daemon_state(), s.daemon_state),
+        "hand": hand_name(s.hand),
         "phase": code(s.phase(), s.phase),
         "fault": code(s.fault(), s.fault),
         "grasp": code(s.grasp(), s.grasp),

@@ -143,6 +143,26 @@ pub fn render(s: &Status, progress: Option<f64>, rate: Option<f64>) -> String {
             }
         );
     }
+    if s.hand == shm_schema::status::hand::CHAINS {
+        let _ = writeln!(
+            o,
+            "finger  joints [deg]                joint margin [deg]  tip margin [deg]  links off [mm]"
+        );
+        for (k, f) in s.fingers.iter().enumerate() {
+            let q = f.commanded_joints;
+            let _ = writeln!(
+                o,
+                "f{}      [{:+7.2} {:+7.2} {:+7.2}]   {:8.2}            {:8.2}          {:7.2}",
+                k + 1,
+                deg(q[0]),
+                deg(q[1]),
+                deg(q[2]),
+                deg(f.workspace_margin),
+                deg(f.tip_margin),
+                f.link_clearance * 1e3
+            );
+        }
+    }
     let _ = writeln!(
         o,
         "tick compute last {:.1} p50 {:.1} p99 {:.1} max {:.1} us | jitter p99 {:.1} max {:.1} us | missed {}",
