@@ -146,6 +146,18 @@ impl TestDaemon {
         self.dir.join("gaitd.toml")
     }
 
+    /// Before it starts: record every goal's trace into `<its dir>/traces`
+    /// (removed with it), which is returned. The config must have no
+    /// `[daemon]` section of its own.
+    pub fn record_traces(&self) -> PathBuf {
+        let traces = self.dir.join("traces");
+        std::fs::create_dir_all(&traces).expect("trace dir");
+        let mut cfg = std::fs::read_to_string(self.config_path()).expect("config");
+        cfg.push_str(&format!("[daemon]\ntrace_dir = \"{}\"\n", traces.display()));
+        std::fs::write(self.config_path(), cfg).expect("config");
+        traces
+    }
+
     /// Path of the daemon's log (stderr, appended across restarts).
     pub fn log_path(&self) -> PathBuf {
         self.dir.join("gaitd.log")

@@ -66,11 +66,7 @@ fn mul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
 fn a_chain_hand_turns_the_ball_to_its_goal() {
     let mut d = TestDaemon::new("chains", &trifingerpro());
     // Its goal's trace, too.
-    let traces = d.dir.join("traces");
-    std::fs::create_dir_all(&traces).unwrap();
-    let mut cfg = std::fs::read_to_string(d.config_path()).unwrap();
-    cfg.push_str(&format!("[daemon]\ntrace_dir = \"{}\"\n", traces.display()));
-    std::fs::write(d.config_path(), cfg).unwrap();
+    let traces = d.record_traces();
     d.spawn();
     let mut c = d.client();
     let s0 = c.wait_status(T).unwrap();

@@ -20,11 +20,7 @@ const LONG: Duration = Duration::from_secs(90);
 /// A daemon recording traces into `<its dir>/traces` (removed with it).
 fn traced_daemon(tag: &str, extra_config: &str) -> (TestDaemon, PathBuf) {
     let mut d = TestDaemon::new(tag, extra_config);
-    let traces = d.dir.join("traces");
-    std::fs::create_dir_all(&traces).unwrap();
-    let mut cfg = std::fs::read_to_string(d.config_path()).unwrap();
-    cfg.push_str(&format!("[daemon]\ntrace_dir = \"{}\"\n", traces.display()));
-    std::fs::write(d.config_path(), cfg).unwrap();
+    let traces = d.record_traces();
     d.spawn();
     d.wait_ready(T);
     (d, traces)
