@@ -670,3 +670,104 @@ fn the_lockstep_loop_does_not_allocate() {
     assert!(!g.rt.controller().awaiting_plant());
     g.finish();
 }
+
+/// The chain hand (TriFingerPro, the chain planner) on a joint-level
+/// external plant: every tick the loop reads the plant's joints (forward
+/// kinematics to the tips) and commands joints (inverse kinematics,
+/// J_v⁻¹ for the rates, the feed-forward torques) — no allocation on the
+/// loop thread. The plant (this test's thread) takes each command's joints
+/// as its own.
+#[test]
+fn the_loop_does_not_allocate_with_a_joint_level_chain_plant() {
+    let mut ns = Namespace::new("xjoint");
+    ns.cfg.plant.kind = gaitd::config::PlantKind::Shm;
+    ns.cfg.plant.max_missed = 50;
+    let mut g = ipc_rig::chain_gait_loop(&ns, 47);
+    let (model, start) = ipc_rig::trifingerpro(&ns);
+    let mut plant = ipc_rig::RigPlant::open_joints(&ns, model.hand(), start);
+    let mut tick = |g: &mut ipc_rig::GaitLoop, heap: Option<&Tally>| {
+        plant.publish();
+        match heap {
+            Some(h) => h.count(|| {
+                g.rt.run_once();
+                g.clock.advance(1_000_000);
+            }),
+            None => {
+                g.rt.run_once();
+                g.clock.advance(1_000_000);
+            }
+        }
+        assert!(
+            plant.follow(std::time::Duration::from_secs(5)),
+            "the command came"
+        );
+        ipc_rig::let_writer_catch_up(&g.shared);
+        g.client.drain()
+    };
+    for _ in 0..200 {
+        tick(&mut g, None);
+    }
+    assert!(
+        !g.rt.controller().awaiting_plant(),
+        "started from the plant's joints"
+    );
+    let heap = Tally::default();
+    // Turns the chain planner plans in about a second, with gaits.
+    let targets = [
+        [0.0, 0.0, 1.0, 1.5],
+        [1.0, 0.0, 0.0, -1.0],
+        [0.0, 0.0, 1.0, -1.5],
+    ];
+    let (mut succeeded, mut joints_seen, mut active, mut k) = (0, 0, 0u64, 0usize);
+    let mut placed = 0;
+    let mut next = Some(100);
+    while active < 60_000 && (k < targets.len() || next.is_none()) {
+        if next == Some(active) && k < targets.len() {
+            let [x, y, z, angle] = targets[k];
+            k += 1;
+            next = None;
+            g.client.send(Command::goal(
+                5,
+                k as u64,
+                GoalFrame::AxisAngle,
+                [angle, x, y, z],
+            ));
+        }
+        let (statuses, ev) = tick(&mut g, Some(&heap));
+        joints_seen += statuses
+            .iter()
+            .filter(|s| s.measured_mask & shm_schema::measured::JOINTS != 0)
+            .count();
+        for e in &ev {
+            match e.kind() {
+                Ok(shm_schema::EventKind::Fault) => panic!("fault: {e:?}"),
+                Ok(shm_schema::EventKind::Place) => placed += 1,
+                Ok(shm_schema::EventKind::GoalTransition)
+                    if GoalState::try_from(e.state).is_ok_and(|s| s.is_terminal()) =>
+                {
+                    succeeded += usize::from(e.state == GoalState::Succeeded.code());
+                    next = Some(active + 100);
+                }
+                _ => {}
+            }
+        }
+        if g.rt.controller().phase() == gait::executor::Mode::Planning {
+            std::thread::sleep(std::time::Duration::from_micros(50));
+        } else {
+            active += 1;
+        }
+    }
+    println!(
+        "joint-level chain plant: {succeeded} goals reached, {placed} placements over {active} ticks"
+    );
+    assert_no_allocations_over("joint-level chain plant", &heap, active);
+    assert!(
+        succeeded >= 3 && placed >= 2,
+        "goals ran on the plant: {succeeded} reached, {placed} placements"
+    );
+    assert!(
+        joints_seen > 100,
+        "{joints_seen} statuses with measured joints"
+    );
+    g.finish();
+}

@@ -10,7 +10,7 @@ mod chain_hand;
 #[path = "../../kinematics/tests/common/mod.rs"]
 mod common;
 
-use gait::planner::chains::certify::check_way;
+use gait::planner::chains::certify::{CheckParams, check, check_way};
 use gait::planner::chains::model::ChainModel;
 use gait::planner::chains::steps::ChainBuilder;
 use gait::planner::hand_model::HandModel;
@@ -27,6 +27,11 @@ use chain_hand::{config, model};
 /// force-closure with every pair apart, each then carried as far as the
 /// fingers follow about a random axis.
 fn grasps(m: &ChainModel, n: usize, seed: u64) -> Vec<HandState> {
+    carried_grasps(m, n, seed, 0.999)
+}
+
+/// [`grasps`], each carried `share` of the way its fingers follow.
+fn carried_grasps(m: &ChainModel, n: usize, seed: u64, share: f64) -> Vec<HandState> {
     let mut rng = common::rng(seed);
     let mut out = Vec::with_capacity(n);
     while out.len() < n {
@@ -45,7 +50,7 @@ fn grasps(m: &ChainModel, n: usize, seed: u64) -> Vec<HandState> {
         // stops, two fingers often stand at the least gap.
         let axis = common::unit(&mut rng);
         let range = m.carry_range(&s, &[0, 1, 2], &axis, std::f64::consts::PI);
-        m.carry(&mut s, &axis, 0.999 * range);
+        m.carry(&mut s, &axis, share * range);
         out.push(s);
     }
     out
@@ -62,6 +67,14 @@ fn radius(m: &ChainModel, k: usize) -> f64 {
 /// inverse kinematics point by point on the branch the finger is on,
 /// forward kinematics, capsule distances.
 fn lift_margin(m: &ChainModel, s: &HandState, k: usize) -> f64 {
+    lift_margins(m, s, k)
+        .into_iter()
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// [`lift_margin`]'s margin at each of its 201 points (−∞ from where the
+/// finger's branch does not reach).
+fn lift_margins(m: &ChainModel, s: &HandState, k: usize) -> Vec<f64> {
     let h = m.hand();
     let lim = h.limits();
     let others: Vec<(usize, _)> = (0..3)
@@ -79,15 +92,15 @@ fn lift_margin(m: &ChainModel, s: &HandState, k: usize) -> f64 {
         radius(m, k) + config().planner.transfer_height,
     );
     let mut q = h.joints(k, &s.fingers[k].center, None).expect("reached");
-    let mut least = f64::INFINITY;
-    for i in 0..=200 {
+    let mut out = vec![f64::NEG_INFINITY; 201];
+    for (i, at) in out.iter_mut().enumerate() {
         let rho = from + (to - from) * i as f64 / 200.0;
         let Some(next) = h.nearest_branch(k, &(n * rho), &q) else {
-            return f64::NEG_INFINITY;
+            break;
         };
         q = next;
         let sk = h.chain(k).forward(&q);
-        least = least.min(h.chain(k).limit_margin(&q));
+        let mut least = h.chain(k).limit_margin(&q);
         let clearance = object_clearance(h.chain(k), &sk, h.object());
         least = least.min(clearance - lim.margins.clearance);
         for (j, sj) in &others {
@@ -98,8 +111,9 @@ fn lift_margin(m: &ChainModel, s: &HandState, k: usize) -> f64 {
             };
             least = least.min(gap - lim.finger_gap);
         }
+        *at = least;
     }
-    least
+    out
 }
 
 /// Two grasps the planner met (tip centres in the ball's frame \[m\]) in
@@ -198,6 +212,62 @@ fn a_lift_that_sweeps_into_another_finger_is_refused() {
     }
     println!("random grasps: {refused} lifts refused, {allowed} allowed");
     assert!(allowed > 0);
+}
+
+/// Where a carry stops with two fingers exactly the least gap apart, a
+/// lift can bring them closer before it takes them apart, between two of
+/// the check's samples. The check finds every lift the test's 201-point
+/// walk finds below a limit, though it samples the 15 mm lift only every
+/// 5 mm (it refines where the margins at two samples do not prove the way
+/// between them clear); and it refuses none the walk finds clear by
+/// 0.1 mm.
+#[test]
+fn a_lift_that_first_closes_a_gap_is_refused_between_samples() {
+    let m = model();
+    let coarse = CheckParams {
+        free_step: 0.005,
+        ..*m.check_params()
+    };
+    let (mut inside, mut refused, mut allowed) = (0, 0, 0);
+    for s in carried_grasps(&m, 1500, 21, 1.0) {
+        // (A carry's end may be a rounding past a limit where it stops.)
+        if check(m.hand(), &s, &[], m.check_params()).is_err() {
+            continue;
+        }
+        for k in 0..3 {
+            let walk = lift_margins(&m, &s, k);
+            let least = walk.iter().copied().fold(f64::INFINITY, f64::min);
+            let mut b = builder(&m, &s);
+            let mut joints = b.joints();
+            b.lift(k).expect("a lift is a step");
+            let lift = b.steps.last().expect("the lift");
+            let verdict = check_way(m.hand(), std::slice::from_ref(lift), &mut joints, &coarse);
+            if least < -1e-7 {
+                assert!(
+                    verdict.is_err(),
+                    "finger {k} lifts {least:.2e} past a limit: {s:?}"
+                );
+                refused += 1;
+                // Broken only inside, clear at every one of the coarse
+                // samples (0, 5, 10, 15 mm: points 0, 200/3, …, 200).
+                let at_samples = [0, 67, 133, 200].iter().all(|&i| walk[i] >= 0.0);
+                inside += usize::from(at_samples);
+            }
+            if least > 1e-4 {
+                assert_eq!(
+                    verdict,
+                    Ok(()),
+                    "finger {k} lifts clear by {least:.2e}: {s:?}"
+                );
+                allowed += 1;
+            }
+        }
+    }
+    println!("{refused} lifts refused ({inside} broken only between samples), {allowed} allowed");
+    assert!(
+        inside > 0 && allowed > 0,
+        "{inside} broken between samples, {allowed} allowed"
+    );
 }
 
 /// The planner's builder from `s`, no handovers.

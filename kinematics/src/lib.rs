@@ -35,6 +35,8 @@
 //! - [`rolling`]: the rolling law of a 3-joint finger (§14.2); [`mod@carry`]:
 //!   a grasp carried by the object's turn under it, how far it can go
 //!   within the limits, and the axis a pair turns about without spin.
+//! - [`sweep`]: how far a finger's parts travel between two
+//!   configurations (what a sampled check needs between its samples).
 //! - [`workspace`]: the normals a finger can grasp at (§14.1), and the
 //!   gap between two fingers.
 //! - [`mod@transfer`]: a free finger's way from one contact to another, clear
@@ -65,6 +67,7 @@ pub mod ik_dls;
 pub mod patch;
 pub mod rolling;
 pub mod section;
+pub mod sweep;
 pub mod torque;
 pub mod transfer;
 pub mod workspace;
@@ -76,7 +79,8 @@ pub use carry::{
 };
 pub use chain::{CapsuleSet, Chain, ChainState, MAX_CAPSULES};
 pub use description::{
-    Body, FingerDescription, Friction, HandDescription, JointDescription, JointLimits, Object,
+    Body, FingerDescription, Friction, HandDescription, JointDescription, JointLimits, LoadError,
+    Object,
 };
 pub use error::DescriptionError;
 pub use frame::Frame;
@@ -84,6 +88,7 @@ pub use ik_closed::{Branches, ClosedFormIk, IkError, NotClosedForm};
 pub use ik_dls::{DlsParams, DlsResult};
 pub use patch::TipPatch;
 pub use rolling::{RollingRates, rolling_rates};
+pub use sweep::{parts_travel, reach_radii};
 pub use torque::{gravity_torques, joint_torques, max_force_scale};
 pub use transfer::{Obstacle, Transfer, TransferError, TransferLimits, transfer};
 pub use workspace::{FingerGap, Margins, Reach, Workspace, finger_gap, reach, sphere_grid};

@@ -18,7 +18,7 @@
 //!
 //! Every payload is `#[repr(C)]`, `Copy`, `ZeroCopySend`, fixed size with
 //! explicit padding and a versioned iceoryx2 type name
-//! (`gaitd::Status.v5`): iceoryx2 compares name, size and alignment when a
+//! (`gaitd::Status.v7`): iceoryx2 compares name, size and alignment when a
 //! service opens, so a client of another schema version cannot open the
 //! services instead of misreading memory. Enums travel as `u32` codes
 //! decoded with `TryFrom<u32>` ([`codes`]). The byte layout of every field is
@@ -50,8 +50,8 @@ pub use command::{
 pub use event::Event;
 pub use plan_path::{PATH_POINTS, PathError, PathPoint, PlanPath};
 pub use plant::{
-    PlantCommand, PlantFingerCommand, PlantFingerMeasurement, PlantMeasurement, command_flags,
-    measurement_valid, plant_state,
+    MAX_JOINTS, PlantCommand, PlantFingerCommand, PlantFingerMeasurement, PlantMeasurement,
+    command_flags, measurement_valid, plant_state,
 };
 pub use status::{FINGERS, FingerStatus, GoalStatus, NO_FINGER, Status, Timing, measured};
 
@@ -61,11 +61,21 @@ pub use iceoryx2;
 
 /// Version of the payload layout. It is part of every payload's type name, so
 /// a client built against another version fails to open the services.
-pub const SCHEMA_VERSION: u32 = 6;
+pub const SCHEMA_VERSION: u32 = 7;
 
 /// What each schema version changed, newest first (rendered into
 /// `LAYOUT.md`; a test checks the newest entry is [`SCHEMA_VERSION`]).
 pub const SCHEMA_CHANGES: &[(u32, &str)] = &[
+    (
+        7,
+        "joint-level plants: `PlantFingerCommand` gained `joint_count` (was `reserved`), \
+         `joint_position`, `joint_velocity`, `joint_torque`, `kp`, `kd` (312 bytes; \
+         `PlantCommand` 1040) and the command flag `JOINTS`; `PlantFingerMeasurement` \
+         gained `joint_count` (was `reserved`), `joint_position`, `joint_velocity`, \
+         `joint_torque` (224 bytes; `PlantMeasurement` 800) and the valid bits \
+         `JOINT_POSITION`, `JOINT_VELOCITY`, `JOINT_TORQUE`; `FingerStatus` gained \
+         `measured_joints` (296 bytes; `Status` 1400) and the measured bit `JOINTS`.",
+    ),
     (
         6,
         "a chain hand in the status: `Status.reserved` became `hand` (0 free \

@@ -12,6 +12,15 @@
 //! [`PlantCommand::check`] / [`PlantMeasurement::check`] and numbers for
 //! finiteness by the daemon.
 //!
+//! Fingertips or joints: a hand of free fingertips is commanded and
+//! measured by its tips' poses. A hand of finger joint chains
+//! ([`command_flags::JOINTS`]) is commanded per joint, in the shape of a
+//! TriFinger action — position and velocity setpoints, a feed-forward
+//! torque, PD gains; the motor law `τ = τ_ff + kp·(q* − q) + kd·(q̇* − q̇)`
+//! — beside the tips those joints put where the fingertip fields say; it
+//! measures its joints ([`measurement_valid::JOINT_POSITION`]) and the
+//! daemon's forward kinematics makes the tips from them.
+//!
 //! Timing ([`command_flags::LOCKSTEP`]): in lockstep the plant publishes
 //! measurement k at its time t_k and waits; the daemon runs tick k with
 //! now = t_k and publishes the command answering k; the plant then steps
@@ -32,8 +41,12 @@ pub mod command_flags {
     pub const HOLD: u32 = 1 << 1;
     /// The daemon runs in lockstep with the plant (module docs).
     pub const LOCKSTEP: u32 = 1 << 2;
+    /// The hand is a chain hand: each finger's joint fields hold its
+    /// setpoint (`joint_count` joints), and a joint-level plant follows
+    /// them (module docs).
+    pub const JOINTS: u32 = 1 << 3;
     /// Every bit defined.
-    pub const ALL: u32 = ENABLE | HOLD | LOCKSTEP;
+    pub const ALL: u32 = ENABLE | HOLD | LOCKSTEP | JOINTS;
 }
 
 /// Bits of [`PlantMeasurement::valid`]: which fields hold a measurement.
@@ -54,8 +67,17 @@ pub mod measurement_valid {
     pub const FORCE: u32 = 1 << 6;
     /// Every finger's `roll`.
     pub const ROLL: u32 = 1 << 7;
-    /// What the daemon needs to control the hand.
+    /// Every finger's `joint_position` (`joint_count` joints).
+    pub const JOINT_POSITION: u32 = 1 << 8;
+    /// Every finger's `joint_velocity`.
+    pub const JOINT_VELOCITY: u32 = 1 << 9;
+    /// Every finger's `joint_torque` (the torque applied).
+    pub const JOINT_TORQUE: u32 = 1 << 10;
+    /// What the daemon needs to control a hand of free fingertips.
     pub const REQUIRED: u32 = OBJECT_ORIENTATION | TIP_POSE | CONTACT | ROLL;
+    /// What the daemon needs to control a hand of finger chains (the tips
+    /// it makes from the joints; tip poses, if sent too, are not read).
+    pub const REQUIRED_JOINTS: u32 = OBJECT_ORIENTATION | JOINT_POSITION | CONTACT;
     /// Every bit defined.
     pub const ALL: u32 = OBJECT_ORIENTATION
         | OBJECT_VELOCITY
@@ -64,7 +86,10 @@ pub mod measurement_valid {
         | TIP_VELOCITY
         | CONTACT
         | FORCE
-        | ROLL;
+        | ROLL
+        | JOINT_POSITION
+        | JOINT_VELOCITY
+        | JOINT_TORQUE;
 }
 
 /// Bits of [`PlantMeasurement::state`].
@@ -79,17 +104,21 @@ pub mod plant_state {
     pub const ALL: u32 = SIMULATED | PAUSED | FAULT;
 }
 
-/// One fingertip's setpoint.
+/// Most joints a finger's command and measurement carry.
+pub const MAX_JOINTS: usize = 4;
+
+/// One finger's setpoint: its tip, and on a chain hand its joints.
 ///
-/// Type name `gaitd::PlantFingerCommand.v5`, 152 bytes, alignment 8.
+/// Type name `gaitd::PlantFingerCommand.v7`, 312 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantFingerCommand.v6")]
+#[type_name("gaitd::PlantFingerCommand.v7")]
 pub struct PlantFingerCommand {
     /// [`PlantFingerMode`] code.
     pub mode: u32,
-    /// Padding, 0.
-    pub reserved: u32,
+    /// Joints the joint fields hold, base to tip (0 on free fingertips;
+    /// at most [`MAX_JOINTS`]); the rest of each array is 0.
+    pub joint_count: u32,
     /// Fingertip centre, hand frame \[m\].
     pub position: [f64; 3],
     /// Fingertip orientation [w, x, y, z] (fingertip → hand frame).
@@ -104,14 +133,26 @@ pub struct PlantFingerCommand {
     pub roll: f64,
     /// Intended normal (grip) force at the contact \[N\]; 0 when not grasping.
     pub grip_force: f64,
+    /// Joint position setpoints \[rad\].
+    pub joint_position: [f64; MAX_JOINTS],
+    /// Joint velocity setpoints \[rad/s\].
+    pub joint_velocity: [f64; MAX_JOINTS],
+    /// Feed-forward joint torques \[N·m\]: the grip through the tip's
+    /// Jacobian, Jᵀ·f, plus the links' weight where the daemon compensates
+    /// it.
+    pub joint_torque: [f64; MAX_JOINTS],
+    /// Position gains \[N·m/rad\].
+    pub kp: [f64; MAX_JOINTS],
+    /// Velocity gains \[N·m·s/rad\].
+    pub kd: [f64; MAX_JOINTS],
 }
 
 /// The daemon's setpoint for the plant, one per tick.
 ///
-/// Type name `gaitd::PlantCommand.v5`, 560 bytes, alignment 8.
+/// Type name `gaitd::PlantCommand.v7`, 1040 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantCommand.v6")]
+#[type_name("gaitd::PlantCommand.v7")]
 pub struct PlantCommand {
     /// The daemon's session id (random per daemon start).
     pub session: u64,
@@ -136,17 +177,18 @@ pub struct PlantCommand {
     pub fingers: [PlantFingerCommand; FINGERS],
 }
 
-/// One fingertip as measured.
+/// One finger as measured: its tip, and on a chain hand its joints.
 ///
-/// Type name `gaitd::PlantFingerMeasurement.v5`, 128 bytes, alignment 8.
+/// Type name `gaitd::PlantFingerMeasurement.v7`, 224 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantFingerMeasurement.v6")]
+#[type_name("gaitd::PlantFingerMeasurement.v7")]
 pub struct PlantFingerMeasurement {
     /// 1: the fingertip touches the object; 0: it does not.
     pub contact: u32,
-    /// Padding, 0.
-    pub reserved: u32,
+    /// Joints the joint fields hold, base to tip (at most
+    /// [`MAX_JOINTS`]; 0 on free fingertips).
+    pub joint_count: u32,
     /// Fingertip centre, hand frame \[m\].
     pub position: [f64; 3],
     /// Fingertip orientation [w, x, y, z] (fingertip → hand frame).
@@ -159,14 +201,20 @@ pub struct PlantFingerMeasurement {
     pub roll: f64,
     /// Normal force at the contact \[N\].
     pub normal_force: f64,
+    /// Joint positions \[rad\].
+    pub joint_position: [f64; MAX_JOINTS],
+    /// Joint velocities \[rad/s\].
+    pub joint_velocity: [f64; MAX_JOINTS],
+    /// Joint torques applied \[N·m\] (after the hand's own limits).
+    pub joint_torque: [f64; MAX_JOINTS],
 }
 
 /// What the plant measured, one per plant step (lockstep) or sample.
 ///
-/// Type name `gaitd::PlantMeasurement.v5`, 512 bytes, alignment 8.
+/// Type name `gaitd::PlantMeasurement.v7`, 800 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantMeasurement.v6")]
+#[type_name("gaitd::PlantMeasurement.v7")]
 pub struct PlantMeasurement {
     /// Session id of the last command applied (0 before the first one).
     pub session: u64,
@@ -195,15 +243,25 @@ pub struct PlantMeasurement {
     pub fingers: [PlantFingerMeasurement; FINGERS],
 }
 
-const _: () = assert!(core::mem::size_of::<PlantFingerCommand>() == 152);
-const _: () = assert!(core::mem::size_of::<PlantCommand>() == 560);
-const _: () = assert!(core::mem::size_of::<PlantFingerMeasurement>() == 128);
-const _: () = assert!(core::mem::size_of::<PlantMeasurement>() == 512);
+const _: () = assert!(core::mem::size_of::<PlantFingerCommand>() == 312);
+const _: () = assert!(core::mem::size_of::<PlantCommand>() == 1040);
+const _: () = assert!(core::mem::size_of::<PlantFingerMeasurement>() == 224);
+const _: () = assert!(core::mem::size_of::<PlantMeasurement>() == 800);
 const _: () = assert!(core::mem::align_of::<PlantMeasurement>() == 8);
 
 fn bits(kind: &'static str, value: u32, all: u32) -> Result<(), UnknownCode> {
     if value & !all != 0 {
         return Err(UnknownCode { kind, code: value });
+    }
+    Ok(())
+}
+
+fn joint_count(n: u32) -> Result<(), UnknownCode> {
+    if n as usize > MAX_JOINTS {
+        return Err(UnknownCode {
+            kind: "joint count",
+            code: n,
+        });
     }
     Ok(())
 }
@@ -214,6 +272,7 @@ impl PlantCommand {
         bits("command flags", self.flags, command_flags::ALL)?;
         for f in &self.fingers {
             PlantFingerMode::try_from(f.mode)?;
+            joint_count(f.joint_count)?;
         }
         Ok(())
     }
@@ -239,6 +298,7 @@ impl PlantMeasurement {
                     code: f.contact,
                 });
             }
+            joint_count(f.joint_count)?;
         }
         Ok(())
     }
@@ -269,12 +329,23 @@ mod tests {
         m.check().unwrap();
         m.fingers[1].contact = 2;
         assert!(m.check().is_err());
+        m.fingers[1].contact = 1;
+        m.fingers[2].joint_count = MAX_JOINTS as u32;
+        m.check().unwrap();
+        m.fingers[2].joint_count = MAX_JOINTS as u32 + 1;
+        assert!(m.check().is_err(), "more joints than the arrays hold");
         let mut c = PlantCommand::default();
         assert!(c.check().is_err(), "mode 0 is no mode");
         for f in &mut c.fingers {
             f.mode = PlantFingerMode::Grasping.code();
         }
         c.check().unwrap();
+        c.flags = command_flags::JOINTS;
+        c.fingers[0].joint_count = 3;
+        c.check().unwrap();
+        c.fingers[0].joint_count = 5;
+        assert!(c.check().is_err(), "more joints than the arrays hold");
+        c.fingers[0].joint_count = 3;
         c.flags = 1 << 9;
         assert!(c.check().is_err());
     }

@@ -37,7 +37,7 @@ pub const NO_FINGER: u32 = u32::MAX;
 /// The active goal and its progress.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::GoalStatus.v6")]
+#[type_name("gaitd::GoalStatus.v7")]
 pub struct GoalStatus {
     /// Id of the current (or last) goal, 0 if none.
     pub goal_id: u64,
@@ -73,8 +73,11 @@ pub mod measured {
     pub const CONTACTS: u32 = 1 << 2;
     /// Every finger's `measured_normal_force`.
     pub const FORCES: u32 = 1 << 3;
+    /// Every finger's `measured_joints` (a chain hand whose plant measures
+    /// its joints).
+    pub const JOINTS: u32 = 1 << 4;
     /// Every bit defined.
-    pub const ALL: u32 = OBJECT | TIPS | CONTACTS | FORCES;
+    pub const ALL: u32 = OBJECT | TIPS | CONTACTS | FORCES | JOINTS;
 }
 
 /// One finger (SPEC §7.3): the commanded state (`commanded_*` and the
@@ -84,7 +87,7 @@ pub mod measured {
 /// otherwise.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::FingerStatus.v6")]
+#[type_name("gaitd::FingerStatus.v7")]
 pub struct FingerStatus {
     /// [`FingerPhase`] code.
     pub state: u32,
@@ -129,13 +132,17 @@ pub struct FingerStatus {
     /// A chain hand's links off the object beyond the configured
     /// clearance, the closest link \[m\]; 0 on free fingertips.
     pub link_clearance: f64,
+    /// A chain hand's measured joint positions, base to tip \[rad\]
+    /// (valid with `measured::JOINTS`); the measured tip is where they put
+    /// it.
+    pub measured_joints: [f64; 3],
 }
 
 /// Loop timing (SPEC §7.2, §11). Percentiles are refreshed every
 /// [`TIMING_REFRESH_TICKS`] ticks; last and max every tick.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Timing.v6")]
+#[type_name("gaitd::Timing.v7")]
 pub struct Timing {
     /// Loop period \[ns\].
     pub period_ns: u64,
@@ -185,10 +192,10 @@ pub const TIMING_REFRESH_TICKS: u64 = 100;
 /// (SPEC §7.3): the commanded state beside the measured one, named so that
 /// neither is mistaken for the other.
 ///
-/// Type name `gaitd::Status.v6`, 1328 bytes, alignment 8.
+/// Type name `gaitd::Status.v7`, 1400 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Status.v6")]
+#[type_name("gaitd::Status.v7")]
 pub struct Status {
     /// Tick counter since daemon start.
     pub tick: u64,
@@ -267,14 +274,14 @@ pub mod hand {
 }
 
 const _: () = assert!(core::mem::size_of::<GoalStatus>() == 56);
-const _: () = assert!(core::mem::size_of::<FingerStatus>() == 272);
+const _: () = assert!(core::mem::size_of::<FingerStatus>() == 296);
 const _: () = assert!(core::mem::size_of::<Timing>() == 248);
-const _: () = assert!(core::mem::size_of::<Status>() == 1328);
+const _: () = assert!(core::mem::size_of::<Status>() == 1400);
 const _: () = assert!(core::mem::align_of::<Status>() == 8);
 
 impl Status {
     /// Size of the payload in bytes.
-    pub const SIZE: usize = 1328;
+    pub const SIZE: usize = 1400;
 
     /// The payload that `bytes` encode (e.g. as received from a bridge).
     /// Every bit pattern is a `Status` (integers and floats only, no implicit
@@ -396,7 +403,7 @@ mod tests {
         let b = s.to_bytes();
         assert_eq!(Status::from_bytes(&b), s);
         assert_eq!(u64::from_ne_bytes(b[0..8].try_into().unwrap()), 42);
-        assert_eq!(u64::from_ne_bytes(b[1304..1312].try_into().unwrap()), 9);
+        assert_eq!(u64::from_ne_bytes(b[1376..1384].try_into().unwrap()), 9);
     }
 
     #[test]

@@ -36,7 +36,7 @@ where
 
 #[test]
 fn schema_version_is_pinned() {
-    assert_eq!(shm_schema::SCHEMA_VERSION, 6);
+    assert_eq!(shm_schema::SCHEMA_VERSION, 7);
 }
 
 #[test]
@@ -225,7 +225,10 @@ fn plant_codes_and_bits() {
         ],
     );
     use command_flags as c;
-    assert_eq!((c::ENABLE, c::HOLD, c::LOCKSTEP, c::ALL), (1, 2, 4, 7));
+    assert_eq!(
+        (c::ENABLE, c::HOLD, c::LOCKSTEP, c::JOINTS, c::ALL),
+        (1, 2, 4, 8, 15)
+    );
     use measurement_valid as v;
     assert_eq!(
         [
@@ -237,11 +240,16 @@ fn plant_codes_and_bits() {
             v::CONTACT,
             v::FORCE,
             v::ROLL,
+            v::JOINT_POSITION,
+            v::JOINT_VELOCITY,
+            v::JOINT_TORQUE,
             v::REQUIRED,
+            v::REQUIRED_JOINTS,
             v::ALL
         ],
-        [1, 2, 4, 8, 16, 32, 64, 128, 169, 255]
+        [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 169, 289, 2047]
     );
+    assert_eq!(shm_schema::MAX_JOINTS, 4);
     use plant_state as p;
     assert_eq!((p::SIMULATED, p::PAUSED, p::FAULT, p::ALL), (1, 2, 4, 7));
 }
@@ -311,5 +319,8 @@ fn notification_ids_and_sentinels() {
 #[test]
 fn measured_mask_bits() {
     use shm_schema::measured::*;
-    assert_eq!((OBJECT, TIPS, CONTACTS, FORCES, ALL), (1, 2, 4, 8, 15));
+    assert_eq!(
+        (OBJECT, TIPS, CONTACTS, FORCES, JOINTS, ALL),
+        (1, 2, 4, 8, 16, 31)
+    );
 }

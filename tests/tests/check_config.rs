@@ -287,11 +287,20 @@ fn a_chain_hand_without_its_description_is_named() {
     assert!(!unset.status.success());
     let err = String::from_utf8_lossy(&unset.stderr);
     assert!(err.contains("hand.description"), "{err}");
-    // A chain hand on an external plant: refused, naming the key.
+    // A chain hand on an external plant (joint-level) is a configuration;
+    // a gain it would be commanded with that is no gain is named.
     let shm = check_trifingerpro("check-chain-shm", |c| {
         format!("{c}\n[plant]\nkind = \"shm\"\n")
     });
-    assert!(!shm.status.success());
-    let err = String::from_utf8_lossy(&shm.stderr);
-    assert!(err.contains("hand.kind"), "{err}");
+    assert!(
+        shm.status.success(),
+        "{}",
+        String::from_utf8_lossy(&shm.stderr)
+    );
+    let gain = check_trifingerpro("check-chain-gain", |c| {
+        c.replace("[hand]\n", "[hand]\njoint_kp = [9.0, -1.0, 9.0]\n")
+    });
+    assert!(!gain.status.success());
+    let err = String::from_utf8_lossy(&gain.stderr);
+    assert!(err.contains("hand.joint_kp"), "{err}");
 }

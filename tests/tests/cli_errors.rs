@@ -163,12 +163,12 @@ fn gaitctl_mistakes_give_a_message_not_a_backtrace() {
         &["speed"],
     );
     assert_user_error(
-        "a chain hand on an external plant",
+        "a chain hand on the MuJoCo plant",
         &run(
             "gaitctl",
-            &["demo", "--hand", "trifingerpro", "--plant", "sim"],
+            &["demo", "--hand", "trifingerpro", "--plant", "mujoco"],
         ),
-        &["--hand trifingerpro", "embedded"],
+        &["--hand trifingerpro", "--plant sim"],
     );
     let missing = Path::new("/nonexistent/trace.jsonl");
     assert_user_error(

@@ -8,13 +8,19 @@
 //! through the description's forward kinematics and finds the commanded
 //! tip there, the joints inside TriFingerPro's soft limits.
 //!
+//! And on a joint-level plant out of process (`gaitctl plant sim` on the
+//! same configuration): the daemon commands joints, the plant measures
+//! them; the status's measured tips are where the test's own forward
+//! kinematics of the measured joints puts them, and the ball ends at the
+//! goal as the plant reports it.
+//!
 //! The numbers the test holds it to are the tennis ball's and the tips'
 //! (deploy/hands/trifingerpro/hand.toml: R = 33.5 mm, r = 10 mm, the ball's
 //! centre 80 mm above the arena) and the URDF's soft joint limits
 //! (`robot_properties_fingers`) less the description's 0.05 rad.
 
 use gaitd_client::{GoalSpec, GoalState, ReasonCode, Verdict};
-use gaitd_tests::TestDaemon;
+use gaitd_tests::{TestDaemon, TestPlant};
 use std::time::{Duration, Instant};
 use test_support::quat::angle;
 
@@ -199,4 +205,85 @@ fn a_chain_hand_turns_the_ball_to_its_goal() {
         }
     }
     assert_eq!(c.bad_samples(), 0);
+}
+
+/// A quarter turn about −x on a joint-level kinematic TriFingerPro in
+/// its own process, in lockstep (module docs).
+#[test]
+fn a_joint_level_plant_is_commanded_and_read_by_its_joints() {
+    let cfg = format!(
+        "{}\n[plant]\nkind = \"shm\"\ntiming = \"lockstep\"\n",
+        trifingerpro()
+    );
+    let mut d = TestDaemon::new("chains-plant", &cfg);
+    d.spawn();
+    let plant = TestPlant::sim(&d);
+    let mut c = d.client();
+    let s0 = gaitd_tests::wait_plant_started(&mut c, &d, &plant);
+    let (h, q) = (
+        std::f64::consts::FRAC_PI_4.sin(),
+        std::f64::consts::FRAC_PI_4.cos(),
+    );
+    let goal = mul([q, -h, 0.0, 0.0], s0.measured_object_q);
+    let t = c
+        .reorient(
+            &GoalSpec::turn([-1.0, 0.0, 0.0], std::f64::consts::FRAC_PI_2).unwrap(),
+            T,
+        )
+        .unwrap();
+    assert_eq!(t.verdict, Verdict::Accepted, "{}", d.log());
+    let chains = chains();
+    let (t0, mut with_joints) = (Instant::now(), 0);
+    let end = loop {
+        let s = c.wait_status(T).unwrap();
+        assert_eq!(s.fault, 0, "a fault: {s:?}\n{}\n{}", d.log(), plant.log());
+        if s.measured_mask & shm_schema::measured::JOINTS != 0 {
+            with_joints += 1;
+            for (k, f) in s.fingers.iter().enumerate() {
+                let q = nalgebra::Vector3::from(f.measured_joints);
+                let tip = chains[k].forward(&q).tip_centre() - nalgebra::Vector3::from(CENTRE);
+                let read = nalgebra::Vector3::from(f.measured_tip_position);
+                assert!((tip - read).norm() < 1e-12, "finger {k}: {tip} vs {read}");
+                for j in 0..3 {
+                    assert!(
+                        (q[j] - LOWER[j]).min(UPPER[j] - q[j]) >= MARGIN - 1e-9,
+                        "finger {k} joint {j} measured at {} rad",
+                        q[j]
+                    );
+                }
+            }
+        }
+        if GoalState::try_from(s.goal.state).is_ok_and(|g| g.is_terminal())
+            && s.phase == shm_schema::Phase::Hold.code()
+        {
+            break s;
+        }
+        assert!(t0.elapsed() < Duration::from_secs(180), "no outcome");
+    };
+    let o = c.wait_outcome(t.goal_id, T).unwrap();
+    assert_eq!(
+        (o.state, o.reason),
+        (GoalState::Succeeded, ReasonCode::Reached),
+        "{}",
+        d.log()
+    );
+    let err = angle(end.measured_object_q, goal);
+    assert!(err < 1e-6, "the plant has the ball {err} rad from the goal");
+    // At rest the plant's joints are the ones commanded.
+    let s = c.wait_status(T).unwrap();
+    for f in &s.fingers {
+        let gap = nalgebra::Vector3::from(f.measured_joints)
+            - nalgebra::Vector3::from(f.commanded_joints);
+        assert!(
+            gap.norm() < 1e-12,
+            "measured {:?} commanded {:?}",
+            f.measured_joints,
+            f.commanded_joints
+        );
+    }
+    assert!(
+        with_joints > 100,
+        "{with_joints} statuses with measured joints"
+    );
+    drop(plant);
 }

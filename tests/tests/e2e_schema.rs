@@ -13,21 +13,21 @@ use iceoryx2::service::attribute::{AttributeKey, AttributeValue};
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use std::time::Duration;
 
-/// The status as a hypothetical schema v7 would name it (same bytes).
+/// The status as a hypothetical schema v8 would name it (same bytes).
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+#[type_name("gaitd::Status.v8")]
+struct StatusV8 {
+    bytes: [u64; 175],
+}
+const _: () = assert!(size_of::<StatusV8>() == size_of::<Status>());
+
+/// Same name as v7 but another layout (a field added without a version bump).
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::Status.v7")]
-struct StatusV7 {
-    bytes: [u64; 166],
-}
-const _: () = assert!(size_of::<StatusV7>() == size_of::<Status>());
-
-/// Same name as v6 but another layout (a field added without a version bump).
-#[derive(Debug, Clone, Copy, ZeroCopySend)]
-#[repr(C)]
-#[type_name("gaitd::Status.v6")]
 struct StatusGrown {
-    bytes: [u64; 167],
+    bytes: [u64; 176],
 }
 
 /// An old daemon's command type.
@@ -57,13 +57,13 @@ fn another_schema_version_cannot_open_the_services() {
     let d = TestDaemon::start("schema-open");
     let _c = d.client(); // the daemon is up
     let n = node(&d);
-    let v7 = n
+    let v8 = n
         .service_builder(&status_service(&d))
-        .publish_subscribe::<StatusV7>()
+        .publish_subscribe::<StatusV8>()
         .open();
     assert!(
-        matches!(v7, Err(PublishSubscribeOpenError::IncompatibleTypes)),
-        "{v7:?}"
+        matches!(v8, Err(PublishSubscribeOpenError::IncompatibleTypes)),
+        "{v8:?}"
     );
     let grown = n
         .service_builder(&status_service(&d))
@@ -98,18 +98,18 @@ fn a_daemon_without_a_version_service_is_named_v3_or_older() {
     assert!(matches!(err, Error::SchemaVersion { .. }), "{err:?}");
     let msg = err.to_string();
     assert!(
-        msg.contains("the daemon speaks schema v3 or older") && msg.contains("this client v6"),
+        msg.contains("the daemon speaks schema v3 or older") && msg.contains("this client v7"),
         "{msg}"
     );
 }
 
-/// A daemon of schema v7 as a v6 client meets it: a `version` service
-/// that says so, and services whose type names a v6 client cannot open.
-fn fake_v7_daemon(d: &TestDaemon, n: &Node<ipc::Service>) -> impl Sized {
+/// A daemon of schema v8 as a v7 client meets it: a `version` service
+/// that says so, and services whose type names a v7 client cannot open.
+fn fake_v8_daemon(d: &TestDaemon, n: &Node<ipc::Service>) -> impl Sized {
     let key = |k: &str| AttributeKey::new(k.as_bytes()).unwrap();
     let value = |v: &str| AttributeValue::new(v.as_bytes()).unwrap();
     let spec = AttributeSpecifier::new()
-        .define(&key(shm_schema::VERSION_ATTRIBUTE_SCHEMA), &value("7"))
+        .define(&key(shm_schema::VERSION_ATTRIBUTE_SCHEMA), &value("8"))
         .unwrap()
         .define(
             &key(shm_schema::VERSION_ATTRIBUTE_BUILD),
@@ -123,7 +123,7 @@ fn fake_v7_daemon(d: &TestDaemon, n: &Node<ipc::Service>) -> impl Sized {
         .unwrap();
     let status = n
         .service_builder(&status_service(d))
-        .publish_subscribe::<StatusV7>()
+        .publish_subscribe::<StatusV8>()
         .create()
         .unwrap();
     (version, status)
@@ -131,11 +131,11 @@ fn fake_v7_daemon(d: &TestDaemon, n: &Node<ipc::Service>) -> impl Sized {
 
 #[test]
 fn a_daemon_of_another_schema_is_named_with_both_versions() {
-    let d = TestDaemon::new("schema-v7", "");
+    let d = TestDaemon::new("schema-v8", "");
     std::fs::create_dir_all(&d.root).unwrap();
     let n = node(&d);
-    let _daemon = fake_v7_daemon(&d, &n);
-    let want = "the daemon speaks schema v7 (gaitd 9.9.9), this client v6";
+    let _daemon = fake_v8_daemon(&d, &n);
+    let want = "the daemon speaks schema v8 (gaitd 9.9.9), this client v7";
     // The Rust client.
     let err = Client::connect(d.options().timeout(Duration::from_secs(2))).unwrap_err();
     assert!(matches!(err, Error::SchemaVersion { .. }), "{err:?}");
@@ -183,7 +183,7 @@ fn the_daemon_states_its_schema_and_build() {
     };
     assert_eq!(
         value(shm_schema::VERSION_ATTRIBUTE_SCHEMA).as_deref(),
-        Some("6")
+        Some("7")
     );
     let build = value(shm_schema::VERSION_ATTRIBUTE_BUILD).unwrap();
     assert!(build.starts_with("gaitd "), "{build}");
@@ -197,7 +197,7 @@ fn a_stale_service_of_another_schema_is_replaced_at_start() {
     let n = node(&d);
     let stale = n
         .service_builder(&status_service(&d))
-        .publish_subscribe::<StatusV7>()
+        .publish_subscribe::<StatusV8>()
         .create()
         .unwrap();
     d.spawn();

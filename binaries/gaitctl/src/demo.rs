@@ -38,8 +38,9 @@ pub struct Args {
     #[arg(long, value_name = "PATH")]
     gaitd: Option<PathBuf>,
     /// The hand: the paper's free fingertips, or TriFingerPro's finger
-    /// chains holding a tennis ball (the embedded kinematic hand; the
-    /// description shipped in deploy/hands/trifingerpro/).
+    /// chains holding a tennis ball (the description shipped in
+    /// deploy/hands/trifingerpro/; the embedded kinematic hand, or with
+    /// `--plant sim` the joint-level kinematic plant out of process).
     #[arg(long, value_enum, default_value_t = DemoHand::Fingertips)]
     hand: DemoHand,
     /// Give up on a goal after this many seconds [default: 120; 300 on
@@ -112,9 +113,12 @@ impl Took {
 /// The `[load]` of a demo without `--gravity`.
 const WEIGHTLESS: &str = "[load]\ngravity = [0.0, 0.0, 0.0]\n";
 
+/// `[plant]` of a daemon whose hand is an external plant in lockstep.
+const LOCKSTEP_PLANT: &str = "[plant]\nkind = \"shm\"\ntiming = \"lockstep\"\n";
+
 /// The config of a daemon whose hand is the external plant `plant`.
 fn plant_config(plant: crate::plant::Kind, gravity: bool) -> String {
-    let mut c = String::from("[plant]\nkind = \"shm\"\ntiming = \"lockstep\"\n");
+    let mut c = String::from(LOCKSTEP_PLANT);
     if !gravity {
         c.push_str(WEIGHTLESS);
     }
@@ -407,10 +411,10 @@ fn run_goal(
 /// Runs `gaitctl demo`.
 pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
     let chains = a.hand == DemoHand::Trifingerpro;
-    if chains && a.plant.is_some() {
+    if chains && a.plant == Some(crate::plant::Kind::Mujoco) {
         return Err(
-            "--hand trifingerpro runs on the daemon's embedded kinematic hand: the plant \
-             interface carries fingertips, not joints"
+            "--hand trifingerpro runs on the embedded kinematic hand or, with --plant sim, \
+             on the joint-level kinematic plant; the MuJoCo plant simulates free fingertips"
                 .into(),
         );
     }
@@ -432,6 +436,8 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
         let extra = match a.plant {
             // The ball's weight is the description's.
             None if chains => TRIFINGERPRO[2].1.to_owned(),
+            // Its plant reads the same [hand].
+            Some(_) if chains => format!("{}\n{LOCKSTEP_PLANT}", TRIFINGERPRO[2].1),
             Some(p) => plant_config(p, a.gravity),
             None if !a.gravity => WEIGHTLESS.to_owned(),
             None => String::new(),
@@ -440,6 +446,12 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<ExitCode, String> {
             None if chains => println!(
                 "starting gaitd ({}) with an embedded kinematic TriFingerPro holding a tennis \
                  ball, gravity on (the hand description's)",
+                bin.display()
+            ),
+            Some(_) if chains => println!(
+                "starting gaitd ({}) with TriFingerPro holding a tennis ball, gravity on (the \
+                 hand description's), and a joint-level kinematic plant in lockstep: the daemon \
+                 commands joints, the plant measures them",
                 bin.display()
             ),
             None => println!(

@@ -1,4 +1,4 @@
-"""The payloads, codes and constants of the gaitd shared-memory schema v6, for ctypes.
+"""The payloads, codes and constants of the gaitd shared-memory schema v7, for ctypes.
 
 Generated from the ``shm_schema`` crate (``shm_schema/src/layout/python.rs``) by
 ``cargo test -p shm_schema`` (set ``GAITD_BLESS=1`` to rewrite it); a test fails when this
@@ -14,7 +14,7 @@ import enum
 from typing import ClassVar
 
 #: Version of the payload layout (part of every type name).
-SCHEMA_VERSION = 6
+SCHEMA_VERSION = 7
 #: The iceoryx2 release the daemon is built with; resource names are
 #: version-tagged, so the Python bindings must be exactly this version.
 ICEORYX2_VERSION = "0.10.0"
@@ -22,6 +22,8 @@ ICEORYX2_VERSION = "0.10.0"
 DEFAULT_PREFIX = "gaitd"
 #: Fingers of the hand (f1, f2, f3).
 FINGERS = 3
+#: Most joints a finger's plant command and measurement carry.
+MAX_JOINTS = 4
 #: ``active_finger`` / ``finger`` value meaning "no finger".
 NO_FINGER = 0xFFFFFFFF
 #: Attribute of the ``version`` service: the daemon's schema version (decimal).
@@ -51,7 +53,7 @@ class Payload(ctypes.Structure):
 class MotionLimits(Payload):
     """Velocity, acceleration and jerk limit overrides of one motion kind."""
 
-    _type_name = "gaitd::MotionLimits.v6"
+    _type_name = "gaitd::MotionLimits.v7"
     _fields_ = [
         # unit/s: velocity limit, > 0 when set
         ("velocity", f64),
@@ -65,7 +67,7 @@ class MotionLimits(Payload):
 class Command(Payload):
     """client → daemon: a goal, cancel, hold or reset."""
 
-    _type_name = "gaitd::Command.v6"
+    _type_name = "gaitd::Command.v7"
     _fields_ = [
         # CommandKind: what is asked
         ("kind", u32),
@@ -95,7 +97,7 @@ class Command(Payload):
 class Answer(Payload):
     """daemon → client: one per command, matched by client_id + request_id."""
 
-    _type_name = "gaitd::Answer.v6"
+    _type_name = "gaitd::Answer.v7"
     _fields_ = [
         # echo of the command's client_id
         ("client_id", u64),
@@ -121,7 +123,7 @@ class Answer(Payload):
 class GoalStatus(Payload):
     """The current goal and its progress (part of :class:`Status`)."""
 
-    _type_name = "gaitd::GoalStatus.v6"
+    _type_name = "gaitd::GoalStatus.v7"
     _fields_ = [
         # current or last goal, 0 = none
         ("goal_id", u64),
@@ -152,7 +154,7 @@ class GoalStatus(Payload):
 class FingerStatus(Payload):
     """One finger in the status: commanded and measured."""
 
-    _type_name = "gaitd::FingerStatus.v6"
+    _type_name = "gaitd::FingerStatus.v7"
     _fields_ = [
         # FingerPhase: finger state
         ("state", u32),
@@ -193,13 +195,15 @@ class FingerStatus(Payload):
         # m: chain hand: the closest link's distance from the object beyond the configured clearance (0 on free
         # fingertips)
         ("link_clearance", f64),
+        # rad: chain hand: the measured joint positions, base to tip (mask bit JOINTS)
+        ("measured_joints", f64 * 3),
     ]
 
 
 class Timing(Payload):
     """Loop timing statistics (part of :class:`Status`)."""
 
-    _type_name = "gaitd::Timing.v6"
+    _type_name = "gaitd::Timing.v7"
     _fields_ = [
         # ns: loop period
         ("period_ns", u64),
@@ -240,7 +244,7 @@ class Timing(Payload):
 class Status(Payload):
     """daemon → clients, every tick (latest value)."""
 
-    _type_name = "gaitd::Status.v6"
+    _type_name = "gaitd::Status.v7"
     _fields_ = [
         # tick: tick counter since start
         ("tick", u64),
@@ -278,8 +282,8 @@ class Status(Payload):
         ("object_error", f64),
         # tick: tick the measurement was read at, 0 = none yet
         ("measured_tick", u64),
-        # bits: valid measured fields: 1 OBJECT, 2 TIPS, 4 CONTACTS, 8 FORCES (a plant that reports normal forces); 0
-        # before the first measurement; the embedded hand: 7
+        # bits: valid measured fields: 1 OBJECT, 2 TIPS, 4 CONTACTS, 8 FORCES (a plant that reports normal forces), 16
+        # JOINTS (a chain hand's plant that measures its joints); 0 before the first measurement; the embedded hand: 7
         ("measured_mask", u32),
         # commands: commands sent after the one the measurement answers: the errors compare with the setpoint of tick
         # measured_tick − 1 − measured_age
@@ -304,7 +308,7 @@ class Status(Payload):
 class Event(Payload):
     """daemon → clients, with history: goal transitions, gaits, faults."""
 
-    _type_name = "gaitd::Event.v6"
+    _type_name = "gaitd::Event.v7"
     _fields_ = [
         # sequence number, from 1, no gaps
         ("seq", u64),
@@ -341,7 +345,7 @@ class Event(Payload):
 class PathPoint(Payload):
     """The hand at one instant of a plan (part of :class:`PlanPath`)."""
 
-    _type_name = "gaitd::PathPoint.v6"
+    _type_name = "gaitd::PathPoint.v7"
     _fields_ = [
         # s: time since the plan's first tick
         ("t", f64),
@@ -359,7 +363,7 @@ class PathPoint(Payload):
 class PlanPath(Payload):
     """daemon → clients: where each plan takes the hand (latest value)."""
 
-    _type_name = "gaitd::PlanPath.v6"
+    _type_name = "gaitd::PlanPath.v7"
     _fields_ = [
         # daemon instance id
         ("instance", u64),
@@ -383,13 +387,13 @@ class PlanPath(Payload):
 class PlantFingerCommand(Payload):
     """One fingertip's setpoint (part of :class:`PlantCommand`)."""
 
-    _type_name = "gaitd::PlantFingerCommand.v6"
+    _type_name = "gaitd::PlantFingerCommand.v7"
     _fields_ = [
         # PlantFingerMode: what the fingertip does
         ("mode", u32),
-        # padding, 0
-        ("reserved", u32),
-        # m: fingertip centre, hand frame
+        # joints the joint fields hold, base to tip (0 on free fingertips, at most 4)
+        ("joint_count", u32),
+        # m: fingertip centre, hand frame (chains: relative to the object's centre O)
         ("position", f64 * 3),
         # [w,x,y,z]: fingertip orientation Q_f, fingertip → hand; pole axis Q_f e_z
         ("orientation", f64 * 4),
@@ -403,13 +407,24 @@ class PlantFingerCommand(Payload):
         ("roll", f64),
         # N: intended normal force, 0 when not grasping
         ("grip_force", f64),
+        # rad: joint position setpoints q*
+        ("joint_position", f64 * 4),
+        # rad/s: joint velocity setpoints q̇*
+        ("joint_velocity", f64 * 4),
+        # N·m: feed-forward torque τ_ff: the grip through the tip Jacobian, Jᵀf, plus the links' weight where
+        # compensated
+        ("joint_torque", f64 * 4),
+        # N·m/rad: position gain: motor torque τ_ff + kp (q* − q) + kd (q̇* − q̇)
+        ("kp", f64 * 4),
+        # N·m·s/rad: velocity gain
+        ("kd", f64 * 4),
     ]
 
 
 class PlantCommand(Payload):
     """daemon → plant, every tick."""
 
-    _type_name = "gaitd::PlantCommand.v6"
+    _type_name = "gaitd::PlantCommand.v7"
     _fields_ = [
         # daemon session id, random per start
         ("session", u64),
@@ -422,7 +437,7 @@ class PlantCommand(Payload):
         # ns: control period
         ("period_ns", u64),
         # bits: 1 ENABLE (without it: move nothing, still echo the command), 2 HOLD (safe hold: still, grasp kept), 4
-        # LOCKSTEP
+        # LOCKSTEP, 8 JOINTS (a chain hand: follow the joint fields)
         ("flags", u32),
         # padding, 0
         ("reserved", u32),
@@ -439,13 +454,13 @@ class PlantCommand(Payload):
 class PlantFingerMeasurement(Payload):
     """One fingertip as measured (part of :class:`PlantMeasurement`)."""
 
-    _type_name = "gaitd::PlantFingerMeasurement.v6"
+    _type_name = "gaitd::PlantFingerMeasurement.v7"
     _fields_ = [
         # 0/1: 1 = touching the object
         ("contact", u32),
-        # padding, 0
-        ("reserved", u32),
-        # m: fingertip centre, hand frame
+        # joints the joint fields hold, base to tip (chains: the hand's, 0 on free fingertips)
+        ("joint_count", u32),
+        # m: fingertip centre, hand frame (not read on chains: the joints give it)
         ("position", f64 * 3),
         # [w,x,y,z]: fingertip orientation, fingertip → hand
         ("orientation", f64 * 4),
@@ -457,13 +472,19 @@ class PlantFingerMeasurement(Payload):
         ("roll", f64),
         # N: normal force at the contact
         ("normal_force", f64),
+        # rad: joint positions
+        ("joint_position", f64 * 4),
+        # rad/s: joint velocities
+        ("joint_velocity", f64 * 4),
+        # N·m: joint torques applied, after the hand's own limits
+        ("joint_torque", f64 * 4),
     ]
 
 
 class PlantMeasurement(Payload):
     """plant → daemon, one per plant step."""
 
-    _type_name = "gaitd::PlantMeasurement.v6"
+    _type_name = "gaitd::PlantMeasurement.v7"
     _fields_ = [
         # session of the last command applied, 0 = none yet
         ("session", u64),
@@ -474,7 +495,8 @@ class PlantMeasurement(Payload):
         # ns: sample time, plant clock: later than the last within a plant run
         ("time_ns", u64),
         # bits: valid fields: 1 object_q, 2 object_omega, 4 object_center, 8 tip pose, 16 tip velocity, 32 contact, 64
-        # normal_force, 128 roll (required: 1, 8, 32, 128)
+        # normal_force, 128 roll, 256 joint positions, 512 joint velocities, 1024 joint torques (required: 1, 8, 32,
+        # 128; chains: 1, 32, 256)
         ("valid", u32),
         # bits: 1 SIMULATED, 2 PAUSED, 4 FAULT
         ("state", u32),
@@ -892,10 +914,11 @@ class MeasuredMask(enum.IntFlag):
     TIPS = 2
     CONTACTS = 4
     FORCES = 8
+    JOINTS = 16
 
 
 #: Every bit of ``Status.measured_mask``.
-MEASURED_MASK_ALL = 15
+MEASURED_MASK_ALL = 31
 
 
 class CommandFlags(enum.IntFlag):
@@ -904,10 +927,11 @@ class CommandFlags(enum.IntFlag):
     ENABLE = 1
     HOLD = 2
     LOCKSTEP = 4
+    JOINTS = 8
 
 
 #: Every bit of ``PlantCommand.flags``.
-COMMAND_FLAGS_ALL = 7
+COMMAND_FLAGS_ALL = 15
 
 
 class Valid(enum.IntFlag):
@@ -921,12 +945,17 @@ class Valid(enum.IntFlag):
     CONTACT = 32
     FORCE = 64
     ROLL = 128
+    JOINT_POSITION = 256
+    JOINT_VELOCITY = 512
+    JOINT_TORQUE = 1024
 
 
-#: What the daemon needs to control the hand.
+#: What the daemon needs to control a hand of free fingertips.
 VALID_REQUIRED = 169
+#: What the daemon needs to control a hand of finger chains.
+VALID_REQUIRED_JOINTS = 289
 #: Every bit of ``PlantMeasurement.valid``.
-VALID_ALL = 255
+VALID_ALL = 2047
 
 
 class PlantState(enum.IntFlag):

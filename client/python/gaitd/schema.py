@@ -35,6 +35,7 @@ from .layout import (
     FINGERS,
     ICEORYX2_VERSION,
     LIMIT_MASK_ALL,
+    MAX_JOINTS,
     MEASURED_MASK_ALL,
     NO_FINGER,
     PAYLOADS,
@@ -42,6 +43,7 @@ from .layout import (
     SCHEMA_VERSION,
     VALID_ALL,
     VALID_REQUIRED,
+    VALID_REQUIRED_JOINTS,
     VERSION_ATTRIBUTE_BUILD,
     VERSION_ATTRIBUTE_SCHEMA,
     Answer,
@@ -88,6 +90,7 @@ __all__ = [
     "FINGERS",
     "ICEORYX2_VERSION",
     "LIMIT_MASK_ALL",
+    "MAX_JOINTS",
     "MEASURED_MASK_ALL",
     "NO_FINGER",
     "PAYLOADS",
@@ -96,6 +99,7 @@ __all__ = [
     "SCHEMA_VERSION",
     "VALID_ALL",
     "VALID_REQUIRED",
+    "VALID_REQUIRED_JOINTS",
     "VERSION_ATTRIBUTE_BUILD",
     "VERSION_ATTRIBUTE_SCHEMA",
     "Answer",
@@ -175,8 +179,8 @@ PLANT_EVENT_ID = 1
 
 # (payload, field, {bit value: name as the document's meaning column spells it})
 _DOCUMENTED_BITS: tuple[tuple[str, str, dict[int, str]], ...] = (
-    ("Status", "measured_mask", {1: "OBJECT", 2: "TIPS", 4: "CONTACTS", 8: "FORCES"}),
-    ("PlantCommand", "flags", {1: "ENABLE", 2: "HOLD", 4: "LOCKSTEP"}),
+    ("Status", "measured_mask", {1: "OBJECT", 2: "TIPS", 4: "CONTACTS", 8: "FORCES", 16: "JOINTS"}),
+    ("PlantCommand", "flags", {1: "ENABLE", 2: "HOLD", 4: "LOCKSTEP", 8: "JOINTS"}),
     (
         "PlantMeasurement",
         "valid",
@@ -189,6 +193,9 @@ _DOCUMENTED_BITS: tuple[tuple[str, str, dict[int, str]], ...] = (
             32: "contact",
             64: "normal_force",
             128: "roll",
+            256: "joint positions",
+            512: "joint velocities",
+            1024: "joint torques",
         },
     ),
     ("PlantMeasurement", "state", {1: "SIMULATED", 2: "PAUSED", 4: "FAULT"}),
@@ -421,9 +428,9 @@ def _check_bits(doc: LayoutDocument, problems: list[str]) -> None:
         key = f"{type_name}.{field}"
         if key in mirror_flags and mirror_flags[key] != bits:
             problems.append(f"{key}: mirror bits {mirror_flags[key]} differ from the table {bits}")
-    valid = {1 << i for i in range(8)}
+    valid = {1 << i for i in range(11)}
     if {int(b) for b in Valid} != valid or VALID_ALL != sum(valid):
-        problems.append("PlantMeasurement.valid: mirror bits are not 1..128")
+        problems.append("PlantMeasurement.valid: mirror bits are not 1..1024")
     m = doc.types.get("PlantMeasurement")
     meaning = next((x for n, _, _, x in m.fields if n == "valid"), "") if m else ""
     if req := re.search(r"required: ([\d, ]+)", meaning):

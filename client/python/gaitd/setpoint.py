@@ -7,6 +7,11 @@ turns a checked command into an immutable :class:`Setpoint`. In the other
 direction a plant returns a :class:`Measured` and :func:`encode_measurement`
 fills the ``PlantMeasurement`` with its ``valid`` bits set from which
 optional fields are present.
+
+A chain hand's command also carries each finger's joints
+(``CommandFlags.JOINTS``: :class:`JointSetpoint`, the shape of a TriFinger
+action), and its plant measures them (:class:`JointsMeasured`): the daemon
+makes the tips from the measured joints.
 """
 
 from __future__ import annotations
@@ -14,11 +19,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 from collections.abc import Iterable, Sequence
+from typing import Any
 
 from . import quat
 from .schema import (
     COMMAND_FLAGS_ALL,
     FINGERS,
+    MAX_JOINTS,
     CommandFlags,
     PlantCommand,
     PlantFault,
@@ -37,8 +44,20 @@ UNIT_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
+class JointSetpoint:
+    """A chain finger's joints, base to tip: the motor torque is
+    ``torque + kp·(position − q) + kd·(velocity − q̇)`` (rad, rad/s, N·m, N·m/rad, N·m·s/rad)."""
+
+    position: tuple[float, ...]
+    velocity: tuple[float, ...]
+    torque: tuple[float, ...]
+    kp: tuple[float, ...]
+    kd: tuple[float, ...]
+
+
+@dataclass(frozen=True)
 class FingerSetpoint:
-    """One fingertip's setpoint (hand frame, object centre at the origin)."""
+    """One finger's setpoint (hand frame, object centre at the origin); a chain hand's ``joints`` too."""
 
     mode: PlantFingerMode
     position: Vec
@@ -48,6 +67,7 @@ class FingerSetpoint:
     acceleration: Vec = ZERO
     roll: float = 0.0
     grip_force: float = 0.0
+    joints: JointSetpoint | None = None
 
 
 @dataclass(frozen=True)
@@ -74,15 +94,37 @@ class Setpoint:
         """Safe hold: stay still, keep the grasp (HOLD)."""
         return bool(self.flags & CommandFlags.HOLD)
 
+    @property
+    def joints(self) -> bool:
+        """A chain hand's command: each finger's ``joints`` hold its setpoint (JOINTS)."""
+        return bool(self.flags & CommandFlags.JOINTS)
+
     def still(self) -> Setpoint:
         """The same poses and grips with every velocity and acceleration zero (a held setpoint)."""
-        fingers = tuple(replace(f, velocity=ZERO, angular_velocity=ZERO, acceleration=ZERO) for f in self.fingers)
+
+        def still_joints(j: JointSetpoint | None) -> JointSetpoint | None:
+            return None if j is None else replace(j, velocity=tuple(0.0 for _ in j.velocity))
+
+        fingers = tuple(
+            replace(f, velocity=ZERO, angular_velocity=ZERO, acceleration=ZERO, joints=still_joints(f.joints))
+            for f in self.fingers
+        )
         return replace(self, fingers=fingers, object_omega=ZERO)
 
 
 @dataclass(frozen=True)
+class JointsMeasured:
+    """A chain finger's joints as measured, base to tip; ``None`` = not measured."""
+
+    position: tuple[float, ...]
+    velocity: tuple[float, ...] | None = None
+    torque: tuple[float, ...] | None = None
+
+
+@dataclass(frozen=True)
 class FingerMeasured:
-    """One fingertip as measured; ``None`` = not measured by this plant."""
+    """One finger as measured; ``None`` = not measured by this plant. On a chain hand the daemon
+    reads ``joints`` and makes the tip from them (``position`` and ``orientation`` are not read)."""
 
     position: Vec
     orientation: Quat
@@ -91,6 +133,7 @@ class FingerMeasured:
     velocity: Vec | None = None
     angular_velocity: Vec | None = None
     normal_force: float | None = None
+    joints: JointsMeasured | None = None
 
 
 @dataclass(frozen=True)
@@ -149,8 +192,17 @@ def check_setpoint(c: PlantCommand) -> None:
             PlantFingerMode(f.mode)
         except ValueError:
             raise BadCommand(f"finger {i}: mode {f.mode} is no PlantFingerMode") from None
-        if f.reserved != 0:
-            raise BadCommand(f"finger {i}: reserved padding is not 0")
+        if f.joint_count > MAX_JOINTS:
+            raise BadCommand(f"finger {i}: joint_count {f.joint_count} > {MAX_JOINTS}")
+        if c.flags & CommandFlags.JOINTS:
+            n = f.joint_count
+            if n == 0:
+                raise BadCommand(f"finger {i}: no joints in a JOINTS command")
+            joint_numbers = [*f.joint_position[:n], *f.joint_velocity[:n], *f.joint_torque[:n], *f.kp[:n], *f.kd[:n]]
+            if not _finite(joint_numbers):
+                raise BadCommand(f"finger {i}: a non-finite joint number")
+            if any(g < 0.0 for g in [*f.kp[:n], *f.kd[:n]]):
+                raise BadCommand(f"finger {i}: a negative gain")
         if not _unit(f.orientation):
             raise BadCommand(f"finger {i}: orientation {list(f.orientation)} is not a finite unit quaternion")
         numbers = [*f.position, *f.velocity, *f.angular_velocity, *f.acceleration, f.roll, f.grip_force]
@@ -160,8 +212,20 @@ def check_setpoint(c: PlantCommand) -> None:
             raise BadCommand(f"finger {i}: negative grip force {f.grip_force}")
 
 
+def _joint_setpoint(f: Any) -> JointSetpoint:
+    n = f.joint_count
+    return JointSetpoint(
+        position=tuple(f.joint_position[:n]),
+        velocity=tuple(f.joint_velocity[:n]),
+        torque=tuple(f.joint_torque[:n]),
+        kp=tuple(f.kp[:n]),
+        kd=tuple(f.kd[:n]),
+    )
+
+
 def decode_command(c: PlantCommand) -> Setpoint:
     """The :class:`Setpoint` of a command that passed :func:`check_setpoint` (quaternions renormalised)."""
+    joints = bool(c.flags & CommandFlags.JOINTS)
     fingers = tuple(
         FingerSetpoint(
             mode=PlantFingerMode(f.mode),
@@ -172,6 +236,7 @@ def decode_command(c: PlantCommand) -> Setpoint:
             acceleration=tuple(f.acceleration),
             roll=f.roll,
             grip_force=f.grip_force,
+            joints=_joint_setpoint(f) if joints else None,
         )
         for f in c.fingers
     )
@@ -209,6 +274,17 @@ def encode_command(sp: Setpoint) -> PlantCommand:
         dst.acceleration[:] = f.acceleration
         dst.roll = f.roll
         dst.grip_force = f.grip_force
+        if f.joints is not None:
+            j = f.joints
+            dst.joint_count = len(j.position)
+            for name, values in (
+                ("joint_position", j.position),
+                ("joint_velocity", j.velocity),
+                ("joint_torque", j.torque),
+                ("kp", j.kp),
+                ("kd", j.kd),
+            ):
+                getattr(dst, name)[: len(values)] = values
     return c
 
 
@@ -229,6 +305,15 @@ def measured_problem(m: Measured) -> str | None:
             numbers += list(v) if v is not None else []
         if f.normal_force is not None:
             numbers.append(f.normal_force)
+        if f.joints is not None:
+            j = f.joints
+            if not 0 < len(j.position) <= MAX_JOINTS:
+                return f"finger {i}: {len(j.position)} joints (1 to {MAX_JOINTS})"
+            for jv in (j.velocity, j.torque):
+                if jv is not None and len(jv) != len(j.position):
+                    return f"finger {i}: joint velocities or torques for another number of joints"
+                numbers += list(jv) if jv is not None else []
+            numbers += list(j.position)
         if not _finite(numbers):
             return f"finger {i}: a non-finite number"
     return None
@@ -250,6 +335,10 @@ def encode_measurement(
         out.object_center[:] = m.object_center
     tip_velocity = all(f.velocity is not None and f.angular_velocity is not None for f in m.fingers)
     force = all(f.normal_force is not None for f in m.fingers)
+    joints = [f.joints for f in m.fingers]
+    joint_position = all(j is not None for j in joints)
+    joint_velocity = joint_position and all(j is not None and j.velocity is not None for j in joints)
+    joint_torque = joint_position and all(j is not None and j.torque is not None for j in joints)
     for dst, f in zip(out.fingers, m.fingers):
         dst.contact = 1 if f.contact else 0
         dst.position[:] = f.position
@@ -260,10 +349,24 @@ def encode_measurement(
             dst.angular_velocity[:] = f.angular_velocity
         if force:
             dst.normal_force = f.normal_force
+        if joint_position and f.joints is not None:
+            j = f.joints
+            dst.joint_count = len(j.position)
+            dst.joint_position[: len(j.position)] = j.position
+            if joint_velocity and j.velocity is not None:
+                dst.joint_velocity[: len(j.velocity)] = j.velocity
+            if joint_torque and j.torque is not None:
+                dst.joint_torque[: len(j.torque)] = j.torque
     if tip_velocity:
         valid |= Valid.TIP_VELOCITY
     if force:
         valid |= Valid.FORCE
+    if joint_position:
+        valid |= Valid.JOINT_POSITION
+    if joint_velocity:
+        valid |= Valid.JOINT_VELOCITY
+    if joint_torque:
+        valid |= Valid.JOINT_TORQUE
     if m.fault != PlantFault.None_:
         state |= PlantState.FAULT
         out.fault = int(m.fault)

@@ -300,7 +300,7 @@ def test_a_good_status_passes() -> None:
         lambda s: setattr(s.goal, "reason", 1000),
         lambda s: setattr(s.fingers[2], "state", 0),
         lambda s: setattr(s.fingers[1], "measured_contact", 2),
-        lambda s: setattr(s, "measured_mask", 16),
+        lambda s: setattr(s, "measured_mask", 32),
     ],
 )
 def test_status_codes_are_checked(breaks: Callable[[Status], object]) -> None:

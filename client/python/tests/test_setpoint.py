@@ -15,6 +15,8 @@ from gaitd.schema import CommandFlags, PlantCommand, PlantFault, PlantFingerMode
 from gaitd.setpoint import (
     BadCommand,
     FingerMeasured,
+    JointSetpoint,
+    JointsMeasured,
     Measured,
     Setpoint,
     check_header,
@@ -60,7 +62,7 @@ def test_decode_renormalises_quaternions() -> None:
 @pytest.mark.parametrize(
     ("field", "value", "why"),
     [
-        ("flags", 8 | int(CommandFlags.ENABLE), "unknown bits"),
+        ("flags", 16 | int(CommandFlags.ENABLE), "unknown bits"),
         ("reserved", 1, "reserved padding"),
         ("session", 0, "session id 0"),
         ("seq", 0, "seq 0"),
@@ -89,7 +91,7 @@ def test_check_header_refuses_lockstep_to_a_realtime_plant() -> None:
         (lambda c: c.object_q.__setitem__(slice(0, 4), (3.0, 0.0, 0.0, 0.0)), "object_q"),
         (lambda c: c.object_omega.__setitem__(2, math.inf), "object_omega"),
         (lambda c: setattr(c.fingers[1], "mode", 9), "finger 1: mode 9"),
-        (lambda c: setattr(c.fingers[2], "reserved", 1), "finger 2: reserved"),
+        (lambda c: setattr(c.fingers[2], "joint_count", 5), "finger 2: joint_count 5"),
         (lambda c: c.fingers[0].orientation.__setitem__(0, 0.5), "finger 0: orientation"),
         (lambda c: c.fingers[0].velocity.__setitem__(1, math.nan), "finger 0: a non-finite number"),
         (lambda c: setattr(c.fingers[2], "roll", math.inf), "finger 2: a non-finite number"),
@@ -186,3 +188,67 @@ def test_mode_codes_survive_the_round_trip() -> None:
     modes = (PlantFingerMode.Free, PlantFingerMode.Placing, PlantFingerMode.Lifting)
     sp = replace(sp, fingers=tuple(replace(f, mode=m) for f, m in zip(sp.fingers, modes)))
     assert tuple(f.mode for f in decode_command(encode_command(sp)).fingers) == modes
+
+
+def chain_start() -> Setpoint:
+    """:func:`start` as a chain hand's command: three joints per finger (TriFinger's gains)."""
+    sp = start()
+    joints = JointSetpoint(
+        position=(0.3, 0.9, -1.8), velocity=(0.1, -0.2, 0.0), torque=(0.05, -0.1, 0.02), kp=(9.0,) * 3, kd=(0.01,) * 3
+    )
+    return replace(
+        sp, flags=sp.flags | int(CommandFlags.JOINTS), fingers=tuple(replace(f, joints=joints) for f in sp.fingers)
+    )
+
+
+def test_a_chain_hands_joints_round_trip_and_are_checked() -> None:
+    sp = chain_start()
+    c = encode_command(sp)
+    assert [f.joint_count for f in c.fingers] == [3, 3, 3]
+    assert list(c.fingers[1].kp) == [9.0, 9.0, 9.0, 0.0]
+    check_setpoint(c)
+    back = decode_command(c)
+    assert back == sp and back.joints
+    held = back.still()
+    assert all(f.joints is not None and f.joints.velocity == (0.0, 0.0, 0.0) for f in held.fingers)
+    assert all(f.joints is not None and f.joints.position == (0.3, 0.9, -1.8) for f in held.fingers)
+    # A fingertip command carries no joints.
+    assert all(f.joints is None for f in decode_command(encode_command(start())).fingers)
+    cases: list[tuple[Callable[[PlantCommand], object], str]] = [
+        (lambda c: setattr(c.fingers[0], "joint_count", 0), "finger 0: no joints"),
+        (lambda c: c.fingers[1].joint_torque.__setitem__(2, math.nan), "finger 1: a non-finite joint"),
+        (lambda c: c.fingers[2].kd.__setitem__(0, -1.0), "finger 2: a negative gain"),
+    ]
+    for breaks, why in cases:
+        c = encode_command(sp)
+        breaks(c)
+        with pytest.raises(BadCommand, match=why):
+            check_setpoint(c)
+
+
+def test_measured_joints_set_their_valid_bits_for_all_fingers_or_none() -> None:
+    m = measured()
+    j = JointsMeasured(position=(0.3, 0.9, -1.8), velocity=(0.0, 0.1, 0.0), torque=(0.1, 0.2, 0.3))
+    with_joints = replace(m, fingers=tuple(replace(f, joints=j) for f in m.fingers))
+    out = encode_measurement(with_joints, seq=1, time_ns=1, session=1, applied=0, simulated=True)
+    assert out.valid & Valid.JOINT_POSITION and out.valid & Valid.JOINT_VELOCITY and out.valid & Valid.JOINT_TORQUE
+    assert [f.joint_count for f in out.fingers] == [3, 3, 3]
+    assert list(out.fingers[2].joint_torque) == [0.1, 0.2, 0.3, 0.0]
+    positions_only = replace(with_joints.fingers[0], joints=JointsMeasured(position=(0.3, 0.9, -1.8)))
+    out = encode_measurement(
+        replace(with_joints, fingers=(positions_only, *with_joints.fingers[1:])),
+        seq=1,
+        time_ns=1,
+        session=1,
+        applied=0,
+        simulated=True,
+    )
+    assert out.valid & Valid.JOINT_POSITION and not out.valid & (Valid.JOINT_VELOCITY | Valid.JOINT_TORQUE)
+    one_missing = replace(with_joints, fingers=(*with_joints.fingers[:2], m.fingers[2]))
+    out = encode_measurement(one_missing, seq=1, time_ns=1, session=1, applied=0, simulated=True)
+    assert not out.valid & Valid.JOINT_POSITION
+    bad = replace(with_joints.fingers[1], joints=JointsMeasured(position=(0.1, math.nan, 0.0)))
+    fingers = (with_joints.fingers[0], bad, m.fingers[2])
+    assert "finger 1" in str(measured_problem(replace(with_joints, fingers=fingers)))
+    five = replace(with_joints.fingers[0], joints=JointsMeasured(position=(0.0,) * 5))
+    assert "5 joints" in str(measured_problem(replace(with_joints, fingers=(five, *with_joints.fingers[1:]))))

@@ -40,6 +40,14 @@ pub struct HandSection {
     /// start orientation; any length). An external plant's first
     /// measurement gives the start instead.
     pub start_normals: Vec<[f64; 3]>,
+    /// Chains on an external plant: each joint's position gain, base to
+    /// tip, the same on every finger \[N·m/rad\].
+    pub joint_kp: [f64; 3],
+    /// Chains on an external plant: each joint's velocity gain \[N·m·s/rad\].
+    pub joint_kd: [f64; 3],
+    /// Chains on an external plant: the commanded feed-forward torque
+    /// holds the links' weight (the hand does not).
+    pub compensate_link_weight: bool,
 }
 
 impl Default for HandSection {
@@ -51,6 +59,10 @@ impl Default for HandSection {
             link_clearance: 0.005,
             finger_gap: 0.005,
             start_normals: Vec::new(),
+            // TriFingerPro's default position control (robot_fingers).
+            joint_kp: [9.0; 3],
+            joint_kd: [0.01; 3],
+            compensate_link_weight: true,
         }
     }
 }
@@ -85,6 +97,19 @@ impl HandSection {
         }
         if !(self.finger_gap >= 0.0 && self.finger_gap.is_finite()) {
             return bad("hand.finger_gap", "must be ≥ 0 and finite [m]");
+        }
+        let gain = |g: &[f64; 3]| g.iter().all(|x| *x >= 0.0 && x.is_finite());
+        if !gain(&self.joint_kp) {
+            return bad(
+                "hand.joint_kp",
+                "every gain must be ≥ 0 and finite [N·m/rad]",
+            );
+        }
+        if !gain(&self.joint_kd) {
+            return bad(
+                "hand.joint_kd",
+                "every gain must be ≥ 0 and finite [N·m·s/rad]",
+            );
         }
         if !self.chains() {
             return Ok(());

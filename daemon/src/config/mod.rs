@@ -574,12 +574,6 @@ impl DaemonConfig {
         self.rt.validate()?;
         self.plant.validate()?;
         self.hand.validate()?;
-        if self.hand.chains() && self.plant.external() {
-            return Err(KeyError::Invalid {
-                key: "hand.kind",
-                why: "a chain hand runs on the embedded hand: the plant interface carries fingertips, not joints",
-            });
-        }
         Ok(())
     }
 

@@ -176,6 +176,8 @@ pub struct MeasuredReport {
     /// status's tracking errors compare with it, not with this tick's
     /// setpoint, which the plant has not received yet.
     pub answers: HandState,
+    /// A chain hand's measured joints, where its plant measures them.
+    pub joints: Option<[Vector3<f64>; 3]>,
 }
 
 /// What the controller reports after each tick (in maths types; the

@@ -120,7 +120,8 @@ pub fn fill_status(out: &ControlOutput, object_radius: f64, status: &mut Status)
 }
 
 /// The measurement beside the command: orientation, fingertip poses,
-/// contacts and forces as the plant reported them, and the tracking errors.
+/// contacts and forces as the plant reported them (a chain hand's joints,
+/// where its plant measures them), and the tracking errors.
 fn fill_measured(out: &ControlOutput, status: &mut Status) {
     let Some(report) = &out.measured else {
         status.measured_tick = 0;
@@ -143,9 +144,15 @@ fn fill_measured(out: &ControlOutput, status: &mut Status) {
     status.measured_mask = measured::OBJECT
         | measured::TIPS
         | measured::CONTACTS
-        | if forces { measured::FORCES } else { 0 };
+        | if forces { measured::FORCES } else { 0 }
+        | if report.joints.is_some() {
+            measured::JOINTS
+        } else {
+            0
+        };
     for (k, fs) in status.fingers.iter_mut().enumerate() {
         let f = &m.fingers[k];
+        fs.measured_joints = report.joints.map_or([0.0; 3], |q| vec_to_wire(&q[k]));
         fs.measured_tip_position = vec_to_wire(&f.center);
         fs.measured_tip_orientation = quat_to_wire(&f.orientation);
         fs.measured_contact = u32::from(f.contact);

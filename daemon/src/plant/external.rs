@@ -17,6 +17,7 @@
 //! start of a new plant run (a restarted plant), taken as fresh.
 
 use super::PlantSample;
+use super::joints::{FingerSetpoint, JointLink};
 use super::wire::{self, finger_commands, object_command};
 use crate::config::PlantSection;
 use crate::sys::clock::Nanos;
@@ -24,7 +25,9 @@ use gait::executor::FaultKind;
 use gait::planner::Setpoint;
 use gait::sim::Measurement;
 use nalgebra::Vector3;
-use shm_schema::{PlantCommand, PlantFault, PlantFingerMode, PlantMeasurement, plant_state};
+use shm_schema::{
+    PlantCommand, PlantFault, PlantFingerMode, PlantMeasurement, command_flags, plant_state,
+};
 
 /// What a tick gets from the plant.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -35,6 +38,8 @@ pub struct Read {
     pub fresh: bool,
     /// A fault to report.
     pub fault: Option<LinkFault>,
+    /// A chain hand's measured joints, with the measurement.
+    pub joints: Option<[Vector3<f64>; 3]>,
 }
 
 /// A fault of the plant link.
@@ -88,6 +93,18 @@ pub struct ExternalPlant {
     sent: u64,
     /// Fingertip velocities of the last command (acceleration feed-forward).
     prev_velocity: [Vector3<f64>; 3],
+    /// A chain hand's joints: read, and commanded.
+    joints: Option<Box<Joints>>,
+}
+
+/// A joint-level plant's side of the link.
+#[derive(Debug, Clone)]
+struct Joints {
+    link: JointLink,
+    /// The joints of the measurement held.
+    held: Option<[Vector3<f64>; 3]>,
+    /// The joints last commanded (where a setpoint has none).
+    last: [Vector3<f64>; 3],
 }
 
 impl ExternalPlant {
@@ -110,7 +127,19 @@ impl ExternalPlant {
             lost: false,
             sent: 0,
             prev_velocity: [Vector3::zeros(); 3],
+            joints: None,
         }
+    }
+
+    /// A joint-level plant of a chain hand: measured and commanded by
+    /// its joints through `link` (shm_schema plant docs).
+    pub fn with_joints(mut self, link: JointLink) -> Self {
+        self.joints = Some(Box::new(Joints {
+            link,
+            held: None,
+            last: [Vector3::zeros(); 3],
+        }));
+        self
     }
 
     /// Whether the loop is paced by the plant.
@@ -155,6 +184,9 @@ impl ExternalPlant {
                 self.held.is_some() && (self.missed > self.max_missed || stale || sample.timed_out);
             if gone {
                 self.held = None;
+                if let Some(j) = self.joints.as_mut() {
+                    j.held = None;
+                }
                 if !self.lost && fault.is_none() {
                     self.lost = true;
                     fault = Some(LinkFault::of(FaultKind::PlantLost));
@@ -171,6 +203,7 @@ impl ExternalPlant {
             measurement: self.held,
             fresh,
             fault,
+            joints: self.held.and(self.joints.as_ref().and_then(|j| j.held)),
         }
     }
 
@@ -216,7 +249,11 @@ impl ExternalPlant {
         } else {
             0
         };
-        let m = wire::measurement(raw, age).map_err(|e| LinkFault {
+        let (m, joints) = match &self.joints {
+            Some(j) => wire::joint_measurement(raw, age, &j.link).map(|(m, q)| (m, Some(q))),
+            None => wire::measurement(raw, age).map(|m| (m, None)),
+        }
+        .map_err(|e| LinkFault {
             finger: e.finger(),
             ..LinkFault::of(FaultKind::PlantInvalid)
         })?;
@@ -227,16 +264,22 @@ impl ExternalPlant {
         }
         self.echoed = ours;
         self.held = Some(m);
+        if let Some(j) = self.joints.as_mut() {
+            j.held = joints;
+        }
         Ok(true)
     }
 
     /// The next command: the setpoint `sp`, each finger's mode and intended
-    /// grip, and the `flags` (ENABLE, HOLD, LOCKSTEP bits).
+    /// grip, and the `flags` (ENABLE, HOLD, LOCKSTEP bits); on a chain
+    /// hand also its joint fields from the commanded `joints` (a finger
+    /// without keeps the joints it was last commanded) and the JOINTS bit.
     pub fn command(
         &mut self,
         sp: &Setpoint,
         modes: &[PlantFingerMode; 3],
         grip: &[f64; 3],
+        joints: &[Option<Vector3<f64>>; 3],
         flags: u32,
     ) -> PlantCommand {
         self.sent += 1;
@@ -259,6 +302,21 @@ impl ExternalPlant {
             ..PlantCommand::default()
         };
         object_command(sp, &mut c);
+        if let Some(j) = self.joints.as_mut() {
+            c.flags |= command_flags::JOINTS;
+            for (k, f) in c.fingers.iter_mut().enumerate() {
+                if let Some(q) = joints[k] {
+                    j.last[k] = q;
+                }
+                let setpoint = FingerSetpoint {
+                    joints: j.last[k],
+                    center: sp.state.fingers[k].center,
+                    velocity: sp.finger_velocity[k],
+                    grip: f.grip_force,
+                };
+                j.link.command(k, &setpoint, f);
+            }
+        }
         c
     }
 }
@@ -317,7 +375,13 @@ mod tests {
             finger_rate: [Vector3::zeros(); 3],
             estimate_epoch: 0,
         };
-        l.command(&sp, &[PlantFingerMode::Grasping; 3], &[1.0; 3], 1)
+        l.command(
+            &sp,
+            &[PlantFingerMode::Grasping; 3],
+            &[1.0; 3],
+            &[None; 3],
+            1,
+        )
     }
 
     #[test]

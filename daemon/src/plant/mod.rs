@@ -9,11 +9,14 @@
 //! - [`contract`]: the timing contract: commands and measurements late or
 //!   repeated, counted, and a run of misses faulted;
 //! - [`wire`]: measurements and commands ↔ the maths types;
+//! - [`joints`]: a chain hand's joints on the link (measured joints → tips,
+//!   the command's joint setpoints, feed-forward torques and gains);
 //! - [`ports`]: the loop thread's receiving end (iceoryx2 subscriber and
 //!   listener), which also paces the loop in lockstep.
 
 pub mod contract;
 pub mod external;
+pub mod joints;
 pub mod ports;
 pub mod wire;
 

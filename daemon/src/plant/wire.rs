@@ -2,8 +2,11 @@
 //! [`Measurement`] only if it carries every required field with finite
 //! numbers and unit quaternions, and every optional field it flags valid
 //! with finite numbers (velocities too, though the controller does not use
-//! them); the setpoint becomes a [`PlantCommand`].
+//! them); the setpoint becomes a [`PlantCommand`]. A chain hand's plant
+//! is read by its joints ([`joint_measurement`]): the tips are where
+//! they put them.
 
+use super::joints::{JOINTS, JointLink};
 use gait::planner::Setpoint;
 use gait::sim::{MeasuredFinger, Measurement};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
@@ -37,6 +40,18 @@ pub enum BadMeasurement {
         /// The finger whose orientation it is, if any.
         finger: Option<u8>,
     },
+    /// A chain hand's finger measured with another number of joints than
+    /// it has.
+    #[error(
+        "finger {finger} measured with {count} joints, the hand's have {}",
+        JOINTS
+    )]
+    JointCount {
+        /// The finger.
+        finger: u8,
+        /// The `joint_count` it sent.
+        count: u32,
+    },
 }
 
 impl BadMeasurement {
@@ -46,6 +61,7 @@ impl BadMeasurement {
     pub fn finger(self) -> Option<u8> {
         match self {
             Self::NonFinite { finger } | Self::NonUnit { finger } => finger,
+            Self::JointCount { finger, .. } => Some(finger),
             Self::Codes | Self::Missing(_) => None,
         }
     }
@@ -139,6 +155,86 @@ pub fn measurement(m: &PlantMeasurement, age: u32) -> Result<Measurement, BadMea
     })
 }
 
+/// The measurement of a chain hand's plant `m` (`link`'s hand), reflecting
+/// the setpoint `age` ticks before the last one written: each finger's tip
+/// where its measured joints put it (the tip fields are not read), and
+/// those joints.
+pub fn joint_measurement(
+    m: &PlantMeasurement,
+    age: u32,
+    link: &JointLink,
+) -> Result<(Measurement, [Vector3<f64>; 3]), BadMeasurement> {
+    m.check().map_err(|_| BadMeasurement::Codes)?;
+    let need = measurement_valid::REQUIRED_JOINTS;
+    if m.valid & need != need {
+        return Err(BadMeasurement::Missing(m.valid));
+    }
+    let flagged = |bit| m.valid & bit != 0;
+    let mut joints = [Vector3::zeros(); 3];
+    let mut fingers = [MeasuredFinger {
+        center: Vector3::zeros(),
+        orientation: UnitQuaternion::identity(),
+        contact: false,
+        normal_force: None,
+        roll: None,
+    }; 3];
+    for (k, f) in m.fingers.iter().enumerate() {
+        if f.joint_count as usize != JOINTS {
+            return Err(BadMeasurement::JointCount {
+                finger: k as u8,
+                count: f.joint_count,
+            });
+        }
+        let convert = || -> Result<(Vector3<f64>, Option<f64>), BadMeasurement> {
+            let q = vec3([
+                f.joint_position[0],
+                f.joint_position[1],
+                f.joint_position[2],
+            ])?;
+            if flagged(measurement_valid::JOINT_VELOCITY) {
+                vec3([
+                    f.joint_velocity[0],
+                    f.joint_velocity[1],
+                    f.joint_velocity[2],
+                ])?;
+            }
+            if flagged(measurement_valid::JOINT_TORQUE) {
+                vec3([f.joint_torque[0], f.joint_torque[1], f.joint_torque[2]])?;
+            }
+            let force = if flagged(measurement_valid::FORCE) {
+                Some(finite(f.normal_force)?)
+            } else {
+                None
+            };
+            Ok((q, force))
+        };
+        let (q, normal_force) = convert().map_err(|e| e.of_finger(k))?;
+        let tip = link.tip(k, &q);
+        joints[k] = q;
+        fingers[k] = MeasuredFinger {
+            center: tip.center,
+            orientation: tip.orientation,
+            contact: f.contact == 1,
+            normal_force,
+            roll: None,
+        };
+    }
+    if flagged(measurement_valid::OBJECT_VELOCITY) {
+        vec3(m.object_omega)?;
+    }
+    let measurement = Measurement {
+        object: quat(m.object_q)?,
+        fingers,
+        center: if flagged(measurement_valid::OBJECT_CENTER) {
+            Some(vec3(m.object_center)? - link.hand().object().centre)
+        } else {
+            None
+        },
+        age,
+    };
+    Ok((measurement, joints))
+}
+
 fn q4(q: &UnitQuaternion<f64>) -> [f64; 4] {
     [q.w, q.i, q.j, q.k]
 }
@@ -155,7 +251,6 @@ pub fn finger_commands(
         let f = &sp.state.fingers[k];
         PlantFingerCommand {
             mode: modes[k].code(),
-            reserved: 0,
             position: f.center.into(),
             orientation: q4(&f.orientation),
             velocity: sp.finger_velocity[k].into(),
@@ -167,6 +262,7 @@ pub fn finger_commands(
             } else {
                 grip[k].max(0.0)
             },
+            ..PlantFingerCommand::default()
         }
     })
 }
@@ -313,5 +409,74 @@ mod tests {
         m.object_q = [1.0005, 0.0, 0.0, 0.0];
         let q = measurement(&m, 0).unwrap().object;
         assert!((q.quaternion().norm() - 1.0).abs() < 1e-15);
+    }
+
+    /// A chain hand's plant, read by its joints: the tips where forward
+    /// kinematics puts them (the tip fields, even NaN, are not read), and
+    /// each lie about the joints named.
+    #[test]
+    fn a_joint_measurement_is_read_by_its_joints_and_its_lies_named() {
+        let link = crate::plant::joints::tests::trifingerpro(true);
+        let q = [0.3, 0.9, -1.8];
+        let good = || {
+            let mut m = PlantMeasurement {
+                seq: 1,
+                valid: measurement_valid::REQUIRED_JOINTS | measurement_valid::JOINT_VELOCITY,
+                object_q: [1.0, 0.0, 0.0, 0.0],
+                ..PlantMeasurement::default()
+            };
+            for f in &mut m.fingers {
+                f.joint_count = 3;
+                f.joint_position[..3].copy_from_slice(&q);
+                f.contact = 1;
+                f.position = [f64::NAN; 3];
+            }
+            m
+        };
+        let (m, joints) = joint_measurement(&good(), 1, &link).unwrap();
+        for (k, (f, joints)) in m.fingers.iter().zip(&joints).enumerate() {
+            let tip = link.hand().chain(k).forward(&Vector3::from(q)).tip_centre();
+            assert!((f.center + link.hand().object().centre - tip).norm() < 1e-15);
+            assert_eq!(*joints, Vector3::from(q));
+            assert!(f.contact && f.roll.is_none());
+        }
+        type Lie = fn(&mut PlantMeasurement);
+        let cases: [(&str, Lie, BadMeasurement); 4] = [
+            (
+                "two joints",
+                |m| m.fingers[1].joint_count = 2,
+                BadMeasurement::JointCount {
+                    finger: 1,
+                    count: 2,
+                },
+            ),
+            (
+                "NaN joint",
+                |m| m.fingers[2].joint_position[1] = f64::NAN,
+                BadMeasurement::NonFinite { finger: Some(2) },
+            ),
+            (
+                "infinite joint velocity",
+                |m| m.fingers[0].joint_velocity[2] = f64::INFINITY,
+                BadMeasurement::NonFinite { finger: Some(0) },
+            ),
+            (
+                "no joints",
+                |m| m.valid &= !measurement_valid::JOINT_POSITION,
+                BadMeasurement::Missing(
+                    measurement_valid::REQUIRED_JOINTS & !measurement_valid::JOINT_POSITION
+                        | measurement_valid::JOINT_VELOCITY,
+                ),
+            ),
+        ];
+        for (what, lie, want) in cases {
+            let mut m = good();
+            lie(&mut m);
+            assert_eq!(
+                joint_measurement(&m, 0, &link).map(|_| ()),
+                Err(want),
+                "{what}"
+            );
+        }
     }
 }

@@ -9,33 +9,16 @@ use gait::planner::PlanError;
 use gait::planner::chains::model::ChainModel;
 use gait::planner::chains::planner::ChainPlanner;
 use gait::planner::chains::{ChainHand, ChainHandError};
-use gait::{FingerMode, HandConfig, HandState};
-use nalgebra::{UnitQuaternion, Vector3};
+use gait::{HandConfig, HandState};
 
 use crate::config::DaemonConfig;
 
 /// Why the configured hand cannot be set up; each names the file or key.
 #[derive(Debug, thiserror::Error)]
 pub enum HandSetupError {
-    /// A description file could not be read.
-    #[error("hand description {path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The error.
-        source: std::io::Error,
-    },
-    /// The hand section names no URDF.
-    #[error("hand description {0}: the key `urdf` (the hand's URDF file) is missing")]
-    NoUrdf(PathBuf),
-    /// The description is not a valid hand.
-    #[error("hand description {path}: {source}")]
-    Description {
-        /// The hand section file.
-        path: PathBuf,
-        /// What is wrong.
-        source: Box<kinematics::DescriptionError>,
-    },
+    /// The description's files could not be read, or are not a hand.
+    #[error("hand description {0}")]
+    Load(#[from] kinematics::LoadError),
     /// The described hand is not one gaitd plans for.
     #[error("hand description {path}: {source}")]
     Hand {
@@ -76,33 +59,8 @@ impl HandSetup {
             });
         }
         let section_path = resolve(&cfg.dir, &cfg.hand.description);
-        let read = |path: &Path| {
-            std::fs::read_to_string(path).map_err(|source| HandSetupError::Io {
-                path: path.to_path_buf(),
-                source,
-            })
-        };
-        let section = read(&section_path)?;
-        let sec: kinematics::section::HandSection =
-            toml::from_str(&section).map_err(|e| HandSetupError::Description {
-                path: section_path.clone(),
-                source: Box::new(kinematics::DescriptionError::Section(
-                    e.message().to_owned(),
-                )),
-            })?;
-        let urdf_name = sec
-            .urdf
-            .as_deref()
-            .ok_or_else(|| HandSetupError::NoUrdf(section_path.clone()))?;
-        let dir = section_path.parent().unwrap_or(Path::new("."));
-        let urdf = read(&dir.join(urdf_name))?;
         let description =
-            kinematics::HandDescription::parse(&urdf, &section).map_err(|source| {
-                HandSetupError::Description {
-                    path: section_path.clone(),
-                    source: Box::new(source),
-                }
-            })?;
+            kinematics::HandDescription::load(&section_path, |p| std::fs::read_to_string(p))?;
         let hand = ChainHand::new(&description, cfg.hand.grasp_limits()).map_err(|source| {
             HandSetupError::Hand {
                 path: section_path.clone(),
@@ -110,7 +68,7 @@ impl HandSetup {
             }
         })?;
         let model = ChainModel::new(hand, &config);
-        let start = chain_start(&model, &cfg.hand.start_normals);
+        let start = model.hand().grasp(model.config(), &cfg.hand.start_normals);
         ChainPlanner::new(model.clone())
             .check_start(&start)
             .map_err(HandSetupError::Start)?;
@@ -130,18 +88,4 @@ fn resolve(dir: &Path, path: &str) -> PathBuf {
     } else {
         dir.join(p)
     }
-}
-
-/// Every finger grasping the ball at the identity orientation, its tip
-/// centre on the normal at R + r from the ball's centre.
-fn chain_start(model: &ChainModel, normals: &[[f64; 3]]) -> HandState {
-    let mut s = HandState::paper_start(model.config());
-    s.object = UnitQuaternion::identity();
-    let h = model.hand();
-    for (k, f) in s.fingers.iter_mut().enumerate() {
-        let n = Vector3::from(normals[k]).normalize();
-        f.mode = FingerMode::Grasping;
-        f.center = n * (h.object().radius + h.chain(k).tip_radius);
-    }
-    s
 }

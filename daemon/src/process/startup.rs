@@ -30,6 +30,7 @@ use crate::io::outbox::{self, Outbox, Writer, WriterSettings};
 use crate::io::plan_paths::PathPublisher;
 use crate::io::tracer::{self, TraceError, TraceSettings, TraceWriter};
 use crate::plant::external::ExternalPlant;
+use crate::plant::joints::JointLink;
 use crate::plant::ports::PlantInput;
 use crate::process::hand_setup::{HandSetup, HandSetupError};
 use crate::process::housekeeping::{self, Housekeeping, HousekeepingSetup};
@@ -264,11 +265,14 @@ pub fn start_background(
     .map_err(StartupError::PlannerThread)?;
     link.wake_through(ipc.planner_bell.clone());
     let dt = 1.0 / cfg.control.tick_hz;
+    let chains = setup.chains.as_ref().map(|m| m.hand().clone());
     let mut controller = if cfg.plant.external() {
-        let plant = ExternalPlant::new(instance, cfg.period_ns(), &cfg.plant);
-        GaitController::new_external(hand, dt, link, plant)
+        let mut plant = ExternalPlant::new(instance, cfg.period_ns(), &cfg.plant);
+        if let Some(h) = &chains {
+            plant = plant.with_joints(JointLink::new(h.clone(), (&cfg.hand).into()));
+        }
+        GaitController::new_external(hand, (chains, setup.start), dt, link, plant)
     } else {
-        let chains = setup.chains.as_ref().map(|m| m.hand().clone());
         GaitController::embedded_hand(hand, chains, setup.start, dt, link)
     }
     .map_err(StartupError::Controller)?;

@@ -293,6 +293,63 @@ where
             Error = gait::planner::PlanError,
         >,
 {
+    gait_loop_on(ns, instance, planner, None, setup)
+}
+
+/// The shipped TriFingerPro (`deploy/hands/trifingerpro/`) on a
+/// joint-level external plant (`[plant] kind = "shm"` in `ns`), planned
+/// by the chain planner, from the shipped start grasp.
+pub fn chain_gait_loop(ns: &Namespace, instance: u64) -> GaitLoop {
+    use gaitd::control::gait_controller::GaitPlanner;
+    let (model, start) = trifingerpro(ns);
+    let chain = (model.hand().clone(), start, *model.config());
+    let planner = gait::planner::chains::planner::ChainPlanner::new(model);
+    gait_loop_on(
+        ns,
+        instance,
+        GaitPlanner::new(planner, None),
+        Some(chain),
+        |_| {},
+    )
+}
+
+/// The shipped TriFingerPro's planning model (with `ns`'s settings) and
+/// its shipped start grasp.
+pub fn trifingerpro(ns: &Namespace) -> (gait::planner::chains::model::ChainModel, gait::HandState) {
+    let d = kinematics::HandDescription::parse(
+        include_str!("../../../deploy/hands/trifingerpro/trifingerpro.urdf"),
+        include_str!("../../../deploy/hands/trifingerpro/hand.toml"),
+    )
+    .unwrap();
+    let hand = gait::planner::chains::ChainHand::new(&d, ns.cfg.hand.grasp_limits()).unwrap();
+    let model = gait::planner::chains::model::ChainModel::new(hand, &ns.cfg.hand());
+    let normals = [
+        [-0.07, 0.07, 1.0],
+        [0.55, -0.57, -0.61],
+        [-0.64, 0.66, 0.40],
+    ];
+    let start = model.hand().grasp(model.config(), &normals);
+    (model, start)
+}
+
+fn gait_loop_on<P>(
+    ns: &Namespace,
+    instance: u64,
+    planner: P,
+    chains: Option<(
+        gait::planner::chains::ChainHand,
+        gait::HandState,
+        gait::HandConfig,
+    )>,
+    setup: impl FnOnce(&mut gaitd::control::gait_controller::GaitController),
+) -> GaitLoop
+where
+    P: gaitd::control::plan_thread::BackgroundPlanner<
+            Request = gaitd::control::gait_controller::GoalPlanRequest,
+            Plan = gait::planner::Plan,
+            Error = gait::planner::PlanError,
+        >,
+{
     use gaitd::control::gait_controller::GaitController;
     let Daemon {
         commands,
@@ -305,17 +362,29 @@ where
         _node,
         ..
     } = daemon(ns);
-    let hand = ns.cfg.hand();
     let (link, planner) = gaitd::control::plan_thread::spawn(planner, 4, || {}).unwrap();
-    let mut controller = match plant {
-        None => GaitController::new(&hand, 1e-3, link).unwrap(),
-        Some(_) => {
-            let x = gaitd::plant::external::ExternalPlant::new(
+    let mut controller = match (&plant, chains) {
+        (None, _) => GaitController::new(&ns.cfg.hand(), 1e-3, link).unwrap(),
+        (Some(_), chains) => {
+            let mut x = gaitd::plant::external::ExternalPlant::new(
                 instance,
                 ns.cfg.period_ns(),
                 &ns.cfg.plant,
             );
-            GaitController::new_external(&hand, 1e-3, link, x).unwrap()
+            let (hand, start, config) = match chains {
+                Some((h, start, config)) => {
+                    x = x.with_joints(gaitd::plant::joints::JointLink::new(
+                        h.clone(),
+                        (&ns.cfg.hand).into(),
+                    ));
+                    (Some(h), start, config)
+                }
+                None => {
+                    let config = ns.cfg.hand();
+                    (None, gait::HandState::paper_start(&config), config)
+                }
+            };
+            GaitController::new_external(&config, (hand, start), 1e-3, link, x).unwrap()
         }
     };
     setup(&mut controller);
@@ -389,6 +458,9 @@ pub struct RigPlant {
     measured: iceoryx2::port::notifier::Notifier<Ipc>,
     commanded: Listener<Ipc>,
     hand: gait::sim::KinematicHand,
+    /// A joint-level chain hand: each finger's joints (the fingertip hand
+    /// then holds only the object and the contacts).
+    joints: Option<[[f64; 3]; 3]>,
     seq: u64,
     time_ns: u64,
     last: Option<shm_schema::PlantCommand>,
@@ -442,11 +514,30 @@ impl RigPlant {
             measured,
             commanded,
             hand: gait::sim::KinematicHand::new(start, 1e-3),
+            joints: None,
             seq: 0,
             time_ns: 0,
             last: None,
             _node: node,
         }
+    }
+
+    /// A joint-level plant of the chain hand `hand` in the grasp `start`,
+    /// each finger on the branch the daemon picks: it takes each command's
+    /// joints as its own and measures joints.
+    pub fn open_joints(
+        ns: &Namespace,
+        hand: &gait::planner::chains::ChainHand,
+        start: gait::HandState,
+    ) -> Self {
+        let mut p = Self::open(ns);
+        p.hand = gait::sim::KinematicHand::new(start, 1e-3);
+        p.joints = Some(std::array::from_fn(|k| {
+            hand.joints(k, &start.fingers[k].center, None)
+                .expect("the start grasp is reached")
+                .into()
+        }));
+        p
     }
 
     /// Publishes the next measurement of the hand's state (and notifies).
@@ -471,6 +562,13 @@ impl RigPlant {
             w.orientation = q(&f.orientation);
             w.roll = f.roll;
             w.contact = u32::from(f.mode == gait::FingerMode::Grasping);
+        }
+        if let Some(joints) = &self.joints {
+            m.valid = measurement_valid::REQUIRED_JOINTS;
+            for (w, q) in m.fingers.iter_mut().zip(joints) {
+                w.joint_count = 3;
+                w.joint_position[..3].copy_from_slice(q);
+            }
         }
         self.measurements
             .loan_uninit()
@@ -513,6 +611,11 @@ impl RigPlant {
         self.last = Some(*c);
         if c.flags & shm_schema::command_flags::ENABLE == 0 {
             return;
+        }
+        if let Some(joints) = self.joints.as_mut() {
+            for (q, cf) in joints.iter_mut().zip(&c.fingers) {
+                q.copy_from_slice(&cf.joint_position[..3]);
+            }
         }
         let mut state = *self.hand.state();
         state.object = quat(c.object_q);

@@ -140,6 +140,22 @@ impl ChainHand {
         self.object.centre + center
     }
 
+    /// Every finger grasping the object at the identity orientation, its
+    /// tip centre on the outward normal `normals[k]` (any length) at
+    /// R + r from the object's centre, the rest of the state as `config`'s
+    /// start: a configured start grasp (whether the hand holds it is the
+    /// planner's check of a start).
+    pub fn grasp(&self, config: &crate::HandConfig, normals: &[[f64; 3]]) -> crate::HandState {
+        let mut s = crate::HandState::paper_start(config);
+        s.object = nalgebra::UnitQuaternion::identity();
+        for (k, (f, n)) in s.fingers.iter_mut().zip(normals).enumerate() {
+            f.mode = crate::FingerMode::Grasping;
+            f.center =
+                Vector3::from(*n).normalize() * (self.object.radius + self.chains[k].tip_radius);
+        }
+        s
+    }
+
     /// Finger `k`'s joints with its tip centre at `center` (relative to
     /// the object's centre), on the branch nearest `reference` (module
     /// docs; `None`: the branch with the most joint-limit margin). `None`

@@ -1,7 +1,8 @@
 //! A hand description: the URDF's chains plus the gaitd hand section (SPEC §14.4).
 //!
 //! [`HandDescription::parse`] takes the URDF text and the hand section's
-//! text (the caller reads the files) and builds, per finger, the chain of
+//! text ([`HandDescription::load`]: the files, read by the caller's
+//! reader) and builds, per finger, the chain of
 //! revolute joints from its base link to its tip link:
 //!
 //! - the base frame in the hand frame (only fixed joints between them);
@@ -25,7 +26,10 @@ use crate::error::DescriptionError;
 use crate::frame::Frame;
 use crate::section::HandSection;
 
+mod files;
 mod urdf_chain;
+
+pub use files::LoadError;
 
 use urdf_chain::{Tree, finger};
 

@@ -184,7 +184,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     Status,
                     measured_mask,
                     "bits",
-                    "valid measured fields: 1 OBJECT, 2 TIPS, 4 CONTACTS, 8 FORCES (a plant that reports normal forces); 0 before the first measurement; the embedded hand: 7"
+                    "valid measured fields: 1 OBJECT, 2 TIPS, 4 CONTACTS, 8 FORCES (a plant that reports normal forces), 16 JOINTS (a chain hand's plant that measures its joints); 0 before the first measurement; the embedded hand: 7"
                 ),
                 f!(
                     Status,
@@ -335,6 +335,12 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     link_clearance,
                     "m",
                     "chain hand: the closest link's distance from the object beyond the configured clearance (0 on free fingertips)"
+                ),
+                f!(
+                    FingerStatus,
+                    measured_joints,
+                    "rad",
+                    "chain hand: the measured joint positions, base to tip (mask bit JOINTS)"
                 ),
             ],
         ),

@@ -73,15 +73,15 @@ pub fn layout_markdown() -> String {
         EVENT_ID_MAX,
         EVENT_ID_MAX
     );
-    s.push_str(
+    s.push_str(&format!(
         "## Schema versions\n\n\
-         Every payload's type name carries the version (`gaitd::Status.v6`): a client of\n\
+         Every payload's type name carries the version (`gaitd::Status.v{SCHEMA_VERSION}`): a client of\n\
          another version cannot open the services (iceoryx2 answers `IncompatibleTypes`).\n\
          So a client first opens the event service `version` (no payload type: any\n\
          version opens it) and reads its attributes: `gaitd.schema`, the daemon's\n\
          schema version in decimal, and `gaitd.build` (e.g. `gaitd 0.1.0`). A daemon\n\
          without that service speaks v3 or older. What each version changed, newest first:\n\n",
-    );
+    ));
     for (v, what) in SCHEMA_CHANGES {
         let _ = writeln!(s, "- **v{v}**: {what}");
     }

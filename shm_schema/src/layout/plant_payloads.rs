@@ -40,7 +40,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     PlantCommand,
                     flags,
                     "bits",
-                    "1 ENABLE (without it: move nothing, still echo the command), 2 HOLD (safe hold: still, grasp kept), 4 LOCKSTEP"
+                    "1 ENABLE (without it: move nothing, still echo the command), 2 HOLD (safe hold: still, grasp kept), 4 LOCKSTEP, 8 JOINTS (a chain hand: follow the joint fields)"
                 ),
                 f!(PlantCommand, reserved, "", "padding, 0"),
                 f!(
@@ -72,12 +72,17 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     "PlantFingerMode",
                     "what the fingertip does"
                 ),
-                f!(PlantFingerCommand, reserved, "", "padding, 0"),
+                f!(
+                    PlantFingerCommand,
+                    joint_count,
+                    "",
+                    "joints the joint fields hold, base to tip (0 on free fingertips, at most 4)"
+                ),
                 f!(
                     PlantFingerCommand,
                     position,
                     "m",
-                    "fingertip centre, hand frame"
+                    "fingertip centre, hand frame (chains: relative to the object's centre O)"
                 ),
                 f!(
                     PlantFingerCommand,
@@ -115,6 +120,31 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     "N",
                     "intended normal force, 0 when not grasping"
                 ),
+                f!(
+                    PlantFingerCommand,
+                    joint_position,
+                    "rad",
+                    "joint position setpoints q*"
+                ),
+                f!(
+                    PlantFingerCommand,
+                    joint_velocity,
+                    "rad/s",
+                    "joint velocity setpoints q̇*"
+                ),
+                f!(
+                    PlantFingerCommand,
+                    joint_torque,
+                    "N·m",
+                    "feed-forward torque τ_ff: the grip through the tip Jacobian, Jᵀf, plus the links' weight where compensated"
+                ),
+                f!(
+                    PlantFingerCommand,
+                    kp,
+                    "N·m/rad",
+                    "position gain: motor torque τ_ff + kp (q* − q) + kd (q̇* − q̇)"
+                ),
+                f!(PlantFingerCommand, kd, "N·m·s/rad", "velocity gain"),
             ],
         ),
         layout::<PlantMeasurement>(
@@ -149,7 +179,8 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     valid,
                     "bits",
                     "valid fields: 1 object_q, 2 object_omega, 4 object_center, 8 tip pose, \
-                     16 tip velocity, 32 contact, 64 normal_force, 128 roll (required: 1, 8, 32, 128)"
+                     16 tip velocity, 32 contact, 64 normal_force, 128 roll, 256 joint positions, \
+                     512 joint velocities, 1024 joint torques (required: 1, 8, 32, 128; chains: 1, 32, 256)"
                 ),
                 f!(
                     PlantMeasurement,
@@ -199,12 +230,17 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     "0/1",
                     "1 = touching the object"
                 ),
-                f!(PlantFingerMeasurement, reserved, "", "padding, 0"),
+                f!(
+                    PlantFingerMeasurement,
+                    joint_count,
+                    "",
+                    "joints the joint fields hold, base to tip (chains: the hand's, 0 on free fingertips)"
+                ),
                 f!(
                     PlantFingerMeasurement,
                     position,
                     "m",
-                    "fingertip centre, hand frame"
+                    "fingertip centre, hand frame (not read on chains: the joints give it)"
                 ),
                 f!(
                     PlantFingerMeasurement,
@@ -235,6 +271,24 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     normal_force,
                     "N",
                     "normal force at the contact"
+                ),
+                f!(
+                    PlantFingerMeasurement,
+                    joint_position,
+                    "rad",
+                    "joint positions"
+                ),
+                f!(
+                    PlantFingerMeasurement,
+                    joint_velocity,
+                    "rad/s",
+                    "joint velocities"
+                ),
+                f!(
+                    PlantFingerMeasurement,
+                    joint_torque,
+                    "N·m",
+                    "joint torques applied, after the hand's own limits"
                 ),
             ],
         ),

@@ -220,6 +220,8 @@ pub fn python_layout() -> String {
          DEFAULT_PREFIX = \"{DEFAULT_PREFIX}\"\n\
          #: Fingers of the hand (f1, f2, f3).\n\
          FINGERS = {FINGERS}\n\
+         #: Most joints a finger's plant command and measurement carry.\n\
+         MAX_JOINTS = {MAX_JOINTS}\n\
          #: ``active_finger`` / ``finger`` value meaning \"no finger\".\n\
          NO_FINGER = 0x{NO_FINGER:X}\n\
          #: Attribute of the ``version`` service: the daemon's schema version (decimal).\n\
@@ -357,6 +359,7 @@ pub fn python_layout() -> String {
             ("TIPS", measured::TIPS),
             ("CONTACTS", measured::CONTACTS),
             ("FORCES", measured::FORCES),
+            ("JOINTS", measured::JOINTS),
         ],
     );
     let _ = write!(
@@ -373,6 +376,7 @@ pub fn python_layout() -> String {
             ("ENABLE", command_flags::ENABLE),
             ("HOLD", command_flags::HOLD),
             ("LOCKSTEP", command_flags::LOCKSTEP),
+            ("JOINTS", command_flags::JOINTS),
         ],
     );
     let _ = write!(
@@ -394,13 +398,18 @@ pub fn python_layout() -> String {
             ("CONTACT", measurement_valid::CONTACT),
             ("FORCE", measurement_valid::FORCE),
             ("ROLL", measurement_valid::ROLL),
+            ("JOINT_POSITION", measurement_valid::JOINT_POSITION),
+            ("JOINT_VELOCITY", measurement_valid::JOINT_VELOCITY),
+            ("JOINT_TORQUE", measurement_valid::JOINT_TORQUE),
         ],
     );
     let _ = write!(
         s,
-        "\n\n#: What the daemon needs to control the hand.\nVALID_REQUIRED = {}\n\
+        "\n\n#: What the daemon needs to control a hand of free fingertips.\nVALID_REQUIRED = {}\n\
+         #: What the daemon needs to control a hand of finger chains.\nVALID_REQUIRED_JOINTS = {}\n\
          #: Every bit of ``PlantMeasurement.valid``.\nVALID_ALL = {}\n",
         measurement_valid::REQUIRED,
+        measurement_valid::REQUIRED_JOINTS,
         measurement_valid::ALL
     );
     bits(

@@ -39,12 +39,12 @@ pub struct PongArgs {
 /// Ping-pong payload, the size of a [`Status`] so both measure the same copy.
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitctl::BenchPing.v2")]
+#[type_name("gaitctl::BenchPing.v3")]
 pub struct BenchPing {
     seq: u64,
     t_send: u64,
     t_echo: u64,
-    pad: [u64; 163],
+    pad: [u64; 172],
 }
 
 const _: () = assert!(size_of::<BenchPing>() == size_of::<Status>());
@@ -54,7 +54,7 @@ impl BenchPing {
         seq: 0,
         t_send: 0,
         t_echo: 0,
-        pad: [0; 163],
+        pad: [0; 172],
     };
 }
 

@@ -1,11 +1,36 @@
 //! What a plant reads of the daemon's configuration file: the model and
-//! load (the hand it simulates), the control rate, `[plant] timing` and
-//! `[ipc]` (how to reach the daemon). The other sections are the daemon's.
+//! load (the hand it simulates) or `[hand]`'s chain hand (its description
+//! and start grasp), the control rate, `[plant] timing` and `[ipc]` (how
+//! to reach the daemon). The other sections are the daemon's.
 
 use crate::common::ConnArgs;
-use gait::HandConfig;
+use gait::planner::chains::ChainHand;
+use gait::{HandConfig, HandState};
 use gaitd_client::ConnectOptions;
 use gaitd_client::plant::Pacing;
+use std::path::Path;
+
+/// A chain hand as the daemon's `[hand]` describes it: the hand, and
+/// the grasp it starts in.
+#[derive(Debug, Clone)]
+pub struct ChainSetup {
+    /// The hand (its description, with `[hand]`'s margins).
+    pub hand: ChainHand,
+    /// The start grasp (`hand.start_normals`).
+    pub start: HandState,
+}
+
+/// The `[hand]` keys a plant reads (the daemon checks them all).
+#[derive(Debug, Default, serde::Deserialize)]
+#[serde(default)]
+struct HandKeys {
+    kind: String,
+    description: String,
+    patch_margin_deg: Option<f64>,
+    link_clearance: Option<f64>,
+    finger_gap: Option<f64>,
+    start_normals: Vec<[f64; 3]>,
+}
 
 /// The plant's view of a daemon config file.
 #[derive(Debug, Clone)]
@@ -24,6 +49,8 @@ pub struct PlantView {
     pub file_prefix: Option<String>,
     /// `[ipc] iceoryx2_config`.
     pub iceoryx2_config: Option<String>,
+    /// `[hand] kind = "chains"`: the chain hand.
+    pub chains: Option<ChainSetup>,
 }
 
 fn string(t: &toml::Table, section: &str, key: &str) -> Option<String> {
@@ -68,8 +95,13 @@ impl PlantView {
                 ));
             }
         };
+        let chains = match t.get("hand") {
+            Some(h) => chain_setup(path, h, &hand)?,
+            None => None,
+        };
         Ok(Self {
             hand,
+            chains,
             tick_hz,
             timing,
             prefix: string(&t, "ipc", "service_prefix"),
@@ -102,4 +134,41 @@ impl PlantView {
             .or_else(|| self.iceoryx2_config.clone());
         o
     }
+}
+
+/// The chain hand `[hand]` (`section`, of the file at `path`) describes,
+/// if it is one.
+fn chain_setup(
+    path: &str,
+    section: &toml::Value,
+    config: &HandConfig,
+) -> Result<Option<ChainSetup>, String> {
+    let keys: HandKeys = section
+        .clone()
+        .try_into()
+        .map_err(|e| format!("{path}: [hand]: {e}"))?;
+    if keys.kind != "chains" {
+        return Ok(None);
+    }
+    if keys.start_normals.len() != 3 {
+        return Err(format!(
+            "{path}: hand.start_normals: one contact normal per finger, three"
+        ));
+    }
+    let dir = Path::new(path).parent().unwrap_or(Path::new("."));
+    let description = kinematics::HandDescription::load(&dir.join(&keys.description), |p| {
+        std::fs::read_to_string(p)
+    })
+    .map_err(|e| format!("{path}: hand.description: {e}"))?;
+    let limits = kinematics::GraspLimits {
+        margins: kinematics::Margins {
+            patch: keys.patch_margin_deg.unwrap_or(5.0).to_radians(),
+            clearance: keys.link_clearance.unwrap_or(0.005),
+        },
+        finger_gap: keys.finger_gap.unwrap_or(0.005),
+    };
+    let hand = ChainHand::new(&description, limits)
+        .map_err(|e| format!("{path}: hand.description: {e}"))?;
+    let start = hand.grasp(config, &keys.start_normals);
+    Ok(Some(ChainSetup { hand, start }))
 }

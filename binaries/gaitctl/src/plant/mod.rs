@@ -1,10 +1,13 @@
 //! `gaitctl plant sim|mujoco --config FILE`: run a plant out of process
 //! against a daemon started with `[plant] kind = "shm"` (shm_schema
 //! `PLANT-GUIDE.md`). `sim` is the kinematic hand (the embedded one, over
-//! the plant interface: every setpoint executed exactly); `mujoco` starts
-//! the MuJoCo physics hand of the Python package (`client/python`).
+//! the plant interface: every setpoint executed exactly) — free
+//! fingertips, or, where the file's `[hand]` is a chain hand, that hand
+//! at the joint level ([`joint_sim`]); `mujoco` starts the MuJoCo physics
+//! hand of the Python package (`client/python`).
 
 mod config;
+pub mod joint_sim;
 pub mod sim;
 
 use crate::common::ConnArgs;
@@ -72,15 +75,31 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<(), String> {
             if a.lie_on_usr1.is_some() {
                 sim::lie_on_usr1();
             }
-            let mut model = sim::KinematicPlant::new(&view.hand, view.period_ns(), a.seconds)
-                .with_lie(a.lie_on_usr1);
-            eprintln!(
-                "kinematic plant: {timing:?}, {} Hz, paper start grasp",
-                view.tick_hz
-            );
-            let r = host
-                .run(&mut model, timing, view.period_ns(), stop)
-                .map_err(|e| e.to_string())?;
+            let r = match &view.chains {
+                Some(setup) => {
+                    let mut model =
+                        joint_sim::JointKinematicPlant::new(setup, view.period_ns(), a.seconds)
+                            .ok_or("hand.start_normals: a finger cannot reach its start grasp")?
+                            .with_lie(a.lie_on_usr1);
+                    eprintln!(
+                        "kinematic joint-level chain hand: {timing:?}, {} Hz, the configured \
+                         start grasp",
+                        view.tick_hz
+                    );
+                    host.run(&mut model, timing, view.period_ns(), stop)
+                }
+                None => {
+                    let mut model =
+                        sim::KinematicPlant::new(&view.hand, view.period_ns(), a.seconds)
+                            .with_lie(a.lie_on_usr1);
+                    eprintln!(
+                        "kinematic plant: {timing:?}, {} Hz, paper start grasp",
+                        view.tick_hz
+                    );
+                    host.run(&mut model, timing, view.period_ns(), stop)
+                }
+            }
+            .map_err(|e| e.to_string())?;
             eprintln!(
                 "{} steps ({:.2} s simulated in {:.2} s: real-time factor {:.1}), {} commands applied, {} refused",
                 r.steps,
@@ -92,6 +111,11 @@ pub fn run(conn: &ConnArgs, a: &Args) -> Result<(), String> {
             );
             Ok(())
         }
+        Kind::Mujoco if view.chains.is_some() => Err(
+            "the MuJoCo plant simulates free fingertips; a chain hand ([hand] kind = \"chains\") \
+             runs on `gaitctl plant sim`"
+                .into(),
+        ),
         Kind::Mujoco => mujoco(conn, a, timing),
     }
 }

@@ -131,13 +131,19 @@ impl PlantModel for KinematicPlant {
             w.contact = u32::from(f.mode == FingerMode::Grasping);
             w.roll = f.roll;
         }
-        if let Some(lie) = self.lie
-            && LIE_NOW.swap(false, Ordering::AcqRel)
-        {
-            match lie {
-                Lie::NonUnit => m.object_q = [0.9, 0.0, 0.0, 0.0],
-            }
-            eprintln!("kinematic plant: lied once ({lie:?})");
+        take_lie(self.lie, m, "kinematic plant");
+    }
+}
+
+/// Tells `lie` in `m` if SIGUSR1 armed it (then disarms it); `who` says
+/// so on stderr.
+pub fn take_lie(lie: Option<Lie>, m: &mut PlantMeasurement, who: &str) {
+    if let Some(lie) = lie
+        && LIE_NOW.swap(false, Ordering::AcqRel)
+    {
+        match lie {
+            Lie::NonUnit => m.object_q = [0.9, 0.0, 0.0, 0.0],
         }
+        eprintln!("{who}: lied once ({lie:?})");
     }
 }

@@ -205,6 +205,8 @@ pub struct GaitController {
     /// The last fresh measurement, the tick it was read at and the
     /// setpoint it answers.
     measured: Option<MeasuredReport>,
+    /// The joints of this tick's reading (a joint-level plant's).
+    measured_joints: Option<[Vector3<f64>; 3]>,
     /// The commanded hand state of the last [`executor::WRITTEN`] ticks,
     /// a ring (allocated once): a measurement answers the one written
     /// `age` ticks before the last.
@@ -253,16 +255,18 @@ impl GaitController {
     /// An external plant over `plant`'s link: nothing moves until its
     /// first valid measurement, which becomes the start state if it
     /// satisfies every invariant (SPEC §1.3; else the fault says which is
-    /// broken).
+    /// broken). The hand: free fingertips, or the chain hand `chains`
+    /// (`plant` then reads and commands its joints,
+    /// [`ExternalPlant::with_joints`]), until then at `start`.
     pub fn new_external(
         config: &HandConfig,
+        (chains, start): (Option<ChainHand>, HandState),
         dt: f64,
         link: GaitPlannerLink,
         plant: ExternalPlant,
     ) -> Result<Self, gait::ConfigError> {
         let lockstep = plant.lockstep();
-        let start = HandState::paper_start(config);
-        let mut c = Self::with_hand(config, None, start, dt, (link, Hand::External(plant)))?;
+        let mut c = Self::with_hand(config, chains, start, dt, (link, Hand::External(plant)))?;
         if lockstep {
             c.planning.deliver_deterministically();
         }
@@ -297,6 +301,7 @@ impl GaitController {
             },
             chains: chains.is_some(),
             measured: None,
+            measured_joints: None,
             sent: vec![start; executor::WRITTEN].into_boxed_slice(),
             sent_next: 0,
             trace: None,
@@ -352,6 +357,7 @@ impl GaitController {
             Hand::Embedded(h) => (h.read(), true),
             Hand::External(x) => {
                 let r = x.read(sample, now);
+                self.measured_joints = r.joints;
                 if let Some(f) = r.fault {
                     self.plant_fault = f.code;
                     self.exec
@@ -405,7 +411,7 @@ impl GaitController {
                 if x.lockstep() {
                     flags |= command_flags::LOCKSTEP;
                 }
-                out.plant_command = Some(x.command(&r.setpoint, &modes, &r.grip, flags));
+                out.plant_command = Some(x.command(&r.setpoint, &modes, &r.grip, &r.joints, flags));
             }
         }
     }
@@ -497,6 +503,7 @@ impl Controller for GaitController {
                 measurement: m,
                 tick: ctx.tick,
                 answers: self.sent_before(m.age),
+                joints: self.measured_joints,
             });
         }
         let r = *self.exec.tick(m.as_ref());

@@ -18,6 +18,12 @@
 //!   where the contacts move (every sample of a carry) and once per step
 //!   where they do not.
 //!
+//! The kinematic margins hold between two samples too, not only at them:
+//! where the margins at two samples do not prove it (`held_between`: a
+//! margin moves no faster than the parts it measures,
+//! [`kinematics::parts_travel`]), the check samples the middle, and both
+//! halves in turn.
+//!
 //! It answers with the tightest margins of the plan ([`ChainMargins`]), or
 //! the first violation ([`ChainViolation`]). It allocates (the torque box
 //! builds a problem per call): a planning-time check, not a tick's.
@@ -26,9 +32,11 @@ use nalgebra::Vector3;
 
 use super::ChainHand;
 use crate::grasp::Contact;
+use crate::hand::{PAIRS, SLACK_TOLERANCE};
 use crate::hand_state::{FINGERS, FingerMode, HandState};
 use crate::planner::plan::{Motion, Step};
 use kinematics::workspace::object_clearance;
+use kinematics::{ChainState, parts_travel};
 
 /// How finely a plan is sampled, and what a turn's load includes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,6 +70,9 @@ pub struct ChainMargins {
     pub torque_share: f64,
     /// Samples checked.
     pub samples: usize,
+    /// Of those, samples checked between two of the even ones, where the
+    /// margins at the two were too small to say they held between.
+    pub refined: usize,
 }
 
 impl ChainMargins {
@@ -73,6 +84,7 @@ impl ChainMargins {
         gap: f64::INFINITY,
         torque_share: 0.0,
         samples: 0,
+        refined: 0,
     };
 }
 
@@ -127,7 +139,7 @@ pub fn check(
     let mut margins = ChainMargins::NONE;
     let mut joints: [Option<Vector3<f64>>; FINGERS] = [None; FINGERS];
     let mut at = Sample::new(hand, params);
-    at.kinematics(start, &mut joints, &mut margins)?;
+    joints = at.kinematics(start, &joints, &mut margins)?.joints;
     at.steps(steps, &mut joints, &mut margins, true)?;
     Ok(margins)
 }
@@ -146,6 +158,63 @@ pub fn check_way(
     let mut margins = ChainMargins::NONE;
     let mut at = Sample::new(hand, params);
     at.steps(steps, joints, &mut margins, false)
+}
+
+/// How many times the check halves the way between two samples, at most,
+/// before it takes the margins held there: 2⁻²⁰ of a sample's spacing,
+/// under a nanometre for a free motion sampled every millimetre.
+const MAX_REFINE: u32 = 20;
+
+/// One sample's joints and margins (each beyond the hand's own; +∞ where
+/// it does not apply), what the check needs between two samples.
+#[derive(Debug, Clone, Copy)]
+struct Local {
+    /// Fraction of the step's path.
+    at: f64,
+    joints: [Option<Vector3<f64>>; FINGERS],
+    states: [Option<ChainState<3>>; FINGERS],
+    /// Each finger's contact normal (its tip centre's direction).
+    normals: [Vector3<f64>; FINGERS],
+    joint: [f64; FINGERS],
+    patch: [f64; FINGERS],
+    clearance: [f64; FINGERS],
+    /// Per pair of [`PAIRS`].
+    gap: [f64; 3],
+}
+
+/// Whether every margin provably holds between the samples `lo` and `hi`
+/// of one step. A margin m that is 1-Lipschitz in some travel T between
+/// the two stays at least (m_lo + m_hi − T)/2 all the way (the floor):
+///
+/// - joint limits: in the joints' largest change;
+/// - the tip patch: in the tip's turn (at most Σ|Δq_i|) plus the normal's;
+/// - link clearance and finger gaps: in the travel of the parts
+///   involved ([`kinematics::parts_travel`]).
+///
+/// The floor must be ≥ 0 (to the invariants' slack tolerance).
+fn held_between(hand: &ChainHand, lo: &Local, hi: &Local) -> bool {
+    let floor = |a: f64, b: f64, travel: f64| (a + b - travel) / 2.0 >= -SLACK_TOLERANCE;
+    let mut travel = [0.0; FINGERS];
+    for (k, travel) in travel.iter_mut().enumerate() {
+        let (Some(qa), Some(qb), Some(sa), Some(sb)) =
+            (lo.joints[k], hi.joints[k], &lo.states[k], &hi.states[k])
+        else {
+            continue;
+        };
+        let dq = qb - qa;
+        *travel = parts_travel(hand.chain(k), (&qa, sa), (&qb, sb));
+        let turn = dq.abs().sum() + lo.normals[k].angle(&hi.normals[k]);
+        if !floor(lo.joint[k], hi.joint[k], dq.amax())
+            || !floor(lo.clearance[k], hi.clearance[k], *travel)
+            || !floor(lo.patch[k], hi.patch[k], turn)
+        {
+            return false;
+        }
+    }
+    PAIRS
+        .iter()
+        .enumerate()
+        .all(|(p, &(a, b))| floor(lo.gap[p], hi.gap[p], travel[a] + travel[b]))
 }
 
 /// Where the check is, for its verdicts.
@@ -176,7 +245,9 @@ impl<'a> Sample<'a> {
     }
 
     /// Every sample of `steps` (carries every `carry_step`, free motions
-    /// every `free_step`), with the load where `load` says.
+    /// every `free_step`), refined between two samples until the margins
+    /// provably hold between them ([`Self::between`]), with the load where
+    /// `load` says.
     fn steps(
         &mut self,
         steps: &[Step],
@@ -205,31 +276,71 @@ impl<'a> Sample<'a> {
                     });
                 }
             };
+            let eval = |at: f64| st.eval(&length.map(|l| l * at), &[0.0; 3]).state;
+            let mut before: Option<Local> = None;
             for k in 0..=n {
                 self.at = k as f64 / n as f64;
-                let state = st.eval(&length.map(|l| l * self.at), &[0.0; 3]).state;
-                self.kinematics(&state, joints, margins)?;
+                let state = eval(self.at);
+                let here = self.kinematics(&state, joints, margins)?;
+                if let Some(before) = &before {
+                    self.between(&eval, before, &here, 0, margins)?;
+                    self.at = here.at;
+                }
+                *joints = here.joints;
                 // The contacts move only in a carry; otherwise once a step.
                 if load && (turning.is_some() || k == 0) {
                     self.load(&state, joints, turning.as_ref(), margins)?;
                 }
+                before = Some(here);
             }
         }
         Ok(())
     }
 
-    /// Reach, joint limits, patch, clearance and gaps at `state`; `joints`
-    /// carries each finger's branch from sample to sample.
+    /// Between the samples `lo` and `hi` of the step `eval` evaluates: the
+    /// margins hold all the way if each stays above its floor
+    /// ([`held_between`]); else the middle is checked and both halves in
+    /// turn, at most [`MAX_REFINE`] halvings deep.
+    fn between(
+        &mut self,
+        eval: &impl Fn(f64) -> HandState,
+        lo: &Local,
+        hi: &Local,
+        depth: u32,
+        m: &mut ChainMargins,
+    ) -> Result<(), ChainViolation> {
+        if depth >= MAX_REFINE || held_between(self.hand, lo, hi) {
+            return Ok(());
+        }
+        self.at = 0.5 * (lo.at + hi.at);
+        let mid = self.kinematics(&eval(self.at), &lo.joints, m)?;
+        m.refined += 1;
+        self.between(eval, lo, &mid, depth + 1, m)?;
+        self.between(eval, &mid, hi, depth + 1, m)
+    }
+
+    /// Reach, joint limits, patch, clearance and gaps at `state`, each
+    /// finger following on from the branch `joints` gives; the sample's
+    /// joints and margins.
     fn kinematics(
         &self,
         state: &HandState,
-        joints: &mut [Option<Vector3<f64>>; FINGERS],
+        joints: &[Option<Vector3<f64>>; FINGERS],
         m: &mut ChainMargins,
-    ) -> Result<(), ChainViolation> {
+    ) -> Result<Local, ChainViolation> {
         let hand = self.hand;
         let lim = hand.limits();
         let object = hand.object();
-        let mut states = [None; FINGERS];
+        let mut here = Local {
+            at: self.at,
+            joints: *joints,
+            states: [None; FINGERS],
+            normals: [Vector3::zeros(); FINGERS],
+            joint: [f64::INFINITY; FINGERS],
+            patch: [f64::INFINITY; FINGERS],
+            clearance: [f64::INFINITY; FINGERS],
+            gap: [f64::INFINITY; PAIRS.len()],
+        };
         m.samples += 1;
         for (k, f) in state.fingers.iter().enumerate() {
             let chain = hand.chain(k);
@@ -248,16 +359,19 @@ impl<'a> Sample<'a> {
                     return Err(self.fail(Some(k), ViolationKind::BranchJump(jump)));
                 }
             }
-            joints[k] = Some(q);
+            here.joints[k] = Some(q);
             let joint = chain.limit_margin(&q);
+            here.joint[k] = joint;
             m.joint = m.joint.min(joint);
             if joint < 0.0 {
                 return Err(self.fail(Some(k), ViolationKind::JointLimit(joint)));
             }
             let s = chain.forward(&q);
             let n = f.center.normalize();
+            here.normals[k] = n;
             if f.mode == FingerMode::Grasping {
                 let patch = chain.patch.margin(&s.tip.rotation, &n) - lim.margins.patch;
+                here.patch[k] = patch;
                 m.patch = m.patch.min(patch);
                 if patch < 0.0 {
                     return Err(self.fail(Some(k), ViolationKind::TipPatch(patch)));
@@ -270,25 +384,25 @@ impl<'a> Sample<'a> {
                 }
             }
             let clearance = object_clearance(chain, &s, object);
+            here.clearance[k] = clearance - lim.margins.clearance;
             m.clearance = m.clearance.min(clearance - lim.margins.clearance);
             if clearance < lim.margins.clearance {
                 return Err(self.fail(Some(k), ViolationKind::ObjectClearance(clearance)));
             }
-            states[k] = Some(s);
+            here.states[k] = Some(s);
         }
-        for a in 0..FINGERS {
-            for b in a + 1..FINGERS {
-                let (Some(sa), Some(sb)) = (&states[a], &states[b]) else {
-                    continue;
-                };
-                let gap = hand.gap(a, b).gap((hand.chain(a), sa), (hand.chain(b), sb));
-                m.gap = m.gap.min(gap - lim.finger_gap);
-                if gap < lim.finger_gap {
-                    return Err(self.fail(Some(a), ViolationKind::FingerGap { other: b, gap }));
-                }
+        for (p, &(a, b)) in PAIRS.iter().enumerate() {
+            let (Some(sa), Some(sb)) = (&here.states[a], &here.states[b]) else {
+                continue;
+            };
+            let gap = hand.gap(a, b).gap((hand.chain(a), sa), (hand.chain(b), sb));
+            here.gap[p] = gap - lim.finger_gap;
+            m.gap = m.gap.min(gap - lim.finger_gap);
+            if gap < lim.finger_gap {
+                return Err(self.fail(Some(a), ViolationKind::FingerGap { other: b, gap }));
             }
         }
-        Ok(())
+        Ok(here)
     }
 
     /// The grasp of `state` holding the load within the torque box (module
