@@ -361,6 +361,7 @@ fn the_loop_does_not_allocate_with_the_gait_controller() {
             cpus: Vec::new(),
             keep: 0,
             plan_notes: None,
+            hand_description: None,
         },
         gaitd::io::tracer::DEFAULT_CAPACITY,
     )
@@ -514,6 +515,33 @@ fn the_counter_sees_an_allocation() {
     drop(b);
 }
 
+/// One tick with an external plant in the test's thread: the plant
+/// measures, the loop ticks (counted in `heap`, if given), the plant
+/// follows the command; what the client received.
+fn plant_tick(
+    g: &mut ipc_rig::GaitLoop,
+    plant: &mut ipc_rig::RigPlant,
+    heap: Option<&Tally>,
+) -> (Vec<shm_schema::Status>, Vec<shm_schema::Event>) {
+    plant.publish();
+    match heap {
+        Some(h) => h.count(|| {
+            g.rt.run_once();
+            g.clock.advance(1_000_000);
+        }),
+        None => {
+            g.rt.run_once();
+            g.clock.advance(1_000_000);
+        }
+    }
+    assert!(
+        plant.follow(std::time::Duration::from_secs(5)),
+        "the command came"
+    );
+    ipc_rig::let_writer_catch_up(&g.shared);
+    g.client.drain()
+}
+
 /// The same with an external plant (`[plant] kind = "shm"`, real time on
 /// the mock clock): every tick the loop receives the plant's measurement
 /// and queues its command for the writer — still no allocation on the loop
@@ -526,28 +554,9 @@ fn the_loop_does_not_allocate_with_an_external_plant() {
     ns.cfg.plant.max_missed = 50;
     let mut g = ipc_rig::gait_loop(&ns, 46, |_| {});
     let mut plant = ipc_rig::RigPlant::open(&ns);
-    let tick = |g: &mut ipc_rig::GaitLoop, plant: &mut ipc_rig::RigPlant, heap: Option<&Tally>| {
-        plant.publish();
-        match heap {
-            Some(h) => h.count(|| {
-                g.rt.run_once();
-                g.clock.advance(1_000_000);
-            }),
-            None => {
-                g.rt.run_once();
-                g.clock.advance(1_000_000);
-            }
-        }
-        assert!(
-            plant.follow(std::time::Duration::from_secs(5)),
-            "the command came"
-        );
-        ipc_rig::let_writer_catch_up(&g.shared);
-        g.client.drain()
-    };
     // Warm-up (not counted): the plant's first state taken, ports connect.
     for _ in 0..200 {
-        tick(&mut g, &mut plant, None);
+        plant_tick(&mut g, &mut plant, None);
     }
     assert!(
         !g.rt.controller().awaiting_plant(),
@@ -570,7 +579,7 @@ fn the_loop_does_not_allocate_with_an_external_plant() {
             let (frame, q) = targets[k % targets.len()];
             g.client.send(Command::goal(5, k as u64 + 1, frame, q));
         }
-        let (_, ev) = tick(&mut g, &mut plant, Some(&heap));
+        let (_, ev) = plant_tick(&mut g, &mut plant, Some(&heap));
         for e in &ev {
             match e.kind() {
                 Ok(shm_schema::EventKind::Fault) => panic!("fault: {e:?}"),
@@ -685,27 +694,8 @@ fn the_loop_does_not_allocate_with_a_joint_level_chain_plant() {
     let mut g = ipc_rig::chain_gait_loop(&ns, 47);
     let (model, start) = ipc_rig::trifingerpro(&ns);
     let mut plant = ipc_rig::RigPlant::open_joints(&ns, model.hand(), start);
-    let mut tick = |g: &mut ipc_rig::GaitLoop, heap: Option<&Tally>| {
-        plant.publish();
-        match heap {
-            Some(h) => h.count(|| {
-                g.rt.run_once();
-                g.clock.advance(1_000_000);
-            }),
-            None => {
-                g.rt.run_once();
-                g.clock.advance(1_000_000);
-            }
-        }
-        assert!(
-            plant.follow(std::time::Duration::from_secs(5)),
-            "the command came"
-        );
-        ipc_rig::let_writer_catch_up(&g.shared);
-        g.client.drain()
-    };
     for _ in 0..200 {
-        tick(&mut g, None);
+        plant_tick(&mut g, &mut plant, None);
     }
     assert!(
         !g.rt.controller().awaiting_plant(),
@@ -733,7 +723,7 @@ fn the_loop_does_not_allocate_with_a_joint_level_chain_plant() {
                 [angle, x, y, z],
             ));
         }
-        let (statuses, ev) = tick(&mut g, Some(&heap));
+        let (statuses, ev) = plant_tick(&mut g, &mut plant, Some(&heap));
         joints_seen += statuses
             .iter()
             .filter(|s| s.measured_mask & shm_schema::measured::JOINTS != 0)

@@ -315,7 +315,7 @@ def lockstep_checks(check: Checks, s: StandIn, settings, plant_dir: Path, mutate
         ("finger mode 0", lambda c: setattr(c.fingers[2], "mode", 0)),
         ("unknown flag bit", lambda c: setattr(c, "flags", c.flags | 1 << 5)),
         ("non-zero padding", lambda c: setattr(c, "reserved", 1)),
-        ("non-zero finger padding", lambda c: setattr(c.fingers[0], "reserved", 3)),
+        ("a finger joint count beyond the arrays", lambda c: setattr(c.fingers[0], "joint_count", 5)),
         ("infinite grip force", lambda c: setattr(c.fingers[1], "grip_force", float("inf"))),
         ("negative grip force", lambda c: setattr(c.fingers[1], "grip_force", -1.0)),
         ("wrong period", lambda c: setattr(c, "period_ns", 2 * PERIOD_NS)),

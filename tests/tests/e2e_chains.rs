@@ -19,7 +19,7 @@
 //! centre 80 mm above the arena) and the URDF's soft joint limits
 //! (`robot_properties_fingers`) less the description's 0.05 rad.
 
-use gaitd_client::{GoalSpec, GoalState, ReasonCode, Verdict};
+use gaitd_client::{Client, GoalSpec, GoalState, GoalTicket, ReasonCode, Verdict};
 use gaitd_tests::{TestDaemon, TestPlant};
 use std::time::{Duration, Instant};
 use test_support::quat::angle;
@@ -68,6 +68,34 @@ fn mul(a: [f64; 4], b: [f64; 4]) -> [f64; 4] {
     ]
 }
 
+/// Asks for a quarter turn about −x (a few gaits from the configured
+/// grasp) from the orientation `start`: the goal and the ticket.
+fn quarter_turn(c: &mut Client, d: &TestDaemon, start: [f64; 4]) -> ([f64; 4], GoalTicket) {
+    let (h, q) = (
+        std::f64::consts::FRAC_PI_4.sin(),
+        std::f64::consts::FRAC_PI_4.cos(),
+    );
+    let t = c
+        .reorient(
+            &GoalSpec::turn([-1.0, 0.0, 0.0], std::f64::consts::FRAC_PI_2).unwrap(),
+            T,
+        )
+        .unwrap();
+    assert_eq!(t.verdict, Verdict::Accepted, "{}", d.log());
+    (mul([q, -h, 0.0, 0.0], start), t)
+}
+
+/// The goal of `t` ended reached.
+fn assert_reached(c: &mut Client, t: &GoalTicket, d: &TestDaemon) {
+    let o = c.wait_outcome(t.goal_id, T).unwrap();
+    assert_eq!(
+        (o.state, o.reason),
+        (GoalState::Succeeded, ReasonCode::Reached),
+        "{}",
+        d.log()
+    );
+}
+
 #[test]
 fn a_chain_hand_turns_the_ball_to_its_goal() {
     let mut d = TestDaemon::new("chains", &trifingerpro());
@@ -97,20 +125,7 @@ fn a_chain_hand_turns_the_ball_to_its_goal() {
         .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("joints [deg]"), "{text}");
-    let start = s0.measured_object_q;
-    // A quarter turn about −x: a few gaits from the configured grasp.
-    let (h, q) = (
-        std::f64::consts::FRAC_PI_4.sin(),
-        std::f64::consts::FRAC_PI_4.cos(),
-    );
-    let goal = mul([q, -h, 0.0, 0.0], start);
-    let t = c
-        .reorient(
-            &GoalSpec::turn([-1.0, 0.0, 0.0], std::f64::consts::FRAC_PI_2).unwrap(),
-            T,
-        )
-        .unwrap();
-    assert_eq!(t.verdict, Verdict::Accepted, "{}", d.log());
+    let (goal, t) = quarter_turn(&mut c, &d, s0.measured_object_q);
     let t0 = Instant::now();
     let mut reads = 0;
     let mut least_grasping = usize::MAX;
@@ -166,13 +181,7 @@ fn a_chain_hand_turns_the_ball_to_its_goal() {
         }
         assert!(t0.elapsed() < Duration::from_secs(120), "no outcome");
     }
-    let o = c.wait_outcome(t.goal_id, T).unwrap();
-    assert_eq!(
-        (o.state, o.reason),
-        (GoalState::Succeeded, ReasonCode::Reached),
-        "{}",
-        d.log()
-    );
+    assert_reached(&mut c, &t, &d);
     let end = c.wait_status(T).unwrap();
     let err = angle(end.measured_object_q, goal);
     assert!(err < 1e-6, "the ball is {err} rad from the goal");
@@ -205,6 +214,40 @@ fn a_chain_hand_turns_the_ball_to_its_goal() {
         }
     }
     assert_eq!(c.bad_samples(), 0);
+    // The trace's header names the description, and `gaitctl plot` draws
+    // the hand from it: every link capsule and tip of the three fingers at
+    // the start and at the end.
+    let trace = std::fs::read_dir(&traces)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .find(|p| p.extension().is_some_and(|x| x == "jsonl"))
+        .unwrap();
+    let header = std::fs::read_to_string(&trace).unwrap();
+    let header: serde_json::Value = serde_json::from_str(header.lines().next().unwrap()).unwrap();
+    assert_eq!(header["hand"], "chains");
+    assert!(
+        header["hand_description"]
+            .as_str()
+            .is_some_and(|p| p.ends_with("deploy/hands/trifingerpro/hand.toml")),
+        "{header}"
+    );
+    let svg = d.dir.join("chains.svg");
+    let out = d
+        .gaitctl()
+        .args(["plot", trace.to_str().unwrap(), "-o", svg.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let svg = std::fs::read_to_string(&svg).unwrap();
+    let capsules: usize = chains.iter().map(|c| c.link_capsules().len()).sum();
+    assert!(capsules >= 3, "{capsules} link capsules");
+    assert_eq!(svg.matches(r#"class="link""#).count(), 2 * capsules);
+    assert_eq!(svg.matches(r#"class="tip""#).count(), 6);
 }
 
 /// A quarter turn about −x on a joint-level kinematic TriFingerPro in
@@ -220,18 +263,7 @@ fn a_joint_level_plant_is_commanded_and_read_by_its_joints() {
     let plant = TestPlant::sim(&d);
     let mut c = d.client();
     let s0 = gaitd_tests::wait_plant_started(&mut c, &d, &plant);
-    let (h, q) = (
-        std::f64::consts::FRAC_PI_4.sin(),
-        std::f64::consts::FRAC_PI_4.cos(),
-    );
-    let goal = mul([q, -h, 0.0, 0.0], s0.measured_object_q);
-    let t = c
-        .reorient(
-            &GoalSpec::turn([-1.0, 0.0, 0.0], std::f64::consts::FRAC_PI_2).unwrap(),
-            T,
-        )
-        .unwrap();
-    assert_eq!(t.verdict, Verdict::Accepted, "{}", d.log());
+    let (goal, t) = quarter_turn(&mut c, &d, s0.measured_object_q);
     let chains = chains();
     let (t0, mut with_joints) = (Instant::now(), 0);
     let end = loop {
@@ -260,13 +292,7 @@ fn a_joint_level_plant_is_commanded_and_read_by_its_joints() {
         }
         assert!(t0.elapsed() < Duration::from_secs(180), "no outcome");
     };
-    let o = c.wait_outcome(t.goal_id, T).unwrap();
-    assert_eq!(
-        (o.state, o.reason),
-        (GoalState::Succeeded, ReasonCode::Reached),
-        "{}",
-        d.log()
-    );
+    assert_reached(&mut c, &t, &d);
     let err = angle(end.measured_object_q, goal);
     assert!(err < 1e-6, "the plant has the ball {err} rad from the goal");
     // At rest the plant's joints are the ones commanded.

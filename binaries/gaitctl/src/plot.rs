@@ -2,7 +2,10 @@
 //! contact paths on the sphere in the style of the paper's Fig. 3/4 (hand
 //! frame from above and from the side, and on the object itself), and over
 //! time the object's rotation angle, the force-closure margin and each
-//! finger's state.
+//! finger's state. A chain hand's trace (its header names the description)
+//! shows the hand itself in place of the view from above ([`hand`]).
+
+mod hand;
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -261,8 +264,9 @@ fn series(
     }
 }
 
-/// Renders the trace as SVG text.
-pub fn render(t: &Trace) -> String {
+/// Renders the trace as SVG text (a chain hand's links drawn with
+/// `hand`).
+pub fn render(t: &Trace, hand: Option<&hand::HandDrawing>) -> String {
     let mut svg = String::with_capacity(1 << 20);
     let _ = write!(
         svg,
@@ -270,13 +274,17 @@ pub fn render(t: &Trace) -> String {
     );
     let r = 150.0;
     let oblique = Vector3::new(0.9, -0.6, 0.55);
-    sphere_panel(
-        &mut svg,
-        t,
-        &View::new(Vector3::z(), Vector3::y(), 200.0, 210.0, r),
-        "contacts, hand frame, from above",
-        false,
-    );
+    match hand {
+        // About 0.4 m across the panel: the fingers' bases and the ball.
+        Some(h) => h.panel(&mut svg, t, oblique, (200.0, 210.0), 800.0),
+        None => sphere_panel(
+            &mut svg,
+            t,
+            &View::new(Vector3::z(), Vector3::y(), 200.0, 210.0, r),
+            "contacts, hand frame, from above",
+            false,
+        ),
+    }
     sphere_panel(
         &mut svg,
         t,
@@ -393,7 +401,15 @@ pub fn render(t: &Trace) -> String {
 /// Runs `gaitctl plot`.
 pub fn run(a: &Args) -> Result<ExitCode, String> {
     let t = tracefile::read(&a.trace)?;
-    let svg = render(&t);
+    let hand = match hand::HandDrawing::of(&t) {
+        Some(Ok(h)) => Some(h),
+        Some(Err(e)) => {
+            eprintln!("gaitctl plot: the trace's hand description: {e}: drawn without its links");
+            None
+        }
+        None => None,
+    };
+    let svg = render(&t, hand.as_ref());
     let ext = a
         .out
         .extension()

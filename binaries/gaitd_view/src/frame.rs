@@ -161,6 +161,7 @@ pub(crate) mod tests {
             workspace_half_angle_deg: 60.0,
             finger_azimuth_deg: [0.0, 120.0, 240.0],
             dt: Some(0.001),
+            hand_description: None,
             samples,
         }
     }
@@ -183,6 +184,7 @@ pub(crate) mod tests {
                 contact: contact[k],
                 grip: 3.0 + k as f64,
                 roll: 0.0,
+                joints: None,
             }),
             fc_margin: Some(0.2),
             load_margin: Some(7.0),

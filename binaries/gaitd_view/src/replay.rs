@@ -106,6 +106,7 @@ mod tests {
             contact: true,
             grip: 1.0,
             roll: 0.0,
+            joints: None,
         };
         crate::frame::tests::trace_of(
             times

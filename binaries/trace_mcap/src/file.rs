@@ -23,6 +23,8 @@ pub struct TraceFinger {
     pub grip: f64,
     /// Roll τ \[rad\].
     pub roll: f64,
+    /// A chain hand's commanded joints \[rad\] (if recorded).
+    pub joints: Option<[f64; 3]>,
 }
 
 /// One tick of a trace.
@@ -57,6 +59,8 @@ pub struct Trace {
     pub finger_azimuth_deg: [f64; 3],
     /// Control period \[s\] (if recorded).
     pub dt: Option<f64>,
+    /// A chain hand's description, its hand section file (if recorded).
+    pub hand_description: Option<String>,
     /// The samples.
     pub samples: Vec<TraceSample>,
 }
@@ -130,6 +134,7 @@ fn parse(
         finger_azimuth_deg: arr::<3>(&h["finger_azimuth_deg"], "finger_azimuth_deg", 1)
             .unwrap_or([0.0, 120.0, 240.0]),
         dt: h["dt"].as_f64(),
+        hand_description: h["hand_description"].as_str().map(str::to_owned),
         samples: Vec::new(),
     };
     for (i, l) in lines {
@@ -149,6 +154,7 @@ fn parse(
             contact: false,
             grip: 0.0,
             roll: 0.0,
+            joints: None,
         }; 3];
         for (f, fv) in fs.iter_mut().zip(fingers) {
             f.p = Vector3::from(arr::<3>(&fv["p"], "p", n)?);
@@ -156,6 +162,10 @@ fn parse(
             f.contact = fv["contact"].as_bool().unwrap_or(false);
             f.grip = fv["grip_force"].as_f64().unwrap_or(0.0);
             f.roll = fv["roll"].as_f64().unwrap_or(0.0);
+            f.joints = match &fv["joints"] {
+                Value::Null => None,
+                j => Some(arr::<3>(j, "joints", n)?),
+            };
         }
         trace.samples.push(TraceSample {
             t: num(&v["t"], "t", n)?,

@@ -11,6 +11,14 @@ only says what its hand does::
 
     MyHand(config.load("gaitd.toml")).run()
 
+A hand of finger chains (the daemon's ``[hand] kind = "chains"``) gets each
+finger's joint setpoint in ``setpoint.fingers[k].joints``
+(:class:`~gaitd.setpoint.JointSetpoint`: position, velocity, feed-forward
+torque, gains; ``setpoint.joints`` is true) and reports its joints in
+``FingerMeasured.joints`` (:class:`~gaitd.setpoint.JointsMeasured`): the
+daemon makes the tips from them (``shm_schema/PLANT-GUIDE.md``, "A hand of
+finger chains").
+
 What the base class does, and why:
 
 * opens the four plant services the daemon created (``plant/command``

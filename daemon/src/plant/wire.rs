@@ -77,6 +77,15 @@ impl BadMeasurement {
     }
 }
 
+/// A finger before its fields are read.
+const UNREAD: MeasuredFinger = MeasuredFinger {
+    center: Vector3::new(0.0, 0.0, 0.0),
+    orientation: UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(1.0, 0.0, 0.0, 0.0)),
+    contact: false,
+    normal_force: None,
+    roll: None,
+};
+
 fn quat(q: [f64; 4]) -> Result<UnitQuaternion<f64>, BadMeasurement> {
     if q.iter().any(|x| !x.is_finite()) {
         return Err(BadMeasurement::NON_FINITE);
@@ -113,13 +122,7 @@ pub fn measurement(m: &PlantMeasurement, age: u32) -> Result<Measurement, BadMea
     }
     let forces = m.valid & measurement_valid::FORCE != 0;
     let tip_velocity = m.valid & measurement_valid::TIP_VELOCITY != 0;
-    let mut fingers = [MeasuredFinger {
-        center: Vector3::zeros(),
-        orientation: UnitQuaternion::identity(),
-        contact: false,
-        normal_force: None,
-        roll: None,
-    }; 3];
+    let mut fingers = [UNREAD; 3];
     for (k, (out, f)) in fingers.iter_mut().zip(&m.fingers).enumerate() {
         let convert = || -> Result<MeasuredFinger, BadMeasurement> {
             if tip_velocity {
@@ -171,13 +174,7 @@ pub fn joint_measurement(
     }
     let flagged = |bit| m.valid & bit != 0;
     let mut joints = [Vector3::zeros(); 3];
-    let mut fingers = [MeasuredFinger {
-        center: Vector3::zeros(),
-        orientation: UnitQuaternion::identity(),
-        contact: false,
-        normal_force: None,
-        roll: None,
-    }; 3];
+    let mut fingers = [UNREAD; 3];
     for (k, f) in m.fingers.iter().enumerate() {
         if f.joint_count as usize != JOINTS {
             return Err(BadMeasurement::JointCount {

@@ -306,6 +306,13 @@ fn start_tracer(
             cpus: cfg.rt.background_cpus.clone(),
             keep: cfg.daemon.trace_keep as usize,
             plan_notes,
+            hand_description: cfg.hand.chains().then(|| {
+                let path = cfg.dir.join(&cfg.hand.description);
+                std::fs::canonicalize(&path)
+                    .unwrap_or(path)
+                    .display()
+                    .to_string()
+            }),
         },
         tracer::DEFAULT_CAPACITY,
     )?;

@@ -50,10 +50,14 @@ pub struct HeaderFacts {
     pub ticks: u64,
     /// Ticks lost.
     pub dropped: u64,
+    /// A chain hand's description (its hand section file), for views that
+    /// draw its links.
+    pub hand_description: Option<String>,
 }
 
 /// The header's extra keys (JSON members, no braces): source, instance,
-/// goal, target, outcome, tick counts and `"incomplete"`.
+/// goal, target, outcome, tick counts and `"incomplete"`; on a chain hand
+/// `"hand":"chains"` and `"hand_description"`, its hand section file.
 pub fn header_extra(instance: u64, h: &HeaderFacts) -> String {
     let mut x = String::new();
     let _ = write!(
@@ -85,6 +89,13 @@ pub fn header_extra(instance: u64, h: &HeaderFacts) -> String {
         h.dropped,
         h.dropped > 0 || h.outcome.is_none()
     );
+    if let Some(d) = &h.hand_description {
+        let _ = write!(
+            x,
+            ",\"hand\":\"chains\",\"hand_description\":\"{}\"",
+            json_escape(d)
+        );
+    }
     if let Some(p) = &h.plan {
         let e = &p.effort;
         let _ = write!(

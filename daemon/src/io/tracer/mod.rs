@@ -124,6 +124,8 @@ pub struct TraceSettings {
     pub keep: usize,
     /// The planner's notes on its plans (route, effort), if it keeps them.
     pub plan_notes: Option<Arc<PlanNotes>>,
+    /// A chain hand's description file (header `hand_description`).
+    pub hand_description: Option<String>,
 }
 
 /// Handle of the trace thread: `join` (or drop) writes everything still
@@ -167,6 +169,7 @@ mod tests {
             dt: 1e-3,
             cpus: Vec::new(),
             plan_notes: None,
+            hand_description: None,
             keep: 0,
         }
     }
@@ -272,6 +275,7 @@ mod tests {
         let (counters, mut rec, mut rx, mut sink) = rig(
             TraceSettings {
                 plan_notes: None,
+                hand_description: None,
                 keep: 3,
                 ..settings(&dir)
             },

@@ -190,6 +190,7 @@ impl TraceSink {
             outcome,
             ticks: o.ticks,
             dropped,
+            hand_description: self.settings.hand_description.clone(),
         };
         let mut header = String::new();
         gait::trace::header(
