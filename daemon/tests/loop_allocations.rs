@@ -515,6 +515,26 @@ fn the_counter_sees_an_allocation() {
     drop(b);
 }
 
+/// Counts `ev`'s placements and reached goals; whether a goal ended.
+/// A fault fails the test.
+fn goal_events(ev: &[shm_schema::Event], placed: &mut usize, succeeded: &mut usize) -> bool {
+    let mut ended = false;
+    for e in ev {
+        match e.kind() {
+            Ok(shm_schema::EventKind::Fault) => panic!("fault: {e:?}"),
+            Ok(shm_schema::EventKind::Place) => *placed += 1,
+            Ok(shm_schema::EventKind::GoalTransition)
+                if GoalState::try_from(e.state).is_ok_and(|s| s.is_terminal()) =>
+            {
+                *succeeded += usize::from(e.state == GoalState::Succeeded.code());
+                ended = true;
+            }
+            _ => {}
+        }
+    }
+    ended
+}
+
 /// One tick with an external plant in the test's thread: the plant
 /// measures, the loop ticks (counted in `heap`, if given), the plant
 /// follows the command; what the client received.
@@ -580,18 +600,8 @@ fn the_loop_does_not_allocate_with_an_external_plant() {
             g.client.send(Command::goal(5, k as u64 + 1, frame, q));
         }
         let (_, ev) = plant_tick(&mut g, &mut plant, Some(&heap));
-        for e in &ev {
-            match e.kind() {
-                Ok(shm_schema::EventKind::Fault) => panic!("fault: {e:?}"),
-                Ok(shm_schema::EventKind::Place) => placed += 1,
-                Ok(shm_schema::EventKind::GoalTransition)
-                    if GoalState::try_from(e.state).is_ok_and(|s| s.is_terminal()) =>
-                {
-                    succeeded += usize::from(e.state == GoalState::Succeeded.code());
-                    next = Some(active + 100);
-                }
-                _ => {}
-            }
+        if goal_events(&ev, &mut placed, &mut succeeded) {
+            next = Some(active + 100);
         }
         if g.rt.controller().phase() == gait::executor::Mode::Planning {
             std::thread::sleep(std::time::Duration::from_micros(50));
@@ -728,18 +738,8 @@ fn the_loop_does_not_allocate_with_a_joint_level_chain_plant() {
             .iter()
             .filter(|s| s.measured_mask & shm_schema::measured::JOINTS != 0)
             .count();
-        for e in &ev {
-            match e.kind() {
-                Ok(shm_schema::EventKind::Fault) => panic!("fault: {e:?}"),
-                Ok(shm_schema::EventKind::Place) => placed += 1,
-                Ok(shm_schema::EventKind::GoalTransition)
-                    if GoalState::try_from(e.state).is_ok_and(|s| s.is_terminal()) =>
-                {
-                    succeeded += usize::from(e.state == GoalState::Succeeded.code());
-                    next = Some(active + 100);
-                }
-                _ => {}
-            }
+        if goal_events(&ev, &mut placed, &mut succeeded) {
+            next = Some(active + 100);
         }
         if g.rt.controller().phase() == gait::executor::Mode::Planning {
             std::thread::sleep(std::time::Duration::from_micros(50));

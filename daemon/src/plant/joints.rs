@@ -17,7 +17,6 @@
 //! Allocation-free: it runs on the loop thread.
 
 use gait::planner::chains::ChainHand;
-use kinematics::gravity_torques;
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 use shm_schema::{MAX_JOINTS, PlantFingerCommand};
 
@@ -107,14 +106,16 @@ impl JointLink {
             .jacobian_v()
             .try_inverse()
             .map_or_else(Vector3::zeros, |inv| inv * sp.velocity);
+        // The torque box's statics: the contact point's Jᵀ and g(q).
+        let n = sp.center.normalize();
+        let statics = self.hand.statics(k, q, &n);
         let mut tau = if self.gains.compensate_weight {
-            gravity_torques(chain, &s, self.hand.gravity())
+            statics.bias
         } else {
             Vector3::zeros()
         };
         if sp.grip > 0.0 {
-            let n = sp.center.normalize();
-            tau += self.hand.statics(k, q, &n).force_to_torque * (-sp.grip * n);
+            tau += statics.force_to_torque * (-sp.grip * n);
         }
         let limit = chain.effort();
         out.joint_count = JOINTS as u32;
