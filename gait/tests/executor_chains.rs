@@ -16,7 +16,9 @@
 //! shipped URDF's soft limits, from `robot_properties_fingers`) and the
 //! tests' margins: joints within [−0.33, 1.0], [0, 1.57], [−2.7, 0] rad
 //! less 0.05 rad; the contact within 85° of the tip's pole, −z of the tip
-//! frame (a 90° hemisphere less 5°); links 5 mm off the ball.
+//! frame (a 90° hemisphere less 5°); links 5 mm off the ball; every
+//! motor's effort 0.396 N·m, which the grip each grasping finger is
+//! commanded to press with must not need (with the links' weight held).
 
 mod chain_hand;
 #[path = "../../kinematics/tests/common/mod.rs"]
@@ -45,6 +47,35 @@ const CLEARANCE: f64 = 0.005;
 /// The ball and the tip \[m\].
 const BALL: f64 = 0.0335;
 const TIP: f64 = 0.010;
+/// Every TriFingerPro motor's effort \[N·m\].
+const EFFORT: f64 = 0.396;
+
+/// The largest share of a motor's effort finger `k` at joints `q` needs
+/// to press the ball with `grip` along the inward normal `n` while
+/// holding its links' weight: τ = J_mᵀ (−grip n) + g, J_m the Jacobian
+/// of the tip's material point at the contact by central differences of
+/// forward kinematics, g the links' weight torques (the hand's own,
+/// checked against the gradient of the links' potential energy in the
+/// daemon's joint-command tests).
+fn own_push_share(h: &ChainHand, k: usize, q: &Vector3<f64>, n: &Vector3<f64>, grip: f64) -> f64 {
+    let chain = h.chain(k);
+    let at = chain.forward(q);
+    // The contact point in the tip frame: it moves with the tip.
+    let local = at.tip.rotation.transpose() * (-n * TIP);
+    let point = |q: &Vector3<f64>| {
+        let s = chain.forward(q);
+        s.tip_centre() + s.tip.rotation * local
+    };
+    let eps = 1e-6;
+    let mut jm = Matrix3::zeros();
+    for i in 0..3 {
+        let mut dq = Vector3::zeros();
+        dq[i] = eps;
+        jm.set_column(i, &((point(&(q + dq)) - point(&(q - dq))) / (2.0 * eps)));
+    }
+    let tau = jm.transpose() * (-n * grip) + h.statics(k, q, n).bias;
+    tau.amax() / EFFORT
+}
 
 /// The joints' margin inside the stated limits (negative: outside).
 fn own_joint_margin(q: &Vector3<f64>) -> f64 {
@@ -101,6 +132,12 @@ fn own_joints(
 struct Tightest {
     joint: f64,
     patch: f64,
+    /// The largest share of a motor's effort a commanded grip needed.
+    effort: f64,
+    /// Ticks of a grasping finger (each finger counted), and of those
+    /// the ones whose grip the motors capped.
+    grasping: u64,
+    capped: u64,
     ticks: u64,
 }
 
@@ -187,6 +224,15 @@ fn run_goal(
                     "goal {id}, tick {tick}: finger {k} off its patch"
                 );
                 t.patch = t.patch.min(PATCH - angle);
+                let share = own_push_share(h, k, &now, &f.center.normalize(), rep.grip[k]);
+                assert!(
+                    share <= 1.0 + 1e-6,
+                    "goal {id}, tick {tick}: finger {k}'s grip {} N needs {share} of its effort",
+                    rep.grip[k]
+                );
+                t.effort = t.effort.max(share);
+                t.grasping += 1;
+                t.capped += u64::from(rep.grip_capped);
             }
         }
         t.ticks += 1;
@@ -241,6 +287,9 @@ fn chain_plans_run_to_their_goals_within_the_hands_limits() {
     let mut t = Tightest {
         joint: f64::INFINITY,
         patch: f64::INFINITY,
+        effort: 0.0,
+        grasping: 0,
+        capped: 0,
         ticks: 0,
     };
     let mut rng = common::rng(5);
@@ -286,11 +335,15 @@ fn chain_plans_run_to_their_goals_within_the_hands_limits() {
     }
     println!(
         "{reached} of {} goals reached ({restarts} refused, the hand then back at its start) \
-         in {} ticks; tightest joint margin {:.3} rad, patch {:.3} rad",
+         in {} ticks; tightest joint margin {:.3} rad, patch {:.3} rad; grips need at most \
+         {:.3} of a motor's effort, capped by the motors on {} of {} grasping-finger ticks",
         targets.len(),
         t.ticks,
         t.joint,
-        t.patch
+        t.patch,
+        t.effort,
+        t.capped,
+        t.grasping
     );
     // Every goal either reached (and read above) or refused by the
     // planner with its reason; the planner's share from chained states is

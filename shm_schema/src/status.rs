@@ -225,7 +225,9 @@ pub struct Status {
     pub load_grip: f64,
     /// Load margin `load.max_grip` − `load_grip` \[N\]: ≥ 0 while the
     /// grasp holds the load within the fingertips' force limit, negative
-    /// (or −∞) when it cannot.
+    /// (or −∞) when it cannot. On a chain hand the limit is the strongest
+    /// normal push every grasping finger's motors give where it is (with
+    /// the links' weight held), if lower than `load.max_grip`.
     pub load_margin: f64,
     /// Commanded object orientation q_o [w, x, y, z] (object → hand frame):
     /// the controller's setpoint, not a measurement.

@@ -247,12 +247,48 @@ impl TestDaemon {
             .timeout(std::time::Duration::from_secs(10))
     }
 
-    /// A connected client (panics with the daemon's log if it cannot connect).
+    /// A connected client (panics with the daemon's log and its process's
+    /// state if it cannot connect). A daemon that is alive but slow to
+    /// create its services (a machine loaded by parallel tests) gets up to
+    /// 30 s; one that has exited fails at once.
     pub fn client(&self) -> gaitd_client::Client {
-        match gaitd_client::Client::connect(self.options()) {
-            Ok(c) => c,
-            Err(e) => panic!("connect: {e}\n--- gaitd log ---\n{}", self.log()),
+        let t0 = std::time::Instant::now();
+        loop {
+            match gaitd_client::Client::connect(self.options()) {
+                Ok(c) => return c,
+                Err(e) if t0.elapsed().as_secs() >= 30 || !self.alive() => panic!(
+                    "connect: {e}\n--- gaitd process: {} ---\n--- gaitd log ---\n{}",
+                    self.process_state(),
+                    self.log()
+                ),
+                Err(_) => {}
+            }
         }
+    }
+
+    /// Whether the daemon's process exists and is not a zombie.
+    fn alive(&self) -> bool {
+        let s = self.process_state();
+        !(s.starts_with("gone") || s.contains("zombie"))
+    }
+
+    /// The daemon process's state as the kernel reports it (`State:` and
+    /// the kernel function it waits in), for failure messages.
+    fn process_state(&self) -> String {
+        let Some(pid) = self.child.as_ref().map(|c| c.id()) else {
+            return "gone (waited for)".into();
+        };
+        let status = std::fs::read_to_string(format!("/proc/{pid}/status"));
+        let Ok(status) = status else {
+            return format!("gone (pid {pid})");
+        };
+        let state = status
+            .lines()
+            .find(|l| l.starts_with("State:"))
+            .unwrap_or("State: ?")
+            .to_owned();
+        let wchan = std::fs::read_to_string(format!("/proc/{pid}/wchan")).unwrap_or_default();
+        format!("pid {pid}, {state}, waiting in {wchan:?}")
     }
 
     /// `gaitctl` with this daemon's namespace flags.

@@ -269,7 +269,8 @@ class Status(Payload):
         # acceleration torque and any disturbance of the configured size (F*, SPEC §1.3 I1'); no finger's
         # `commanded_normal_force` exceeds it; +inf when no grip holds the load
         ("load_grip", f64),
-        # N: load.max_grip − load_grip; negative when the grasp cannot hold the load
+        # N: load.max_grip (a chain hand: the strongest normal push the grasping fingers' motors give, if lower) −
+        # load_grip; negative when the grasp cannot hold the load
         ("load_margin", f64),
         # [w,x,y,z]: commanded object orientation q_o, object → hand (the setpoint)
         ("commanded_object_q", f64 * 4),

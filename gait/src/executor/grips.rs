@@ -31,23 +31,30 @@ impl Grips {
     /// The grip of `state` turning with `torque` \[N·m\] (the object's
     /// inertia times its acceleration), carried by the fingers of
     /// `carrying`; during a handover to the set `to`, a fraction `elapsed`
-    /// of the way, the two blended.
+    /// of the way, the two blended. `cap`: no commanded normal above it
+    /// (a chain hand's motors; it depends on the tips' places, which the
+    /// memo's key holds).
     pub(super) fn at(
         &mut self,
         state: &HandState,
         torque: &Vector3<f64>,
         carrying: u8,
         handover: Option<(u8, f64)>,
+        cap: Option<f64>,
     ) -> Grip {
         let model = &self.model;
+        let capped = |set: u8| match cap {
+            Some(c) => model.within(c).carried(state, torque, set),
+            None => model.carried(state, torque, set),
+        };
         let from = self.from.get(grip::grip_key(state, torque, carrying), |_| {
-            model.carried(state, torque, carrying)
+            capped(carrying)
         });
         match handover {
             Some((to, elapsed)) => {
-                let to = self.to.get(grip::grip_key(state, torque, to), |_| {
-                    model.carried(state, torque, to)
-                });
+                let to = self
+                    .to
+                    .get(grip::grip_key(state, torque, to), |_| capped(to));
                 GripModel::blend(&from, &to, grip::ramp(elapsed))
             }
             None => from,

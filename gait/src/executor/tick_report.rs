@@ -107,19 +107,41 @@ impl Executor {
             _ => 0.0,
         };
         r.fault = self.fault;
+        self.command_joints();
+        let cap = self.motor_push_cap();
         let torque = self.object_acceleration * self.inertia;
         let g = self.grips.at(
             &self.setpoint.state,
             &torque,
             self.carrying.set(),
             self.carrying.blend(),
+            cap,
         );
         let r = &mut self.report;
         r.grip = g.normal;
         r.grip_capped = g.capped;
         r.grip_peak = g.peak;
-        r.load_margin = self.grips.max_grip() - g.peak;
-        self.command_joints();
+        r.load_margin =
+            cap.map_or(self.grips.max_grip(), |c| c.min(self.grips.max_grip())) - g.peak;
+    }
+
+    /// On a chain hand, the strongest normal push every grasping finger's
+    /// motors give at the joints just commanded, the links' weight held
+    /// too ([`crate::hand::ChainHand::push_limit`]): no commanded grip
+    /// exceeds it, so the feed-forward torque of the grip stays within the
+    /// motors' effort. `None` on free fingertips (`load.max_grip` alone).
+    fn motor_push_cap(&self) -> Option<f64> {
+        let hand = self.checker.chain_limits()?.hand();
+        let r = &self.report;
+        let mut cap = f64::INFINITY;
+        for (k, f) in r.setpoint.state.fingers.iter().enumerate() {
+            if let (crate::hand_state::FingerMode::Grasping, Some(q)) =
+                (f.mode, r.joints[k].as_ref())
+            {
+                cap = cap.min(hand.push_limit(k, q, &f.center.normalize()));
+            }
+        }
+        Some(cap)
     }
 
     /// A chain hand's joints for the tips just written (the report's

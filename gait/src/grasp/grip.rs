@@ -122,6 +122,14 @@ impl GripModel {
         &self.hold
     }
 
+    /// The same model with no commanded normal above `max_grip` where that
+    /// is lower than `load.max_grip` ([`HoldModel::within`]).
+    pub fn within(&self, max_grip: f64) -> Self {
+        Self {
+            hold: self.hold.within(max_grip),
+        }
+    }
+
     /// Grip forces when every grasping finger of `state` carries the load
     /// and the object must also be given the torque `torque` [N·m] (I α).
     pub fn grip(&self, state: &HandState, torque: &Vector3<f64>) -> Grip {

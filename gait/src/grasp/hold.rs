@@ -305,6 +305,13 @@ impl HoldModel {
         self.max_grip
     }
 
+    /// The same model with the largest normal force `max_grip` where that
+    /// is lower (a chain hand's motors, [`crate::hand::ChainHand::push_limit`]).
+    pub fn within(mut self, max_grip: f64) -> Self {
+        self.max_grip = self.max_grip.min(max_grip.max(0.0));
+        self
+    }
+
     /// The weight m g \[N\].
     pub fn weight(&self) -> Vector3<f64> {
         self.weight

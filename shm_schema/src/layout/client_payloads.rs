@@ -148,7 +148,7 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     Status,
                     load_margin,
                     "N",
-                    "load.max_grip − load_grip; negative when the grasp cannot hold the load"
+                    "load.max_grip (a chain hand: the strongest normal push the grasping fingers' motors give, if lower) − load_grip; negative when the grasp cannot hold the load"
                 ),
                 f!(
                     Status,
