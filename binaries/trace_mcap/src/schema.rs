@@ -27,7 +27,9 @@ pub const HEADER: &str = r#"{
     "mu_torsion": {"type": "number", "description": "torsion coefficient [m]"},
     "gravity": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3, "description": "[m/s^2], hand frame"},
     "max_grip": {"type": "number", "description": "force limit [N]"},
-    "disturbance_force": {"type": "number", "description": "[N]"}
+    "disturbance_force": {"type": "number", "description": "[N]"},
+    "hand": {"type": "string", "description": "\"chains\" on a hand of finger chains (absent: free fingertips)"},
+    "hand_description": {"type": "string", "description": "a chain hand's description (its hand section file, absolute path), which names its URDF"}
   },
   "required": ["format", "object_radius", "fingertip_radius", "mu", "dt"]
 }"#;
@@ -52,7 +54,8 @@ pub const SAMPLE: &str = r#"{
           "q": {"type": "array", "items": {"type": "number"}, "minItems": 4, "maxItems": 4, "description": "fingertip orientation, world-from-fingertip [w, x, y, z]"},
           "contact": {"type": "boolean", "description": "touching the object, |p| = R + r"},
           "grip_force": {"type": ["number", "null"], "description": "intended normal force [N], 0 when not in contact"},
-          "roll": {"type": ["number", "null"], "description": "roll angle [rad]"}
+          "roll": {"type": ["number", "null"], "description": "roll angle [rad]"},
+          "joints": {"type": "array", "items": {"type": ["number", "null"]}, "minItems": 3, "maxItems": 3, "description": "a chain hand's commanded joints, base to tip [rad]"}
         },
         "required": ["p", "q", "contact"]
       }
@@ -62,7 +65,8 @@ pub const SAMPLE: &str = r#"{
     "load_margin": {"type": ["number", "null"], "description": "max_grip minus the largest normal force the load needs [N]; null when no grip holds it"},
     "remaining_angle": {"type": ["number", "null"], "description": "angle still to rotate [rad]"},
     "gaits": {"type": "integer", "minimum": 0, "description": "gaits done"},
-    "estimate_epoch": {"type": "integer", "minimum": 0, "description": "changes where the object estimate was re-based on a measurement"}
+    "estimate_epoch": {"type": "integer", "minimum": 0, "description": "changes where the object estimate was re-based on a measurement"},
+    "joint_margin": {"type": ["number", "null"], "description": "a chain hand's tightest joint margin inside its limits [rad]"}
   },
   "required": ["t", "object_q", "fingers"]
 }"#;
