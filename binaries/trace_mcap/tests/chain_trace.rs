@@ -12,7 +12,11 @@ use serde_json::Value;
 
 /// The joints of finger `k` at sample `i` \[rad\].
 fn joints(i: usize, k: usize) -> Vector3<f64> {
-    Vector3::new(0.1 * k as f64, 0.9 - 0.01 * i as f64, -1.7 + 0.02 * i as f64)
+    Vector3::new(
+        0.1 * k as f64,
+        0.9 - 0.01 * i as f64,
+        -1.7 + 0.02 * i as f64,
+    )
 }
 
 /// A chain hand's trace: the header with the daemon's chain keys, then
@@ -81,7 +85,11 @@ fn a_chain_traces_joints_and_description_come_back_from_its_recording() {
 fn declared(schema: &Value, path: &[&str]) -> Vec<String> {
     let mut v = schema;
     for p in path {
-        v = if *p == "[]" { &v["items"] } else { &v["properties"][p] };
+        v = if *p == "[]" {
+            &v["items"]
+        } else {
+            &v["properties"][p]
+        };
     }
     v["properties"]
         .as_object()
@@ -101,12 +109,18 @@ fn the_recordings_schemas_declare_every_key_of_a_chain_trace() {
     let sample: Value = serde_json::from_str(lines.next().unwrap()).unwrap();
     let of_sample = declared(&sample_schema, &[]);
     for key in sample.as_object().unwrap().keys() {
-        assert!(of_sample.contains(key), "sample key {key} not in the schema");
+        assert!(
+            of_sample.contains(key),
+            "sample key {key} not in the schema"
+        );
     }
     let of_finger = declared(&sample_schema, &["fingers", "[]"]);
     for f in sample["fingers"].as_array().unwrap() {
         for key in f.as_object().unwrap().keys() {
-            assert!(of_finger.contains(key), "finger key {key} not in the schema");
+            assert!(
+                of_finger.contains(key),
+                "finger key {key} not in the schema"
+            );
         }
     }
     // The header allows other keys (writers add their own); the model's
@@ -114,7 +128,10 @@ fn the_recordings_schemas_declare_every_key_of_a_chain_trace() {
     let of_header = declared(&header_schema, &[]);
     for key in head.as_object().unwrap().keys() {
         if key != "source" {
-            assert!(of_header.contains(key), "header key {key} not in the schema");
+            assert!(
+                of_header.contains(key),
+                "header key {key} not in the schema"
+            );
         }
     }
 }

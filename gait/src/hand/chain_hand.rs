@@ -107,6 +107,11 @@ impl ChainHand {
         self.friction.mu
     }
 
+    /// The torsional friction coefficient μ_t \[m\].
+    pub fn friction_torsion(&self) -> f64 {
+        self.friction.torsion
+    }
+
     /// How finger `k` grasps at the outward unit normal `n` within the
     /// hand's margins, if it can (SPEC §14.1 "Workspace",
     /// [`kinematics::reach`]).

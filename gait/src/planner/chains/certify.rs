@@ -16,7 +16,8 @@
 //!   contacts, three as hard ones; while the object turns, with the torque
 //!   its angular acceleration needs at the limit, both signs. Evaluated
 //!   where the contacts move (every sample of a carry) and once per step
-//!   where they do not.
+//!   where they do not; the closed-form forces first, the cone program
+//!   where they do not prove it ([`super::quick_hold`]).
 //!
 //! The kinematic margins hold between two samples too, not only at them:
 //! where the margins at two samples do not prove it (`held_between`: a
@@ -31,6 +32,7 @@
 use nalgebra::Vector3;
 
 use super::ChainHand;
+use super::quick_hold::closed_form_share;
 use crate::grasp::Contact;
 use crate::hand::{PAIRS, SLACK_TOLERANCE};
 use crate::hand_state::{FINGERS, FingerMode, HandState};
@@ -66,7 +68,9 @@ pub struct ChainMargins {
     /// Gap between two fingers, beyond the hand's \[m\].
     pub gap: f64,
     /// The largest share of a motor's torque limit the load needs (u* of
-    /// the torque box; ≤ 1 where held).
+    /// the torque box, or where the closed-form forces already hold it,
+    /// their share, an upper bound of u*: [`super::quick_hold`]; ≤ 1 where
+    /// held).
     pub torque_share: f64,
     /// Samples checked.
     pub samples: usize,
@@ -414,7 +418,12 @@ impl<'a> Sample<'a> {
         axis: Option<&Vector3<f64>>,
         m: &mut ChainMargins,
     ) -> Result<(), ChainViolation> {
-        let share = grasp_share(self.hand, state, joints, axis, self.params);
+        // The closed forms' share where it proves the grasp (an upper
+        // bound of u*), else the cone program's.
+        let share = match closed_form_share(self.hand, state, joints, axis, self.params) {
+            Some(s) if s <= 1.0 => s,
+            _ => grasp_share(self.hand, state, joints, axis, self.params),
+        };
         m.torque_share = m.torque_share.max(share);
         if share > 1.0 {
             return Err(self.fail(None, ViolationKind::Load(share)));

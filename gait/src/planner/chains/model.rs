@@ -34,6 +34,7 @@ use nalgebra::Vector3;
 use super::ChainHand;
 use super::carry_load::CarryLoads;
 use super::certify::{ChainViolation, CheckParams, check, check_way, grasp_share};
+use super::quick_hold::closed_form_share;
 use super::steps::{ChainBuilder, carried};
 use crate::HandConfig;
 use crate::hand_state::{FINGERS, FingerMode, HandState};
@@ -229,7 +230,8 @@ impl ChainModel {
                 .joints(k, &state.fingers[k].center, None)
                 .filter(|_| state.fingers[k].mode == FingerMode::Grasping)
         });
-        grasp_share(&self.hand, state, &joints, axis, &self.params) <= 1.0
+        closed_form_share(&self.hand, state, &joints, axis, &self.params).is_some_and(|s| s <= 1.0)
+            || grasp_share(&self.hand, state, &joints, axis, &self.params) <= 1.0
     }
 
     /// A state with finger `a` at `na` and `b` at `nb` grasping, the third
