@@ -17,8 +17,8 @@
 //! tests' margins: joints within [−0.33, 1.0], [0, 1.57], [−2.7, 0] rad
 //! less 0.05 rad; the contact within 85° of the tip's pole, −z of the tip
 //! frame (a 90° hemisphere less 5°); links 5 mm off the ball; every
-//! motor's effort 0.396 N·m, which the grip each grasping finger is
-//! commanded to press with must not need (with the links' weight held).
+//! motor's effort 0.396 N·m, which the contact force each grasping finger
+//! is commanded to push with must not need (with the links' weight held).
 
 mod chain_hand;
 #[path = "../../kinematics/tests/common/mod.rs"]
@@ -50,14 +50,20 @@ const TIP: f64 = 0.010;
 /// Every TriFingerPro motor's effort \[N·m\].
 const EFFORT: f64 = 0.396;
 
-/// The largest share of a motor's effort finger `k` at joints `q` needs
-/// to press the ball with `grip` along the inward normal `n` while
-/// holding its links' weight: τ = J_mᵀ (−grip n) + g, J_m the Jacobian
+/// The largest share of a motor's effort finger `k` at joints `q`,
+/// touching at the outward normal `n`, needs to push the ball with the
+/// force `force` while holding its links' weight: τ = J_mᵀ F + g, J_m the Jacobian
 /// of the tip's material point at the contact by central differences of
 /// forward kinematics, g the links' weight torques (the hand's own,
 /// checked against the gradient of the links' potential energy in the
 /// daemon's joint-command tests).
-fn own_push_share(h: &ChainHand, k: usize, q: &Vector3<f64>, n: &Vector3<f64>, grip: f64) -> f64 {
+fn own_push_share(
+    h: &ChainHand,
+    k: usize,
+    q: &Vector3<f64>,
+    n: &Vector3<f64>,
+    force: &Vector3<f64>,
+) -> f64 {
     let chain = h.chain(k);
     let at = chain.forward(q);
     // The contact point in the tip frame: it moves with the tip.
@@ -73,7 +79,7 @@ fn own_push_share(h: &ChainHand, k: usize, q: &Vector3<f64>, n: &Vector3<f64>, g
         dq[i] = eps;
         jm.set_column(i, &((point(&(q + dq)) - point(&(q - dq))) / (2.0 * eps)));
     }
-    let tau = jm.transpose() * (-n * grip) + h.statics(k, q, n).bias;
+    let tau = jm.transpose() * force + h.statics(k, q, n).bias;
     tau.amax() / EFFORT
 }
 
@@ -224,10 +230,18 @@ fn run_goal(
                     "goal {id}, tick {tick}: finger {k} off its patch"
                 );
                 t.patch = t.patch.min(PATCH - angle);
-                let share = own_push_share(h, k, &now, &f.center.normalize(), rep.grip[k]);
+                let n = f.center.normalize();
+                let force = rep.grip_force[k];
+                let share = own_push_share(h, k, &now, &n, &force);
                 assert!(
                     share <= 1.0 + 1e-6,
-                    "goal {id}, tick {tick}: finger {k}'s grip {} N needs {share} of its effort",
+                    "goal {id}, tick {tick}: finger {k}'s grip {force:?} N needs {share} of its effort",
+                );
+                // The normal force reported is the force's push along the
+                // inward normal.
+                assert!(
+                    (force.dot(&-n).max(0.0) - rep.grip[k]).abs() < 1e-9,
+                    "goal {id}, tick {tick}: finger {k}: force {force:?}, normal {}",
                     rep.grip[k]
                 );
                 t.effort = t.effort.max(share);

@@ -162,13 +162,20 @@ fn gaitctl_mistakes_give_a_message_not_a_backtrace() {
         &run("gaitctl", &["reorient", "--limit", "object.speed=1"]),
         &["speed"],
     );
+    let fingertips = gaitd_tests::repo_root().join("deploy/gaitd.toml");
     assert_user_error(
-        "a chain hand on the MuJoCo plant",
+        "the tracker model on the fingertip MuJoCo plant",
         &run(
             "gaitctl",
-            &["demo", "--hand", "trifingerpro", "--plant", "mujoco"],
+            &[
+                "plant",
+                "mujoco",
+                "--config",
+                fingertips.to_str().unwrap(),
+                "--exact-tracker",
+            ],
         ),
-        &["--hand trifingerpro", "--plant sim"],
+        &["--exact-tracker", "chain hand"],
     );
     let missing = Path::new("/nonexistent/trace.jsonl");
     assert_user_error(

@@ -4,7 +4,9 @@ Why read the daemon's own file: a plant must simulate the hand the daemon
 controls — same radii, friction, finger azimuths, load, period and IPC
 namespace. Reading the one file both use removes a class of mismatches.
 Defaults are those of ``deploy/gaitd.toml`` (the daemon validates the file;
-this reader only takes what it needs and ignores the other keys).
+this reader only takes what it needs and ignores the other keys). A chain
+hand's plant also reads ``[hand]``: the description it simulates and the
+grasp it starts in.
 """
 
 from __future__ import annotations
@@ -63,6 +65,23 @@ class PlantSection:
 
 
 @dataclass(frozen=True)
+class HandSection:
+    """``[hand]`` of a chain hand (``kind = "chains"``): its description and the grasp it starts in.
+
+    ``description`` is the hand section's path, resolved against the configuration file's folder
+    as the daemon resolves it; ``start_normals`` are the start contacts' outward normals on the
+    object (not necessarily unit), one per finger; ``joint_kp`` and ``joint_kd`` the gains the
+    daemon commands (its defaults: TriFingerPro's 9 and 0.01).
+    """
+
+    kind: str
+    description: Path
+    start_normals: tuple[tuple[float, float, float], ...]
+    joint_kp: tuple[float, float, float] = (9.0, 9.0, 9.0)
+    joint_kd: tuple[float, float, float] = (0.01, 0.01, 0.01)
+
+
+@dataclass(frozen=True)
 class DaemonConfig:
     """What a plant reads from the daemon's configuration."""
 
@@ -72,6 +91,12 @@ class DaemonConfig:
     plant: PlantSection = field(default_factory=PlantSection)
     ipc: Mapping[str, Any] = field(default_factory=dict)
     path: str | None = None
+    hand: HandSection | None = None
+
+    @property
+    def chains(self) -> bool:
+        """The hand is a hand of finger chains (``[hand] kind = "chains"``)."""
+        return self.hand is not None and self.hand.kind == "chains"
 
     @property
     def period(self) -> float:
@@ -105,6 +130,33 @@ def _take(section: Mapping[str, Any], cls: type[_Section], name: str) -> _Sectio
         raise ValueError(f"[{name}]: {e}") from e
 
 
+def _vec3(v: Any, what: str) -> tuple[float, float, float]:
+    if not isinstance(v, list) or len(v) != 3:
+        raise ValueError(f"{what}: three numbers")
+    return (float(v[0]), float(v[1]), float(v[2]))
+
+
+def _hand(section: Mapping[str, Any], path: str | None) -> HandSection | None:
+    """``[hand]``; None unless it describes a chain hand."""
+    kind = str(section.get("kind", "fingertips"))
+    if kind != "chains":
+        return None
+    if "description" not in section:
+        raise ValueError('[hand] kind = "chains" needs description')
+    base = Path(path).parent if path is not None else Path(".")
+    normals = section.get("start_normals", [])
+    if not isinstance(normals, list) or len(normals) != 3:
+        raise ValueError("[hand] start_normals: one contact normal per finger, three")
+    default = HandSection(kind, Path(), ())
+    return HandSection(
+        kind,
+        base / str(section["description"]),
+        tuple(_vec3(n, "[hand] start_normals") for n in normals),
+        _vec3(section["joint_kp"], "[hand] joint_kp") if "joint_kp" in section else default.joint_kp,
+        _vec3(section["joint_kd"], "[hand] joint_kd") if "joint_kd" in section else default.joint_kd,
+    )
+
+
 def parse(doc: Mapping[str, Any], path: str | None = None) -> DaemonConfig:
     """A :class:`DaemonConfig` from a parsed TOML document."""
     model = _take(doc.get("model", {}), Model, "model")
@@ -117,7 +169,8 @@ def parse(doc: Mapping[str, Any], path: str | None = None) -> DaemonConfig:
     if not (100.0 <= tick_hz <= 10000.0):
         raise ValueError(f"[control] tick_hz = {tick_hz}: must be in 100–10000 Hz")
     plant = _take(doc.get("plant", {}), PlantSection, "plant")
-    return DaemonConfig(model, load, tick_hz, plant, dict(doc.get("ipc", {})), path)
+    hand = _hand(doc.get("hand", {}), path)
+    return DaemonConfig(model, load, tick_hz, plant, dict(doc.get("ipc", {})), path, hand)
 
 
 def load(path: str | Path | None) -> DaemonConfig:

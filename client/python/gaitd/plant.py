@@ -102,6 +102,24 @@ class PlantStats:
         """Simulated seconds per wall-clock second."""
         return self.sim_s / self.wall_s if self.wall_s > 0 else 0.0
 
+    def summary(self) -> dict[str, Any]:
+        """The counters and timing as JSON-ready values (a plant's ``--report``)."""
+        return {
+            "steps": self.steps,
+            "measurements": self.measurements,
+            "commands": self.commands,
+            "applied": self.applied,
+            "rejected": self.rejected,
+            "last_rejection": self.last_rejection,
+            "lockstep_timeouts": self.timeouts,
+            "overruns": self.overruns,
+            "simulated_s": self.sim_s,
+            "wall_s": self.wall_s,
+            "real_time_factor": self.real_time_factor,
+            "compute_us_per_step": 1e6 * self.compute_s / max(1, self.steps),
+            "sessions": self.sessions,
+        }
+
     def line(self) -> str:
         """One human line."""
         return (
@@ -208,6 +226,7 @@ class Plant:
         self._log = log or (lambda s: print(s, file=sys.stderr, flush=True))
         self._stop = False
         self._held: Setpoint | None = None
+        self._still: Setpoint | None = None
         self._last_good: Measured | None = None
         self._last_complaint = 0.0
         self._ports: dict[str, Any] = {}
@@ -373,7 +392,10 @@ class Plant:
         self.apply(sp)
         self.step(self.period)
         # From now on, unless a new command comes, hold this pose still.
-        self._held = sp.still()
+        # (A held setpoint is already still: made once per new command, not every step.)
+        if sp is not self._still:
+            self._still = sp.still()
+        self._held = self._still
         self.stats.steps += 1
         self.stats.sim_s += self.period
         self.stats.compute_s += time.perf_counter() - t

@@ -131,3 +131,24 @@ def test_default_root_path() -> None:
 def test_refused_settings(prefix: str, root: str, file_prefix: str, why: str) -> None:
     with pytest.raises(ipc.IpcError, match=why):
         ipc.resolve(prefix, root, file_prefix, env={})
+
+
+def test_a_chain_hand_is_read_with_its_description_beside_the_file(tmp_path: Path) -> None:
+    shipped = DEPLOY.parent / "hands" / "trifingerpro" / "gaitd.toml"
+    c = config.load(shipped)
+    assert c.chains and c.hand is not None
+    assert c.hand.description == shipped.parent / "hand.toml" and c.hand.description.is_file()
+    assert c.hand.start_normals == ((-0.07, 0.07, 1.0), (0.55, -0.57, -0.61), (-0.64, 0.66, 0.40))
+    assert (c.hand.joint_kp, c.hand.joint_kd) == ((9.0,) * 3, (0.01,) * 3)
+    p = tmp_path / "gaitd.toml"
+    p.write_text(
+        '[hand]\nkind = "chains"\ndescription = "sub/hand.toml"\nstart_normals = [[0, 0, 1], [1, 0, 0], [0, 1, 0]]\n'
+        "joint_kp = [2, 3, 4]\n"
+    )
+    c = config.load(p)
+    assert c.hand is not None and c.hand.description == tmp_path / "sub" / "hand.toml"
+    assert c.hand.joint_kp == (2.0, 3.0, 4.0) and c.hand.joint_kd == (0.01,) * 3
+    assert not config.load(DEPLOY).chains and config.load(DEPLOY).hand is None
+    p.write_text('[hand]\nkind = "chains"\ndescription = "hand.toml"\nstart_normals = [[0, 0, 1]]\n')
+    with pytest.raises(ValueError, match="start_normals"):
+        config.load(p)

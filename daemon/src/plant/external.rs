@@ -271,14 +271,15 @@ impl ExternalPlant {
     }
 
     /// The next command: the setpoint `sp`, each finger's mode and intended
-    /// grip, and the `flags` (ENABLE, HOLD, LOCKSTEP bits); on a chain
+    /// grip (its normal force, and its whole contact force `force` on the
+    /// object), and the `flags` (ENABLE, HOLD, LOCKSTEP bits); on a chain
     /// hand also its joint fields from the commanded `joints` (a finger
     /// without keeps the joints it was last commanded) and the JOINTS bit.
     pub fn command(
         &mut self,
         sp: &Setpoint,
         modes: &[PlantFingerMode; 3],
-        grip: &[f64; 3],
+        (grip, force): (&[f64; 3], &[Vector3<f64>; 3]),
         joints: &[Option<Vector3<f64>>; 3],
         flags: u32,
     ) -> PlantCommand {
@@ -312,7 +313,11 @@ impl ExternalPlant {
                     joints: j.last[k],
                     center: sp.state.fingers[k].center,
                     velocity: sp.finger_velocity[k],
-                    grip: f.grip_force,
+                    force: if f.grip_force > 0.0 {
+                        force[k]
+                    } else {
+                        Vector3::zeros()
+                    },
                 };
                 j.link.command(k, &setpoint, f);
             }
@@ -378,7 +383,7 @@ mod tests {
         l.command(
             &sp,
             &[PlantFingerMode::Grasping; 3],
-            &[1.0; 3],
+            (&[1.0; 3], &[Vector3::zeros(); 3]),
             &[None; 3],
             1,
         )

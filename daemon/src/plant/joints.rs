@@ -10,9 +10,11 @@
 //!   the tip at the setpoint; the joint velocities that move it at the
 //!   setpoint's tip velocity, $\dot q = J_v^{-1} v$ (0 at a singular
 //!   configuration); the feed-forward torque
-//!   $\tau_{ff} = J_p^\top f + g(q)$ — the grip $f = -f_n\,n$ pressed at
-//!   the contact point, and the links' weight where configured — clipped to
-//!   the motors' limits; the configured PD gains.
+//!   $\tau_{ff} = J_p^\top f + g(q)$ — the grip's whole contact force $f$
+//!   on the object (its normal push and the tangential share of the load)
+//!   at the contact point, and the links' weight where configured —
+//!   clipped to the motors' limits (the executor chooses grips within
+//!   them); the configured PD gains.
 //!
 //! Allocation-free: it runs on the loop thread.
 
@@ -70,8 +72,9 @@ pub struct FingerSetpoint {
     pub center: Vector3<f64>,
     /// Tip centre velocity \[m/s\].
     pub velocity: Vector3<f64>,
-    /// The normal force the tip presses with \[N\] (0: free).
-    pub grip: f64,
+    /// The contact force the tip pushes the object with, hand frame \[N\]
+    /// (zero: free, or carrying nothing).
+    pub force: Vector3<f64>,
 }
 
 impl JointLink {
@@ -114,9 +117,7 @@ impl JointLink {
         } else {
             Vector3::zeros()
         };
-        if sp.grip > 0.0 {
-            tau += statics.force_to_torque * (-sp.grip * n);
-        }
+        tau += statics.force_to_torque * sp.force;
         let limit = chain.effort();
         out.joint_count = JOINTS as u32;
         out.joint_position = [0.0; MAX_JOINTS];
@@ -185,7 +186,7 @@ pub(crate) mod tests {
                 joints: q,
                 center,
                 velocity: Vector3::new(0.01, -0.02, 0.005),
-                grip: 0.8,
+                force: Vector3::zeros(),
             };
             let mut out = PlantFingerCommand::default();
             link.command(k, &sp, &mut out);
@@ -210,10 +211,20 @@ pub(crate) mod tests {
                 sp.velocity
             );
             // Virtual work per joint: τ_i = ∂(contact point)/∂q_i · f
-            // + ∂V/∂q_i, V = −Σ m_j g·c_j the links' potential energy.
+            // + ∂V/∂q_i, V = −Σ m_j g·c_j the links' potential energy; the
+            // contact point is the tip's material point there, and the
+            // force a push of 0.8 N with a tangential part.
             let n = center.normalize();
-            let f = -n * sp.grip;
-            let contact = |q: &Vector3<f64>| tip_at(&link, k, q) - n * chain.tip_radius;
+            let side = n.cross(&Vector3::z()).normalize();
+            let f = -n * 0.8 + side * 0.3;
+            let sp = FingerSetpoint { force: f, ..sp };
+            let mut out = PlantFingerCommand::default();
+            link.command(k, &sp, &mut out);
+            let local = chain.forward(&q).tip.rotation.transpose() * (-n * chain.tip_radius);
+            let contact = |q: &Vector3<f64>| {
+                let s = chain.forward(q);
+                s.tip_centre() + s.tip.rotation * local
+            };
             let potential = |q: &Vector3<f64>| {
                 let s = chain.forward(q);
                 (0..3)
@@ -243,7 +254,7 @@ pub(crate) mod tests {
             joints: straight,
             center: tip_at(&link, 0, &straight) - link.hand.object().centre,
             velocity: Vector3::new(0.0, 0.0, 0.01),
-            grip: 0.0,
+            force: Vector3::zeros(),
         };
         let mut out = PlantFingerCommand::default();
         link.command(0, &sp, &mut out);
@@ -265,7 +276,7 @@ pub(crate) mod tests {
             joints: q,
             center,
             velocity: Vector3::zeros(),
-            grip: 1000.0,
+            force: -center.normalize() * 1000.0,
         };
         let mut out = PlantFingerCommand::default();
         link.command(1, &sp, &mut out);

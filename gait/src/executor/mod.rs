@@ -280,6 +280,7 @@ impl Executor {
                 gaits: (0, 0),
                 eta: 0.0,
                 grip: [0.0; 3],
+                grip_force: [Vector3::zeros(); 3],
                 grip_capped: false,
                 grip_peak: 0.0,
                 load_margin: config.load.max_grip,

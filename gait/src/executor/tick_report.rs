@@ -28,6 +28,11 @@ pub struct TickReport {
     pub eta: f64,
     /// Commanded normal force per finger \[N\] ([`grip`]).
     pub grip: [f64; 3],
+    /// Commanded contact force on the object per finger: the load's share
+    /// and the squeeze, normal and tangential (the grip's `force`; zero for
+    /// a finger that carries nothing) \[N\]. A joint-level plant is sent it
+    /// as torques J_pᵀ F.
+    pub grip_force: [Vector3<f64>; 3],
     /// Whether the grip had to be capped at `load.max_grip` (the grasp
     /// cannot hold the load).
     pub grip_capped: bool,
@@ -108,40 +113,40 @@ impl Executor {
         };
         r.fault = self.fault;
         self.command_joints();
-        let cap = self.motor_push_cap();
+        let motors = self.motors();
         let torque = self.object_acceleration * self.inertia;
         let g = self.grips.at(
             &self.setpoint.state,
             &torque,
             self.carrying.set(),
             self.carrying.blend(),
-            cap,
+            motors.as_ref(),
         );
+        let limit = motors.map_or(f64::INFINITY, |m| m.push_cap(&self.report.setpoint.state));
         let r = &mut self.report;
         r.grip = g.normal;
+        r.grip_force = g.force;
         r.grip_capped = g.capped;
         r.grip_peak = g.peak;
-        r.load_margin =
-            cap.map_or(self.grips.max_grip(), |c| c.min(self.grips.max_grip())) - g.peak;
+        r.load_margin = limit.min(self.grips.max_grip()) - g.peak;
     }
 
-    /// On a chain hand, the strongest normal push every grasping finger's
-    /// motors give at the joints just commanded, the links' weight held
-    /// too ([`crate::hand::ChainHand::push_limit`]): no commanded grip
-    /// exceeds it, so the feed-forward torque of the grip stays within the
-    /// motors' effort. `None` on free fingertips (`load.max_grip` alone).
-    fn motor_push_cap(&self) -> Option<f64> {
+    /// On a chain hand, each grasping finger's statics at the joints just
+    /// commanded ([`grips::Motors`]); `None` on free fingertips
+    /// (`load.max_grip` alone bounds their grip).
+    fn motors(&self) -> Option<grips::Motors> {
         let hand = self.checker.chain_limits()?.hand();
         let r = &self.report;
-        let mut cap = f64::INFINITY;
-        for (k, f) in r.setpoint.state.fingers.iter().enumerate() {
-            if let (crate::hand_state::FingerMode::Grasping, Some(q)) =
-                (f.mode, r.joints[k].as_ref())
-            {
-                cap = cap.min(hand.push_limit(k, q, &f.center.normalize()));
+        let statics = std::array::from_fn(|k| {
+            let f = &r.setpoint.state.fingers[k];
+            match (f.mode, r.joints[k].as_ref()) {
+                (crate::hand_state::FingerMode::Grasping, Some(q)) => {
+                    Some(hand.statics(k, q, &f.center.normalize()))
+                }
+                _ => None,
             }
-        }
-        Some(cap)
+        });
+        Some(grips::Motors { statics })
     }
 
     /// A chain hand's joints for the tips just written (the report's

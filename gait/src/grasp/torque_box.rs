@@ -50,6 +50,40 @@ pub struct FingerStatics {
     pub limit: Vector3<f64>,
 }
 
+impl FingerStatics {
+    /// The strongest push along the inward normal of the outward unit
+    /// normal `n` (a grip's normal force) these motors give while they also
+    /// hold the links' weight: the largest f ≥ 0 with
+    /// |g_j + f (J_pᵀ(−n))_j| ≤ τ_max,j for every joint j \[N\]; 0 where the
+    /// weight alone is beyond a motor.
+    pub fn push_limit(&self, n: &Vector3<f64>) -> f64 {
+        let per_newton = self.force_to_torque * (-n);
+        let mut limit = f64::INFINITY;
+        for j in 0..3 {
+            let (g, b, t) = (self.bias[j], per_newton[j], self.limit[j]);
+            if g.abs() > t {
+                return 0.0;
+            }
+            if b > 0.0 {
+                limit = limit.min((t - g) / b);
+            } else if b < 0.0 {
+                limit = limit.min((t + g) / -b);
+            }
+        }
+        limit
+    }
+
+    /// The largest share of a motor's effort, max_j |τ_j| / τ_max,j, the
+    /// contact force `force` on the object needs with the links' weight:
+    /// τ = J_pᵀ F + g.
+    pub fn share(&self, force: &Vector3<f64>) -> f64 {
+        let tau = self.force_to_torque * force + self.bias;
+        (0..3)
+            .map(|j| tau[j].abs() / self.limit[j])
+            .fold(0.0, f64::max)
+    }
+}
+
 /// The answer of [`TorqueBoxSolver::solve`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct TorqueBoxSolution {

@@ -223,28 +223,11 @@ impl ChainHand {
         }
     }
 
-    /// The strongest push along the inward normal `n` (the grip's normal
-    /// force) finger `k`'s motors give at joints `q` while they also hold
-    /// the links' weight: the largest f ≥ 0 with |g_j + f (J_pᵀ(−n))_j| ≤
-    /// τ_max,j for every joint j (SPEC §14.1 "Forces", the torque box of
-    /// one contact pushing along its normal) \[N\]; 0 where the weight
-    /// alone is beyond a motor.
+    /// The strongest push along the inward normal of `n` finger `k`'s
+    /// motors give at joints `q` while they also hold the links' weight
+    /// ([`FingerStatics::push_limit`], SPEC §14.1 "Forces") \[N\].
     pub fn push_limit(&self, k: usize, q: &Vector3<f64>, n: &Vector3<f64>) -> f64 {
-        let s = self.statics(k, q, n);
-        let per_newton = s.force_to_torque * (-n);
-        let mut limit = f64::INFINITY;
-        for j in 0..3 {
-            let (g, b, t) = (s.bias[j], per_newton[j], s.limit[j]);
-            if g.abs() > t {
-                return 0.0;
-            }
-            if b > 0.0 {
-                limit = limit.min((t - g) / b);
-            } else if b < 0.0 {
-                limit = limit.min((t + g) / -b);
-            }
-        }
-        limit
+        self.statics(k, q, n).push_limit(n)
     }
 
     /// Finger `k`'s joints with its tip centre at `center`, moving on from

@@ -3,11 +3,17 @@
 Builds the scene from the daemon's configuration file (the same file the
 daemon reads: ``[model]``, ``[load]``, ``[control]``, ``[ipc]``, ``[plant]``),
 starts in the paper start grasp, attaches to the daemon's plant services and
-runs until SIGTERM/SIGINT. Progress and the real-time factor (simulated
+runs until SIGTERM/SIGINT. Where the file's ``[hand]`` is a chain hand
+(``kind = "chains"``) the plant is that hand at the joint level
+(``trifinger_plant``: the description's scene, the configured start grasp,
+the object's pose through a tracker model whose rate, latency and noise the
+``--tracker-*`` options set). Progress and the real-time factor (simulated
 seconds per wall second) go to stderr every 10 s and at the end;
 ``--report FILE`` writes what happened as JSON at exit (for tests and
-scripts: final measured object orientation, largest object-centre drift,
-sessions seen, counters).
+scripts: final object orientation and centre, largest object-centre drift,
+sessions seen, counters; on a chain hand the simulator's truth — the ball's
+true pose, the action law's clip and soft-limit counts, the largest applied
+torques, the tracker's errors).
 """
 
 from __future__ import annotations
@@ -23,6 +29,8 @@ from ..ipc import IpcError
 from ..plant import LOCKSTEP, REALTIME
 from ..setpoint import Measured
 from .mujoco_plant import MujocoPlant
+from .tracker import TrackerSettings
+from .trifinger_main import run_chains
 
 
 class ReportingPlant(MujocoPlant):
@@ -61,9 +69,37 @@ def main(argv: list[str] | None = None) -> int:
     )
     ap.add_argument("--max-steps", type=int, default=None, help="stop after this many steps")
     ap.add_argument("--report", default=None, help="write a JSON report here at exit")
+    chains = ap.add_argument_group('a chain hand ([hand] kind = "chains")')
+    d = TrackerSettings()
+    chains.add_argument(
+        "--tracker-rate", type=float, default=d.rate, help="object pose samples per second (0: every step)"
+    )
+    chains.add_argument("--tracker-latency", type=float, default=d.latency, help="a sample's delay [s]")
+    chains.add_argument(
+        "--tracker-position-noise", type=float, default=d.position_noise, help="RMS error of the centre [m]"
+    )
+    chains.add_argument(
+        "--tracker-angle-noise-deg", type=float, default=math.degrees(d.angle_noise), help="RMS orientation error [°]"
+    )
+    chains.add_argument("--tracker-seed", type=int, default=d.seed, help="the noise's seed")
+    chains.add_argument("--exact-tracker", action="store_true", help="the simulator's true pose every step")
+    chains.add_argument("--substeps", type=int, default=1, help="physics steps per control period")
     a = ap.parse_args(argv)
 
     cfg = gaitd_config.load(a.config)
+    if cfg.chains:
+        tracker = (
+            TrackerSettings.exact()
+            if a.exact_tracker
+            else TrackerSettings(
+                a.tracker_rate,
+                a.tracker_latency,
+                a.tracker_position_noise,
+                math.radians(a.tracker_angle_noise_deg),
+                a.tracker_seed,
+            )
+        )
+        return run_chains(cfg, a, tracker)
     plant = ReportingPlant(
         cfg,
         timing=a.timing,
@@ -89,19 +125,7 @@ def main(argv: list[str] | None = None) -> int:
     if a.report:
         report = {
             "timing": plant.timing,
-            "steps": stats.steps,
-            "measurements": stats.measurements,
-            "commands": stats.commands,
-            "applied": stats.applied,
-            "rejected": stats.rejected,
-            "last_rejection": stats.last_rejection,
-            "lockstep_timeouts": stats.timeouts,
-            "overruns": stats.overruns,
-            "simulated_s": stats.sim_s,
-            "wall_s": stats.wall_s,
-            "real_time_factor": stats.real_time_factor,
-            "compute_us_per_step": 1e6 * stats.compute_s / max(1, stats.steps),
-            "sessions": stats.sessions,
+            **stats.summary(),
             "final_object_q": list(m.object_q),
             "final_object_center": list(m.object_center) if m.object_center is not None else None,
             "max_object_drift_m": plant.max_drift,

@@ -112,6 +112,49 @@ def action_law(
     return LawResult(second, clipped, limited)
 
 
+def action_law_floats(
+    action: tuple[list[float], list[float], list[float], list[float]],
+    q: list[float],
+    dq: list[float],
+    lower: list[float],
+    upper: list[float],
+    tau_max: list[float],
+    default_kp: list[float],
+    default_kd: list[float],
+    safety_kd: list[float],
+) -> tuple[list[float], list[bool], list[bool]]:
+    """:func:`action_law` on plain floats, joint by joint: ``action`` is (torque, position, kp, kd);
+    returns (torque, clipped, limited). The same rules in the same order; a plant's per-step path
+    (nine joints: about 8 µs, against about 50 µs for the array form)."""
+    torque, position, kp, kd = action
+    out: list[float] = []
+    clipped: list[bool] = []
+    limited: list[bool] = []
+    for i, x in enumerate(q):
+        t, p, gp, gd, v = torque[i], position[i], kp[i], kd[i], dq[i]
+        lo, hi, m = lower[i], upper[i], tau_max[i]
+        if p == p:  # not NaN: clamped into the soft limits
+            p = lo if p < lo else hi if p > hi else p
+        gp = default_kp[i] if gp != gp else gp
+        gd = default_kd[i] if gd != gd else gd
+        below, above = x < lo, x > hi
+        if (below and t < 0.0) or (above and t > 0.0):
+            t = 0.0
+        if below or above:
+            if p != p:
+                p = lo if below else hi
+            gp, gd = default_kp[i], default_kd[i]
+        if p == p:
+            t = t + gp * (p - x) - gd * v
+        first = -m if t < -m else m if t > m else t
+        damped = first - safety_kd[i] * v
+        second = -m if damped < -m else m if damped > m else damped
+        out.append(second)
+        clipped.append(first != t or second != damped)
+        limited.append(below or above)
+    return out, clipped, limited
+
+
 @dataclass(frozen=True)
 class Observation:
     """The state after a step, and the torque applied during it."""
@@ -163,6 +206,7 @@ class TriFingerHand:
         self.safety_kd = np.tile(np.asarray(safety_kd, dtype=np.float64), k)
         obj = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, "object")
         self._obj_q = int(m.jnt_qposadr[obj])
+        self.qadr_object = self._obj_q  # the object's free joint in qpos: centre, then (w, x, y, z)
         self._obj_v = int(m.jnt_dofadr[obj])
         self.object_body = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "object")
         self.tip_bodies = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, f.tip) for f in self.hand.fingers]
@@ -208,6 +252,10 @@ class TriFingerHand:
     def object_position(self) -> F64:
         """The object's centre [m]."""
         return np.array(self.data.qpos[self._obj_q : self._obj_q + 3])
+
+    def object_quat(self) -> F64:
+        """The object's orientation (w, x, y, z), world from object."""
+        return np.array(self.data.qpos[self._obj_q + 3 : self._obj_q + 7])
 
     def tip_position(self, finger: int) -> F64:
         """The tip frame's origin (the tip sphere's centre) of ``finger`` [m]."""
@@ -263,7 +311,7 @@ class TriFingerHand:
             dq=self.dq,
             tau=np.array(tau),
             object_position=self.object_position(),
-            object_quat=np.array(d.qpos[self._obj_q + 3 : self._obj_q + 7]),
+            object_quat=self.object_quat(),
             clipped=np.array(clipped),
             limited=np.array(limited),
         )

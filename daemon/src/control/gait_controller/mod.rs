@@ -411,7 +411,13 @@ impl GaitController {
                 if x.lockstep() {
                     flags |= command_flags::LOCKSTEP;
                 }
-                out.plant_command = Some(x.command(&r.setpoint, &modes, &r.grip, &r.joints, flags));
+                out.plant_command = Some(x.command(
+                    &r.setpoint,
+                    &modes,
+                    (&r.grip, &r.grip_force),
+                    &r.joints,
+                    flags,
+                ));
             }
         }
     }
