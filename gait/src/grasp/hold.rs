@@ -306,7 +306,7 @@ impl HoldModel {
     }
 
     /// The same model with the largest normal force `max_grip` where that
-    /// is lower (a chain hand's motors, [`crate::hand::ChainHand::push_limit`]).
+    /// is lower (a chain hand's motors, [`crate::grasp::FingerStatics::push_limit`]).
     pub fn within(mut self, max_grip: f64) -> Self {
         self.max_grip = self.max_grip.min(max_grip.max(0.0));
         self

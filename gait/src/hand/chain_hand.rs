@@ -223,13 +223,6 @@ impl ChainHand {
         }
     }
 
-    /// The strongest push along the inward normal of `n` finger `k`'s
-    /// motors give at joints `q` while they also hold the links' weight
-    /// ([`FingerStatics::push_limit`], SPEC §14.1 "Forces") \[N\].
-    pub fn push_limit(&self, k: usize, q: &Vector3<f64>, n: &Vector3<f64>) -> f64 {
-        self.statics(k, q, n).push_limit(n)
-    }
-
     /// Finger `k`'s joints with its tip centre at `center`, moving on from
     /// `before` (its joints a moment earlier): the branch nearest them,
     /// inside the limits or not ([`Self::nearest_branch`]); without
