@@ -303,4 +303,14 @@ fn a_chain_hand_without_its_description_is_named() {
     assert!(!gain.status.success());
     let err = String::from_utf8_lossy(&gain.stderr);
     assert!(err.contains("hand.joint_kp"), "{err}");
+    // The shipped configuration sets its damping; a negative one is named.
+    let damping = check_trifingerpro("check-chain-damping", |c| {
+        c.replace(
+            "joint_damping = [0.09, 0.09, 0.05]",
+            "joint_damping = [0.09, -0.09, 0.05]",
+        )
+    });
+    assert!(!damping.status.success());
+    let err = String::from_utf8_lossy(&damping.stderr);
+    assert!(err.contains("hand.joint_damping"), "{err}");
 }

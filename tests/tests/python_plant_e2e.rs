@@ -13,7 +13,8 @@ mod python_support;
 
 use gaitd_client::{Client, GoalSpec, GoalState, ReasonCode, Status, Verdict};
 use gaitd_tests::{TestDaemon, oracle_python, repo_root, workspace_bin};
-use python_support::{PlantProcess, python};
+use python_support::{PlantProcess, connect_when_measured, python};
+use shm_schema::status::measured;
 use std::time::{Duration, Instant};
 use test_support::quat::angle;
 
@@ -61,43 +62,6 @@ fn mujoco_plant(d: &TestDaemon, report: &std::path::Path) -> PlantProcess {
         .args(["--timing", "lockstep", "--report"])
         .arg(report);
     PlantProcess::spawn(cmd, d.dir.join("plant.log"))
-}
-
-/// Connects once the daemon ticks (in lockstep it ticks only with the
-/// plant) and its first measured state is in: no fault, object measured.
-fn connect_when_measured(d: &mut TestDaemon, plant: &PlantProcess) -> Client {
-    let t0 = Instant::now();
-    let mut c = loop {
-        assert!(d.running(), "gaitd exited:\n{}", d.log());
-        match Client::connect(d.options()) {
-            Ok(c) => break c,
-            Err(_) if t0.elapsed() < Duration::from_secs(90) => {
-                std::thread::sleep(Duration::from_millis(200));
-            }
-            Err(e) => panic!(
-                "connect: {e}\n--- gaitd log ---\n{}\n--- plant log ---\n{}",
-                d.log(),
-                plant.log()
-            ),
-        }
-    };
-    loop {
-        let s = c.wait_status(T).expect("status");
-        if s.fault == 0 && s.measured_tick > 0 && s.measured_mask & 1 != 0 {
-            println!(
-                "daemon ready with the plant after {:.1} s",
-                t0.elapsed().as_secs_f64()
-            );
-            return c;
-        }
-        assert!(
-            t0.elapsed() < Duration::from_secs(90),
-            "no measured state without fault (fault {}):\n{}\n{}",
-            s.fault,
-            d.log(),
-            plant.log()
-        );
-    }
 }
 
 /// A status read after `goal` ended, so that the measurement is the final one.
@@ -182,7 +146,7 @@ fn gaitd_drives_the_mujoco_plant_in_lockstep_paper_then_random_goals() {
     let report = d.dir.join("plant-report.json");
     let mut plant = mujoco_plant(&d, &report);
     let t0 = Instant::now();
-    let mut c = connect_when_measured(&mut d, &plant);
+    let mut c = connect_when_measured(&mut d, &plant, measured::OBJECT);
     let start = c.wait_status(T).unwrap().measured_object_q;
 
     let mut worst: f64 = 0.0;
@@ -247,7 +211,7 @@ fn the_example_plant_drives_gaitd_to_a_goal() {
         .arg(d.config_path())
         .args(["--timing", "lockstep"]);
     let mut plant = PlantProcess::spawn(cmd, d.dir.join("plant.log"));
-    let mut c = connect_when_measured(&mut d, &plant);
+    let mut c = connect_when_measured(&mut d, &plant, measured::OBJECT);
     let target = [0.5f64.sqrt(), 0.0, 0.5f64.sqrt(), 0.0]; // 90° about y
     reach(
         &mut c,
@@ -401,7 +365,7 @@ impl GravityRun {
         let mut d = shm_daemon_loaded(&format!("py-gravity-{k}"), "", PHYSICS_FEEDBACK);
         let report = d.dir.join("plant-report.json");
         let plant = mujoco_plant(&d, &report);
-        let c = connect_when_measured(&mut d, &plant);
+        let c = connect_when_measured(&mut d, &plant, measured::OBJECT);
         Self {
             d,
             plant,
@@ -711,7 +675,7 @@ fn gaitctl_plant_mujoco_stops_with_its_plant() {
         .arg("--python")
         .arg(oracle_python());
     let mut plant = PlantProcess::spawn(cmd, d.dir.join("plant.log"));
-    let mut c = connect_when_measured(&mut d, &plant);
+    let mut c = connect_when_measured(&mut d, &plant, measured::OBJECT);
     let before = c.wait_status(T).unwrap().measured_tick;
     let config = d.config_path().to_string_lossy().into_owned();
     // (The daemon runs with that config too; it alone may remain.)

@@ -48,6 +48,12 @@ pub struct HandSection {
     /// Chains on an external plant: the commanded feed-forward torque
     /// holds the links' weight (the hand does not).
     pub compensate_link_weight: bool,
+    /// Chains on an external plant: the viscous damping the hand's own
+    /// driver applies against each joint's rate, base to tip (TriFinger's
+    /// safety damping); the feed-forward torque supplies it at the
+    /// commanded rate, so that the joints move as commanded rather than
+    /// lag until the position gain makes it up \[N·m·s/rad\].
+    pub joint_damping: [f64; 3],
 }
 
 impl Default for HandSection {
@@ -63,6 +69,7 @@ impl Default for HandSection {
             joint_kp: [9.0; 3],
             joint_kd: [0.01; 3],
             compensate_link_weight: true,
+            joint_damping: [0.0; 3],
         }
     }
 }
@@ -109,6 +116,12 @@ impl HandSection {
             return bad(
                 "hand.joint_kd",
                 "every gain must be ≥ 0 and finite [N·m·s/rad]",
+            );
+        }
+        if !gain(&self.joint_damping) {
+            return bad(
+                "hand.joint_damping",
+                "every coefficient must be ≥ 0 and finite [N·m·s/rad]",
             );
         }
         if !self.chains() {

@@ -12,7 +12,8 @@
 //!   configuration); the feed-forward torque
 //!   $\tau_{ff} = J_p^\top f + g(q)$ — the grip's whole contact force $f$
 //!   on the object (its normal push and the tangential share of the load)
-//!   at the contact point, and the links' weight where configured —
+//!   at the contact point, the links' weight where configured, and the
+//!   hand's own viscous damping $b \circ \dot q^*$ at the commanded rate —
 //!   clipped to the motors' limits (the executor chooses grips within
 //!   them); the configured PD gains.
 //!
@@ -26,7 +27,8 @@ use shm_schema::{MAX_JOINTS, PlantFingerCommand};
 pub const JOINTS: usize = 3;
 
 /// The gains and feed-forward a joint-level plant is commanded with
-/// (`[hand]` `joint_kp`, `joint_kd`, `compensate_link_weight`).
+/// (`[hand]` `joint_kp`, `joint_kd`, `compensate_link_weight`,
+/// `joint_damping`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointGains {
     /// Position gains, base to tip \[N·m/rad\].
@@ -35,6 +37,9 @@ pub struct JointGains {
     pub kd: [f64; JOINTS],
     /// Whether the feed-forward torque holds the links' weight, g(q).
     pub compensate_weight: bool,
+    /// The hand's own viscous damping per joint, supplied at the commanded
+    /// rate \[N·m·s/rad\].
+    pub damping: [f64; JOINTS],
 }
 
 impl From<&crate::config::hand::HandSection> for JointGains {
@@ -43,6 +48,7 @@ impl From<&crate::config::hand::HandSection> for JointGains {
             kp: h.joint_kp,
             kd: h.joint_kd,
             compensate_weight: h.compensate_link_weight,
+            damping: h.joint_damping,
         }
     }
 }
@@ -118,6 +124,9 @@ impl JointLink {
             Vector3::zeros()
         };
         tau += statics.force_to_torque * sp.force;
+        for i in 0..JOINTS {
+            tau[i] += self.gains.damping[i] * qd[i];
+        }
         let limit = chain.effort();
         out.joint_count = JOINTS as u32;
         out.joint_position = [0.0; MAX_JOINTS];
@@ -157,6 +166,13 @@ pub(crate) mod tests {
             kp: [9.0; 3],
             kd: [0.01; 3],
             compensate_weight,
+            // TriFinger's safety damping where the weight is compensated
+            // (the shipped configuration); none otherwise.
+            damping: if compensate_weight {
+                [0.09, 0.09, 0.05]
+            } else {
+                [0.0; 3]
+            },
         };
         JointLink::new(ChainHand::new(&d, limits).unwrap(), gains)
     }
@@ -170,7 +186,8 @@ pub(crate) mod tests {
     /// numbers: velocities that move the tip (by numeric differentiation
     /// of forward kinematics) at the setpoint's velocity; torques whose
     /// virtual work on a small joint motion equals that of the grip
-    /// pressing at the contact point plus the links' weight (numeric
+    /// pressing at the contact point plus the links' weight and the hand's
+    /// damping at the commanded rate (numeric
     /// differentiation of the contact point and of the links' potential
     /// energy, the masses and centres from the URDF).
     #[test]
@@ -238,7 +255,9 @@ pub(crate) mod tests {
                 d[i] = eps;
                 let dc = (contact(&(q + d)) - contact(&(q - d))) / (2.0 * eps);
                 let dv = (potential(&(q + d)) - potential(&(q - d))) / (2.0 * eps);
-                let want = (dc.dot(&f) + dv).clamp(-chain.effort()[i], chain.effort()[i]);
+                // The hand's damping at the commanded rate.
+                let damping = [0.09, 0.09, 0.05][i] * qd[i];
+                let want = (dc.dot(&f) + dv + damping).clamp(-chain.effort()[i], chain.effort()[i]);
                 assert!(
                     (out.joint_torque[i] - want).abs() < 1e-6,
                     "finger {k} joint {i}: {} vs {want}",

@@ -146,3 +146,46 @@ impl Drop for PlantProcess {
         self.stop(Duration::from_secs(5));
     }
 }
+
+/// Connects to `d` once it ticks with `plant` (in lockstep it ticks only
+/// with the plant) and its first measured state is in: no fault, and the
+/// status's `measured_mask` has every bit of `mask`. Panics with both logs
+/// after 90 s.
+pub fn connect_when_measured(
+    d: &mut gaitd_tests::TestDaemon,
+    plant: &PlantProcess,
+    mask: u32,
+) -> gaitd_client::Client {
+    let t0 = Instant::now();
+    let mut c = loop {
+        assert!(d.running(), "gaitd exited:\n{}", d.log());
+        match gaitd_client::Client::connect(d.options()) {
+            Ok(c) => break c,
+            Err(_) if t0.elapsed() < Duration::from_secs(90) => {
+                std::thread::sleep(Duration::from_millis(200));
+            }
+            Err(e) => panic!(
+                "connect: {e}\n--- gaitd log ---\n{}\n--- plant log ---\n{}",
+                d.log(),
+                plant.log()
+            ),
+        }
+    };
+    loop {
+        let s = c.wait_status(Duration::from_secs(10)).expect("status");
+        if s.fault == 0 && s.measured_tick > 0 && s.measured_mask & mask == mask {
+            println!(
+                "daemon ready with the plant after {:.1} s",
+                t0.elapsed().as_secs_f64()
+            );
+            return c;
+        }
+        assert!(
+            t0.elapsed() < Duration::from_secs(90),
+            "no measured state without fault (fault {}):\n{}\n{}",
+            s.fault,
+            d.log(),
+            plant.log()
+        );
+    }
+}
