@@ -205,11 +205,13 @@ class EventContinuity:
     counts from 1 without gaps within an instance. A bridge's history repeats
     events and a restarted bridge's cache may fill a gap late: each event is
     delivered once, a hole in the sequence is remembered until an event fills
-    it, and what is still missing is counted (``gaitd_client``'s ``Continuity``).
+    it, and what is still missing is counted (``gaitd_client``'s ``Continuity``). A late joiner's
+    history may arrive after the first live event: events older than the oldest seen are new too.
     """
 
     def __init__(self) -> None:
         self.instance = 0  # the instance the sequence belongs to (0: none yet)
+        self.low = 0  # lowest seq seen (nothing below it was seen)
         self.high = 0  # highest seq seen
         self._holes: dict[int, int] = {}  # holes below high: first -> last (inclusive)
 
@@ -219,7 +221,13 @@ class EventContinuity:
         A new instance (a daemon restart) starts a new sequence at its first event seen.
         """
         if instance != self.instance:
-            self.instance, self.high, self._holes = instance, seq, {}
+            self.instance, self.low, self.high, self._holes = instance, seq, seq, {}
+            return True
+        if seq < self.low:
+            # History after a later event: what lies between is a hole until its events come.
+            if seq + 1 < self.low:
+                self._holes[seq + 1] = self.low - 1
+            self.low = seq
             return True
         if seq > self.high:
             if seq > self.high + 1:

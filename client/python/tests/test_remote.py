@@ -86,6 +86,21 @@ def test_event_continuity() -> None:
     assert c.missing() == 0 and c.holes() == []
 
 
+def test_event_continuity_history_after_a_live_event() -> None:
+    """A late joiner's history arriving after the first live event is delivered, once."""
+    c = EventContinuity()
+    assert c.accept(3, 28)
+    assert c.accept(3, 5)
+    assert c.holes() == [(3, 6, 27)]
+    for s in range(6, 28):
+        assert c.accept(3, s), s
+    assert c.accept(3, 4)
+    assert c.missing() == 0
+    for s in range(4, 29):
+        assert not c.accept(3, s), s
+    assert c.accept(3, 29)
+
+
 # --------------------------------------------------------------------------- the transport's intake
 
 

@@ -34,6 +34,9 @@ const EVENT_BACKLOG: usize = 4096;
 const REPLY_BACKLOG: usize = 256;
 /// Events asked from the bridge's cache by a late joiner.
 const HISTORY: usize = 256;
+/// How long after subscribing the history is judged (see
+/// `RemoteConnection::recheck_at`).
+const HISTORY_RECHECK: Duration = Duration::from_secs(1);
 
 /// What a command query came back with.
 #[derive(Debug, Clone)]
@@ -312,6 +315,11 @@ pub(crate) struct RemoteConnection {
     seen_generation: u64,
     _status: zenoh::pubsub::Subscriber<()>,
     events: EventSubscription,
+    /// When the last subscription's history is judged: if by then the
+    /// history owed has not come or holes remain, the events are
+    /// subscribed to once more (a cache queried before the bridge had
+    /// filled it, or a history query lost, answers the second one).
+    recheck_at: Option<Instant>,
     _plan: zenoh_ext::AdvancedSubscriber<()>,
     _alive: zenoh::pubsub::Subscriber<()>,
     _transports: zenoh::session::TransportEventsListener<()>,
@@ -557,6 +565,7 @@ impl RemoteConnection {
             seen_generation: 0,
             _status: status,
             events,
+            recheck_at: Some(Instant::now() + HISTORY_RECHECK),
             _plan: plan,
             _alive: alive,
             _transports: transports,
@@ -570,11 +579,23 @@ impl RemoteConnection {
     /// the new subscription queries the restarted bridge's cache, which
     /// the old one would not (PROTOCOL.md, "Events").
     pub fn drain(&mut self) -> Drained {
-        if std::mem::take(&mut self.inbox.lock().resubscribe) {
-            match EventSubscription::declare(&self.session, &self.prefix, &self.inbox) {
-                Ok(e) => self.events = e,
-                // The old subscription goes on; the next return retries.
-                Err(_) => self.inbox.lock().resubscribe = false,
+        let returned = std::mem::take(&mut self.inbox.lock().resubscribe);
+        let recheck = self.recheck_at.is_some_and(|t| Instant::now() >= t) && {
+            let s = self.inbox.lock();
+            s.continuity.history_owed() || s.continuity.missing() > 0
+        };
+        if self.recheck_at.is_some_and(|t| Instant::now() >= t) {
+            self.recheck_at = None;
+        }
+        if returned || recheck {
+            // On an error the old subscription goes on; the next return
+            // retries.
+            if let Ok(e) = EventSubscription::declare(&self.session, &self.prefix, &self.inbox) {
+                self.events = e;
+                // One recheck per return, none after a recheck.
+                if returned {
+                    self.recheck_at = Some(Instant::now() + HISTORY_RECHECK);
+                }
             }
         }
         let mut s = self.inbox.lock();
