@@ -46,6 +46,10 @@ pub struct Measurement {
     /// kinematic hand, a lockstep plant), 1 when it applied the one before,
     /// and so on (an external plant echoes the command it applied).
     pub age: u32,
+    /// How many ticks before the rest of this measurement the object's
+    /// pose (`object`, `center`) was sampled: a tracking system's latency
+    /// and the age of its last sample (0: with the rest).
+    pub object_age: u32,
 }
 
 impl Measurement {
@@ -62,6 +66,7 @@ impl Measurement {
             }),
             center: None,
             age: 0,
+            object_age: 0,
         }
     }
 

@@ -27,6 +27,7 @@ fn measure(commanded: &HandState, lag: &UnitQuaternion<f64>) -> Measurement {
         }),
         center: None,
         age: 0,
+        object_age: 0,
     }
 }
 

@@ -85,6 +85,7 @@ fn measure(
         fingers,
         center: reports_centre.then_some(SAG),
         age: 0,
+        object_age: 0,
     };
     (m, gaps)
 }

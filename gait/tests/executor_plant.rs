@@ -22,6 +22,7 @@ fn measure(s: &HandState, age: u32) -> Measurement {
         }),
         center: None,
         age,
+        object_age: 0,
     }
 }
 

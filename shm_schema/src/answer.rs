@@ -7,10 +7,10 @@ use iceoryx2::prelude::ZeroCopySend;
 /// or rejected with a reason. The goal's later progress is in
 /// [`Status`](crate::Status) and [`Event`](crate::Event)s.
 ///
-/// Type name `gaitd::Answer.v7`, 56 bytes, alignment 8.
+/// Type name `gaitd::Answer.v8`, 56 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Answer.v7")]
+#[type_name("gaitd::Answer.v8")]
 pub struct Answer {
     /// Echo of the command's `client_id`.
     pub client_id: u64,

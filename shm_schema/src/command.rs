@@ -20,7 +20,7 @@ pub const LIMIT_OVERRIDES: u32 = 9;
 /// Velocity, acceleration and jerk limits of one motion kind (SPEC §5).
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::MotionLimits.v7")]
+#[type_name("gaitd::MotionLimits.v8")]
 pub struct MotionLimits {
     /// Velocity limit (> 0), unit of the motion kind per second.
     pub velocity: f64,
@@ -60,10 +60,10 @@ pub const fn limit_bit(kind: LimitKind, order: LimitOrder) -> u32 {
 /// A command from a client: a reorientation goal, cancel, hold or reset
 /// (SPEC §6.4, §7.3). Fields a command kind does not use must be zero.
 ///
-/// Type name `gaitd::Command.v7`, 144 bytes, alignment 8.
+/// Type name `gaitd::Command.v8`, 144 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Command.v7")]
+#[type_name("gaitd::Command.v8")]
 pub struct Command {
     /// [`CommandKind`] code.
     pub kind: u32,

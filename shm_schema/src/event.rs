@@ -6,10 +6,10 @@ use iceoryx2::prelude::ZeroCopySend;
 /// Something that happened: goal transitions, gait events, faults, overruns
 /// (SPEC §7.3). Fields a kind does not use are 0 (`finger`: `NO_FINGER`).
 ///
-/// Type name `gaitd::Event.v7`, 88 bytes, alignment 8.
+/// Type name `gaitd::Event.v8`, 88 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Event.v7")]
+#[type_name("gaitd::Event.v8")]
 pub struct Event {
     /// Sequence number within this daemon instance, from 1, no gaps.
     pub seq: u64,

@@ -18,7 +18,7 @@
 //!
 //! Every payload is `#[repr(C)]`, `Copy`, `ZeroCopySend`, fixed size with
 //! explicit padding and a versioned iceoryx2 type name
-//! (`gaitd::Status.v7`): iceoryx2 compares name, size and alignment when a
+//! (`gaitd::Status.v8`): iceoryx2 compares name, size and alignment when a
 //! service opens, so a client of another schema version cannot open the
 //! services instead of misreading memory. Enums travel as `u32` codes
 //! decoded with `TryFrom<u32>` ([`codes`]). The byte layout of every field is
@@ -61,11 +61,17 @@ pub use iceoryx2;
 
 /// Version of the payload layout. It is part of every payload's type name, so
 /// a client built against another version fails to open the services.
-pub const SCHEMA_VERSION: u32 = 7;
+pub const SCHEMA_VERSION: u32 = 8;
 
 /// What each schema version changed, newest first (rendered into
 /// `LAYOUT.md`; a test checks the newest entry is [`SCHEMA_VERSION`]).
 pub const SCHEMA_CHANGES: &[(u32, &str)] = &[
+    (
+        8,
+        "a tracked object: `PlantMeasurement.reserved` became `object_age_us`, how long \
+         before `time_ns` the object's pose was sampled (a tracking system's latency; 0: \
+         with the rest of the measurement).",
+    ),
     (
         7,
         "joint-level plants: `PlantFingerCommand` gained `joint_count` (was `reserved`), \

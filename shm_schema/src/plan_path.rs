@@ -8,10 +8,10 @@ pub const PATH_POINTS: usize = 256;
 
 /// The hand at one instant of a plan.
 ///
-/// Type name `gaitd::PathPoint.v7`, 120 bytes, alignment 8.
+/// Type name `gaitd::PathPoint.v8`, 120 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PathPoint.v7")]
+#[type_name("gaitd::PathPoint.v8")]
 pub struct PathPoint {
     /// Time since the plan's first tick \[s\].
     pub t: f64,
@@ -35,10 +35,10 @@ const _: () = assert!(core::mem::align_of::<PathPoint>() == 8);
 /// Published when the plan is made, before it runs; the status's
 /// `goal.eta` tells how far along it the hand is (`duration − eta`).
 ///
-/// Type name `gaitd::PlanPath.v7`, 30 768 bytes, alignment 8.
+/// Type name `gaitd::PlanPath.v8`, 30 768 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlanPath.v7")]
+#[type_name("gaitd::PlanPath.v8")]
 pub struct PlanPath {
     /// Daemon instance id (as in [`Status::instance`](crate::Status)).
     pub instance: u64,

@@ -109,10 +109,10 @@ pub const MAX_JOINTS: usize = 4;
 
 /// One finger's setpoint: its tip, and on a chain hand its joints.
 ///
-/// Type name `gaitd::PlantFingerCommand.v7`, 312 bytes, alignment 8.
+/// Type name `gaitd::PlantFingerCommand.v8`, 312 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantFingerCommand.v7")]
+#[type_name("gaitd::PlantFingerCommand.v8")]
 pub struct PlantFingerCommand {
     /// [`PlantFingerMode`] code.
     pub mode: u32,
@@ -149,10 +149,10 @@ pub struct PlantFingerCommand {
 
 /// The daemon's setpoint for the plant, one per tick.
 ///
-/// Type name `gaitd::PlantCommand.v7`, 1040 bytes, alignment 8.
+/// Type name `gaitd::PlantCommand.v8`, 1040 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantCommand.v7")]
+#[type_name("gaitd::PlantCommand.v8")]
 pub struct PlantCommand {
     /// The daemon's session id (random per daemon start).
     pub session: u64,
@@ -179,10 +179,10 @@ pub struct PlantCommand {
 
 /// One finger as measured: its tip, and on a chain hand its joints.
 ///
-/// Type name `gaitd::PlantFingerMeasurement.v7`, 224 bytes, alignment 8.
+/// Type name `gaitd::PlantFingerMeasurement.v8`, 224 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantFingerMeasurement.v7")]
+#[type_name("gaitd::PlantFingerMeasurement.v8")]
 pub struct PlantFingerMeasurement {
     /// 1: the fingertip touches the object; 0: it does not.
     pub contact: u32,
@@ -211,10 +211,10 @@ pub struct PlantFingerMeasurement {
 
 /// What the plant measured, one per plant step (lockstep) or sample.
 ///
-/// Type name `gaitd::PlantMeasurement.v7`, 800 bytes, alignment 8.
+/// Type name `gaitd::PlantMeasurement.v8`, 800 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::PlantMeasurement.v7")]
+#[type_name("gaitd::PlantMeasurement.v8")]
 pub struct PlantMeasurement {
     /// Session id of the last command applied (0 before the first one).
     pub session: u64,
@@ -231,8 +231,11 @@ pub struct PlantMeasurement {
     pub state: u32,
     /// [`PlantFault`] code (with `plant_state::FAULT`; else 0).
     pub fault: u32,
-    /// Padding, 0.
-    pub reserved: u32,
+    /// How long before `time_ns` the object's pose (`object_q`,
+    /// `object_omega`, `object_center`) was sampled \[µs\]: a tracking
+    /// system's latency and the age of its last sample (0: sampled with
+    /// the rest of the measurement).
+    pub object_age_us: u32,
     /// Object orientation [w, x, y, z] (object → hand frame).
     pub object_q: [f64; 4],
     /// Object angular velocity, hand frame \[rad/s\].

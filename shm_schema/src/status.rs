@@ -37,7 +37,7 @@ pub const NO_FINGER: u32 = u32::MAX;
 /// The active goal and its progress.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::GoalStatus.v7")]
+#[type_name("gaitd::GoalStatus.v8")]
 pub struct GoalStatus {
     /// Id of the current (or last) goal, 0 if none.
     pub goal_id: u64,
@@ -87,7 +87,7 @@ pub mod measured {
 /// otherwise.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::FingerStatus.v7")]
+#[type_name("gaitd::FingerStatus.v8")]
 pub struct FingerStatus {
     /// [`FingerPhase`] code.
     pub state: u32,
@@ -142,7 +142,7 @@ pub struct FingerStatus {
 /// [`TIMING_REFRESH_TICKS`] ticks; last and max every tick.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Timing.v7")]
+#[type_name("gaitd::Timing.v8")]
 pub struct Timing {
     /// Loop period \[ns\].
     pub period_ns: u64,
@@ -192,10 +192,10 @@ pub const TIMING_REFRESH_TICKS: u64 = 100;
 /// (SPEC §7.3): the commanded state beside the measured one, named so that
 /// neither is mistaken for the other.
 ///
-/// Type name `gaitd::Status.v7`, 1400 bytes, alignment 8.
+/// Type name `gaitd::Status.v8`, 1400 bytes, alignment 8.
 #[derive(Debug, Clone, Copy, PartialEq, Default, ZeroCopySend)]
 #[repr(C)]
-#[type_name("gaitd::Status.v7")]
+#[type_name("gaitd::Status.v8")]
 pub struct Status {
     /// Tick counter since daemon start.
     pub tick: u64,

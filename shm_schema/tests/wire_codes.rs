@@ -36,7 +36,7 @@ where
 
 #[test]
 fn schema_version_is_pinned() {
-    assert_eq!(shm_schema::SCHEMA_VERSION, 7);
+    assert_eq!(shm_schema::SCHEMA_VERSION, 8);
 }
 
 #[test]

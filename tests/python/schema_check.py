@@ -7,7 +7,7 @@ mutation the problems ``check_layout`` reported (each must be caught):
 
 * ``swapped_fields``: ``PlantFingerMeasurement`` with ``roll`` and
   ``normal_force`` swapped (same size: only the offsets differ);
-* ``missing_padding``: ``PlantMeasurement`` without its ``reserved`` word
+* ``missing_padding``: ``PlantCommand`` without its ``reserved`` word
   (every later offset moves by 4);
 * ``old_type_name``: ``Status`` named ``gaitd::Status.v1``;
 * ``renumbered_code``: ``PlantFault`` with ``Diverged`` = 5;
@@ -44,8 +44,8 @@ def main() -> int:
     f[i], f[j] = f[j], f[i]
     out["mutations"]["swapped_fields"] = layout_problems(layout, replace_payload(schema.PlantFingerMeasurement, f))
 
-    f = [x for x in schema.PlantMeasurement._fields_ if x[0] != "reserved"]
-    out["mutations"]["missing_padding"] = layout_problems(layout, replace_payload(schema.PlantMeasurement, f))
+    f = [x for x in schema.PlantCommand._fields_ if x[0] != "reserved"]
+    out["mutations"]["missing_padding"] = layout_problems(layout, replace_payload(schema.PlantCommand, f))
 
     out["mutations"]["old_type_name"] = layout_problems(
         layout, replace_payload(schema.Status, list(schema.Status._fields_), "gaitd::Status.v1")

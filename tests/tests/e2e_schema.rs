@@ -13,19 +13,19 @@ use iceoryx2::service::attribute::{AttributeKey, AttributeValue};
 use iceoryx2::service::builder::publish_subscribe::PublishSubscribeOpenError;
 use std::time::Duration;
 
-/// The status as a hypothetical schema v8 would name it (same bytes).
+/// The status as a hypothetical schema v9 would name it (same bytes).
+#[derive(Debug, Clone, Copy, ZeroCopySend)]
+#[repr(C)]
+#[type_name("gaitd::Status.v9")]
+struct StatusV9 {
+    bytes: [u64; 175],
+}
+const _: () = assert!(size_of::<StatusV9>() == size_of::<Status>());
+
+/// Same name as v8 but another layout (a field added without a version bump).
 #[derive(Debug, Clone, Copy, ZeroCopySend)]
 #[repr(C)]
 #[type_name("gaitd::Status.v8")]
-struct StatusV8 {
-    bytes: [u64; 175],
-}
-const _: () = assert!(size_of::<StatusV8>() == size_of::<Status>());
-
-/// Same name as v7 but another layout (a field added without a version bump).
-#[derive(Debug, Clone, Copy, ZeroCopySend)]
-#[repr(C)]
-#[type_name("gaitd::Status.v7")]
 struct StatusGrown {
     bytes: [u64; 176],
 }
@@ -57,13 +57,13 @@ fn another_schema_version_cannot_open_the_services() {
     let d = TestDaemon::start("schema-open");
     let _c = d.client(); // the daemon is up
     let n = node(&d);
-    let v8 = n
+    let v9 = n
         .service_builder(&status_service(&d))
-        .publish_subscribe::<StatusV8>()
+        .publish_subscribe::<StatusV9>()
         .open();
     assert!(
-        matches!(v8, Err(PublishSubscribeOpenError::IncompatibleTypes)),
-        "{v8:?}"
+        matches!(v9, Err(PublishSubscribeOpenError::IncompatibleTypes)),
+        "{v9:?}"
     );
     let grown = n
         .service_builder(&status_service(&d))
@@ -98,18 +98,18 @@ fn a_daemon_without_a_version_service_is_named_v3_or_older() {
     assert!(matches!(err, Error::SchemaVersion { .. }), "{err:?}");
     let msg = err.to_string();
     assert!(
-        msg.contains("the daemon speaks schema v3 or older") && msg.contains("this client v7"),
+        msg.contains("the daemon speaks schema v3 or older") && msg.contains("this client v8"),
         "{msg}"
     );
 }
 
-/// A daemon of schema v8 as a v7 client meets it: a `version` service
-/// that says so, and services whose type names a v7 client cannot open.
-fn fake_v8_daemon(d: &TestDaemon, n: &Node<ipc::Service>) -> impl Sized {
+/// A daemon of schema v9 as a v8 client meets it: a `version` service
+/// that says so, and services whose type names a v8 client cannot open.
+fn fake_v9_daemon(d: &TestDaemon, n: &Node<ipc::Service>) -> impl Sized {
     let key = |k: &str| AttributeKey::new(k.as_bytes()).unwrap();
     let value = |v: &str| AttributeValue::new(v.as_bytes()).unwrap();
     let spec = AttributeSpecifier::new()
-        .define(&key(shm_schema::VERSION_ATTRIBUTE_SCHEMA), &value("8"))
+        .define(&key(shm_schema::VERSION_ATTRIBUTE_SCHEMA), &value("9"))
         .unwrap()
         .define(
             &key(shm_schema::VERSION_ATTRIBUTE_BUILD),
@@ -123,7 +123,7 @@ fn fake_v8_daemon(d: &TestDaemon, n: &Node<ipc::Service>) -> impl Sized {
         .unwrap();
     let status = n
         .service_builder(&status_service(d))
-        .publish_subscribe::<StatusV8>()
+        .publish_subscribe::<StatusV9>()
         .create()
         .unwrap();
     (version, status)
@@ -131,11 +131,11 @@ fn fake_v8_daemon(d: &TestDaemon, n: &Node<ipc::Service>) -> impl Sized {
 
 #[test]
 fn a_daemon_of_another_schema_is_named_with_both_versions() {
-    let d = TestDaemon::new("schema-v8", "");
+    let d = TestDaemon::new("schema-v9", "");
     std::fs::create_dir_all(&d.root).unwrap();
     let n = node(&d);
-    let _daemon = fake_v8_daemon(&d, &n);
-    let want = "the daemon speaks schema v8 (gaitd 9.9.9), this client v7";
+    let _daemon = fake_v9_daemon(&d, &n);
+    let want = "the daemon speaks schema v9 (gaitd 9.9.9), this client v8";
     // The Rust client.
     let err = Client::connect(d.options().timeout(Duration::from_secs(2))).unwrap_err();
     assert!(matches!(err, Error::SchemaVersion { .. }), "{err:?}");
@@ -183,7 +183,7 @@ fn the_daemon_states_its_schema_and_build() {
     };
     assert_eq!(
         value(shm_schema::VERSION_ATTRIBUTE_SCHEMA).as_deref(),
-        Some("7")
+        Some("8")
     );
     let build = value(shm_schema::VERSION_ATTRIBUTE_BUILD).unwrap();
     assert!(build.starts_with("gaitd "), "{build}");
@@ -197,7 +197,7 @@ fn a_stale_service_of_another_schema_is_replaced_at_start() {
     let n = node(&d);
     let stale = n
         .service_builder(&status_service(&d))
-        .publish_subscribe::<StatusV8>()
+        .publish_subscribe::<StatusV9>()
         .create()
         .unwrap();
     d.spawn();

@@ -1,4 +1,4 @@
-"""The payloads, codes and constants of the gaitd shared-memory schema v7, for ctypes.
+"""The payloads, codes and constants of the gaitd shared-memory schema v8, for ctypes.
 
 Generated from the ``shm_schema`` crate (``shm_schema/src/layout/python.rs``) by
 ``cargo test -p shm_schema`` (set ``GAITD_BLESS=1`` to rewrite it); a test fails when this
@@ -14,7 +14,7 @@ import enum
 from typing import ClassVar
 
 #: Version of the payload layout (part of every type name).
-SCHEMA_VERSION = 7
+SCHEMA_VERSION = 8
 #: The iceoryx2 release the daemon is built with; resource names are
 #: version-tagged, so the Python bindings must be exactly this version.
 ICEORYX2_VERSION = "0.10.0"
@@ -53,7 +53,7 @@ class Payload(ctypes.Structure):
 class MotionLimits(Payload):
     """Velocity, acceleration and jerk limit overrides of one motion kind."""
 
-    _type_name = "gaitd::MotionLimits.v7"
+    _type_name = "gaitd::MotionLimits.v8"
     _fields_ = [
         # unit/s: velocity limit, > 0 when set
         ("velocity", f64),
@@ -67,7 +67,7 @@ class MotionLimits(Payload):
 class Command(Payload):
     """client → daemon: a goal, cancel, hold or reset."""
 
-    _type_name = "gaitd::Command.v7"
+    _type_name = "gaitd::Command.v8"
     _fields_ = [
         # CommandKind: what is asked
         ("kind", u32),
@@ -97,7 +97,7 @@ class Command(Payload):
 class Answer(Payload):
     """daemon → client: one per command, matched by client_id + request_id."""
 
-    _type_name = "gaitd::Answer.v7"
+    _type_name = "gaitd::Answer.v8"
     _fields_ = [
         # echo of the command's client_id
         ("client_id", u64),
@@ -123,7 +123,7 @@ class Answer(Payload):
 class GoalStatus(Payload):
     """The current goal and its progress (part of :class:`Status`)."""
 
-    _type_name = "gaitd::GoalStatus.v7"
+    _type_name = "gaitd::GoalStatus.v8"
     _fields_ = [
         # current or last goal, 0 = none
         ("goal_id", u64),
@@ -154,7 +154,7 @@ class GoalStatus(Payload):
 class FingerStatus(Payload):
     """One finger in the status: commanded and measured."""
 
-    _type_name = "gaitd::FingerStatus.v7"
+    _type_name = "gaitd::FingerStatus.v8"
     _fields_ = [
         # FingerPhase: finger state
         ("state", u32),
@@ -203,7 +203,7 @@ class FingerStatus(Payload):
 class Timing(Payload):
     """Loop timing statistics (part of :class:`Status`)."""
 
-    _type_name = "gaitd::Timing.v7"
+    _type_name = "gaitd::Timing.v8"
     _fields_ = [
         # ns: loop period
         ("period_ns", u64),
@@ -244,7 +244,7 @@ class Timing(Payload):
 class Status(Payload):
     """daemon → clients, every tick (latest value)."""
 
-    _type_name = "gaitd::Status.v7"
+    _type_name = "gaitd::Status.v8"
     _fields_ = [
         # tick: tick counter since start
         ("tick", u64),
@@ -309,7 +309,7 @@ class Status(Payload):
 class Event(Payload):
     """daemon → clients, with history: goal transitions, gaits, faults."""
 
-    _type_name = "gaitd::Event.v7"
+    _type_name = "gaitd::Event.v8"
     _fields_ = [
         # sequence number, from 1, no gaps
         ("seq", u64),
@@ -346,7 +346,7 @@ class Event(Payload):
 class PathPoint(Payload):
     """The hand at one instant of a plan (part of :class:`PlanPath`)."""
 
-    _type_name = "gaitd::PathPoint.v7"
+    _type_name = "gaitd::PathPoint.v8"
     _fields_ = [
         # s: time since the plan's first tick
         ("t", f64),
@@ -364,7 +364,7 @@ class PathPoint(Payload):
 class PlanPath(Payload):
     """daemon → clients: where each plan takes the hand (latest value)."""
 
-    _type_name = "gaitd::PlanPath.v7"
+    _type_name = "gaitd::PlanPath.v8"
     _fields_ = [
         # daemon instance id
         ("instance", u64),
@@ -388,7 +388,7 @@ class PlanPath(Payload):
 class PlantFingerCommand(Payload):
     """One fingertip's setpoint (part of :class:`PlantCommand`)."""
 
-    _type_name = "gaitd::PlantFingerCommand.v7"
+    _type_name = "gaitd::PlantFingerCommand.v8"
     _fields_ = [
         # PlantFingerMode: what the fingertip does
         ("mode", u32),
@@ -425,7 +425,7 @@ class PlantFingerCommand(Payload):
 class PlantCommand(Payload):
     """daemon → plant, every tick."""
 
-    _type_name = "gaitd::PlantCommand.v7"
+    _type_name = "gaitd::PlantCommand.v8"
     _fields_ = [
         # daemon session id, random per start
         ("session", u64),
@@ -455,7 +455,7 @@ class PlantCommand(Payload):
 class PlantFingerMeasurement(Payload):
     """One fingertip as measured (part of :class:`PlantMeasurement`)."""
 
-    _type_name = "gaitd::PlantFingerMeasurement.v7"
+    _type_name = "gaitd::PlantFingerMeasurement.v8"
     _fields_ = [
         # 0/1: 1 = touching the object
         ("contact", u32),
@@ -485,7 +485,7 @@ class PlantFingerMeasurement(Payload):
 class PlantMeasurement(Payload):
     """plant → daemon, one per plant step."""
 
-    _type_name = "gaitd::PlantMeasurement.v7"
+    _type_name = "gaitd::PlantMeasurement.v8"
     _fields_ = [
         # session of the last command applied, 0 = none yet
         ("session", u64),
@@ -503,8 +503,8 @@ class PlantMeasurement(Payload):
         ("state", u32),
         # PlantFault: with FAULT: the plant's fault
         ("fault", u32),
-        # padding, 0
-        ("reserved", u32),
+        # µs: how long before time_ns the object's pose was sampled (a tracker's latency; 0: with the rest)
+        ("object_age_us", u32),
         # [w,x,y,z]: object orientation, object → hand
         ("object_q", f64 * 4),
         # rad/s: object angular velocity, hand frame

@@ -408,7 +408,7 @@ class Plant:
             self._complain(f"measurement unusable ({problem}): reporting a fault")
             fault = PlantFault.Diverged if self.simulated else PlantFault.Other
             base = self._last_good or m
-            m = Measured(base.object_q, base.fingers, base.object_omega, base.object_center, fault)
+            m = Measured(base.object_q, base.fingers, base.object_omega, base.object_center, fault, base.object_age)
             if measured_problem(m) is not None:
                 raise RuntimeError(f"plant measurement unusable from the start: {problem}")
         else:

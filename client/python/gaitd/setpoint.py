@@ -145,6 +145,8 @@ class Measured:
     object_omega: Vec | None = None
     object_center: Vec | None = None
     fault: PlantFault = PlantFault.None_
+    #: How long before the measurement's time the object's pose was sampled [s] (a tracker's latency).
+    object_age: float = 0.0
 
 
 class BadCommand(ValueError):
@@ -297,6 +299,8 @@ def measured_problem(m: Measured) -> str | None:
     for v in (m.object_omega, m.object_center):
         if v is not None and not _finite(v):
             return "object velocity or centre is not finite"
+    if not (math.isfinite(m.object_age) and m.object_age >= 0.0):
+        return "object_age is not a finite age >= 0"
     for i, f in enumerate(m.fingers):
         if not _unit(f.orientation):
             return f"finger {i}: orientation is not a finite unit quaternion"
@@ -333,6 +337,7 @@ def encode_measurement(
     state = _SIMULATED if simulated else 0
     out = PlantMeasurement(seq=seq, time_ns=time_ns, session=session, applied=applied)
     out.object_q[:] = quat.normalize(m.object_q)
+    out.object_age_us = min(round(m.object_age * 1e6), 0xFFFF_FFFF)
     if m.object_omega is not None:
         valid |= _VALID["OBJECT_VELOCITY"]
         out.object_omega[:] = m.object_omega

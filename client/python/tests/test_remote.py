@@ -59,7 +59,7 @@ def test_parse_endpoint_refuses(endpoint: str, why: str) -> None:
 
 
 def test_encoding_of() -> None:
-    assert remote.encoding_of(Status.type_name()) == "application/octet-stream;gaitd::Status.v7"
+    assert remote.encoding_of(Status.type_name()) == "application/octet-stream;gaitd::Status.v8"
 
 
 def test_event_continuity() -> None:

@@ -136,6 +136,15 @@ def measured(
     return Measured(object_q=(1.0, 0.0, 0.0, 0.0), fingers=tips)
 
 
+def test_encode_measurement_carries_the_object_age_in_microseconds() -> None:
+    m = measured()
+    assert encode_measurement(m, seq=1, time_ns=1, session=1, applied=0, simulated=True).object_age_us == 0
+    m = replace(m, object_age=0.0234567)
+    assert encode_measurement(m, seq=1, time_ns=1, session=1, applied=0, simulated=True).object_age_us == 23457
+    assert measured_problem(replace(m, object_age=-1e-3)) is not None
+    assert measured_problem(replace(m, object_age=math.nan)) is not None
+
+
 def test_encode_measurement_sets_only_the_valid_bits_of_what_is_present() -> None:
     required = Valid.OBJECT_ORIENTATION | Valid.TIP_POSE | Valid.CONTACT | Valid.ROLL
     out = encode_measurement(measured(), seq=3, time_ns=5, session=7, applied=2, simulated=False)

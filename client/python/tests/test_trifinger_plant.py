@@ -231,6 +231,9 @@ def test_the_object_pose_is_the_trackers_not_the_simulators() -> None:
     seen = p.tracker.reported
     assert m.object_q == seen.orientation and m.object_center == seen.centre
     assert p.tracker.reported.t <= p.time - 0.01  # at least the latency old
+    # The measurement says how old the sample is: the latency at least, less than latency + 1/rate.
+    assert m.object_age == pytest.approx(p.time - seen.t)
+    assert 0.01 - 1e-9 <= m.object_age < 0.01 + 1.0 / 30.0 + 1e-9
     assert math.degrees(2.0 * math.acos(min(1.0, abs(sum(a * b for a, b in zip(m.object_q, true_q)))))) > 0.01
     assert m.object_center is not None and math.dist(m.object_center, true_c) > 1e-5
 

@@ -29,19 +29,19 @@ pub const DEFAULT_KEY_PREFIX: &str = "gaitd";
 
 /// Zenoh encoding of every payload: `application/octet-stream` with the
 /// payload's versioned type name as its schema, e.g.
-/// `application/octet-stream;gaitd::Command.v7`.
+/// `application/octet-stream;gaitd::Command.v8`.
 pub const ENCODING_PREFIX: &str = "application/octet-stream";
 
 /// Schema of a [`Command`](shm_schema::Command) (its iceoryx2 type name).
-pub const COMMAND_SCHEMA: &str = "gaitd::Command.v7";
+pub const COMMAND_SCHEMA: &str = "gaitd::Command.v8";
 /// Schema of an [`Answer`](shm_schema::Answer).
-pub const ANSWER_SCHEMA: &str = "gaitd::Answer.v7";
+pub const ANSWER_SCHEMA: &str = "gaitd::Answer.v8";
 /// Schema of a [`Status`](shm_schema::Status).
-pub const STATUS_SCHEMA: &str = "gaitd::Status.v7";
+pub const STATUS_SCHEMA: &str = "gaitd::Status.v8";
 /// Schema of an [`Event`](shm_schema::Event).
-pub const EVENT_SCHEMA: &str = "gaitd::Event.v7";
+pub const EVENT_SCHEMA: &str = "gaitd::Event.v8";
 /// Schema of a [`PlanPath`](shm_schema::PlanPath).
-pub const PLAN_SCHEMA: &str = "gaitd::PlanPath.v7";
+pub const PLAN_SCHEMA: &str = "gaitd::PlanPath.v8";
 /// Schema of a [`Refusal`] (an error reply from the bridge).
 pub const REFUSAL_SCHEMA: &str = "gaitd-bridge::Refusal.v1";
 
@@ -184,7 +184,7 @@ pub fn client_id_for(identity: &str) -> u64 {
 pub enum RefusalCode {
     /// The payload is not exactly the size of a `Command` (144 bytes).
     WrongSize = 1,
-    /// The payload's encoding is not `application/octet-stream;gaitd::Command.v7` (another schema version).
+    /// The payload's encoding is not `application/octet-stream;gaitd::Command.v8` (another schema version).
     WrongSchema = 2,
     /// The command's kind is not the one the key names (e.g. a goal sent to `cancel`), or the key names no command.
     WrongKey = 3,
@@ -319,7 +319,7 @@ mod tests {
         assert_eq!(EVENT_SCHEMA, type_name::<Event>());
         assert_eq!(
             encoding_of(COMMAND_SCHEMA),
-            "application/octet-stream;gaitd::Command.v7"
+            "application/octet-stream;gaitd::Command.v8"
         );
     }
 

@@ -257,6 +257,10 @@ impl ExternalPlant {
             finger: e.finger(),
             ..LinkFault::of(FaultKind::PlantInvalid)
         })?;
+        let m = Measurement {
+            object_age: wire::object_age_ticks(raw.object_age_us, self.period_ns),
+            ..m
+        };
         if age > self.max_missed {
             // It reflects a command older than the tolerance: the plant
             // lags too far behind to be controlled.

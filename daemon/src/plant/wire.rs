@@ -155,7 +155,16 @@ pub fn measurement(m: &PlantMeasurement, age: u32) -> Result<Measurement, BadMea
             None
         },
         age,
+        object_age: 0,
     })
+}
+
+/// A measurement's `object_age_us` in ticks of `period_ns`, to the nearest
+/// (what [`measurement`] and [`joint_measurement`] leave at 0: the link
+/// knows the period).
+pub fn object_age_ticks(object_age_us: u32, period_ns: u64) -> u32 {
+    let ns = u64::from(object_age_us) * 1000;
+    u32::try_from((ns + period_ns / 2) / period_ns.max(1)).unwrap_or(u32::MAX)
 }
 
 /// The measurement of a chain hand's plant `m` (`link`'s hand), reflecting
@@ -228,6 +237,7 @@ pub fn joint_measurement(
             None
         },
         age,
+        object_age: 0,
     };
     Ok((measurement, joints))
 }
@@ -295,6 +305,11 @@ mod tests {
 
     #[test]
     fn a_good_measurement_converts() {
+        assert_eq!(object_age_ticks(0, 1_000_000), 0);
+        assert_eq!(object_age_ticks(10_000, 1_000_000), 10);
+        assert_eq!(object_age_ticks(10_499, 1_000_000), 10);
+        assert_eq!(object_age_ticks(10_500, 2_000_000), 5);
+        assert_eq!(object_age_ticks(u32::MAX, 1), u32::MAX);
         let m = measurement(&good(), 2).unwrap();
         assert_eq!(m.age, 2);
         assert!(

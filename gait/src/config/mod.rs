@@ -301,6 +301,13 @@ pub struct FeedbackConfig {
     /// Measured normal force below which a contact counts as not touching
     /// (plants that measure forces) \[N\].
     pub min_contact_force: f64,
+    /// Share of each new sample of the object's pose taken into the
+    /// object's estimate (a tracking system's noise averaged over samples;
+    /// `executor::tracking`): 1 takes each sample as it is, 0.25 averages
+    /// the error over about 7 samples. Each sample is compared with the
+    /// plan at the tick it was taken (`object_age_us` of the plant's
+    /// measurement) whatever the gain.
+    pub tracker_gain: f64,
 }
 
 impl Default for FeedbackConfig {
@@ -317,6 +324,7 @@ impl Default for FeedbackConfig {
             max_place_offset: 0.002,
             contact_grace_ticks: 50,
             min_contact_force: 0.05,
+            tracker_gain: 1.0,
         }
     }
 }
@@ -381,6 +389,13 @@ mod tests {
         c.model.fingertip_radius = 0.6;
         let e = c.validate().unwrap_err();
         assert!(e.to_string().contains("model.fingertip_radius"), "{e}");
+
+        for g in [0.0, 1.5, f64::NAN] {
+            let mut c = HandConfig::default();
+            c.feedback.tracker_gain = g;
+            let e = c.validate().unwrap_err();
+            assert!(e.to_string().contains("feedback.tracker_gain"), "{e}");
+        }
     }
 
     #[test]

@@ -432,6 +432,13 @@ impl FeedbackConfig {
             1000.0,
             "in [0, 1000] N",
         )?;
+        in_range(
+            "feedback.tracker_gain",
+            fb.tracker_gain,
+            0.0,
+            1.0,
+            "in (0, 1]",
+        )?;
         Ok(())
     }
 }

@@ -44,6 +44,7 @@ mod progress;
 pub mod recovery;
 pub mod runner;
 mod tick_report;
+pub mod tracking;
 mod written;
 
 use nalgebra::{UnitQuaternion, Vector3};
@@ -114,6 +115,9 @@ pub struct Executor {
     setpoint: Setpoint,
     prev_setpoint: Setpoint,
     prev_measurement: Option<Measurement>,
+    /// The last measurement as the plant sent it (`prev_measurement` is
+    /// its [`tracking`] estimate), to tell a new one from a repeat.
+    prev_raw: Option<Measurement>,
     /// Tick at which `prev_measurement` arrived.
     measured_at: u64,
     fault: Option<(FaultKind, u8)>,
@@ -129,6 +133,8 @@ pub struct Executor {
     written: written::Written,
     /// The correction of the commanded grasp ([`correction`]).
     correction: correction::Correction,
+    /// The object's pose from a tracking system, smoothed ([`tracking`]).
+    tracking: tracking::Tracking,
     /// Fingertips placed where the object is measured ([`placement`]).
     placement: placement::Placement,
     /// The control period \[s\].
@@ -249,6 +255,7 @@ impl Executor {
             setpoint: sp,
             prev_setpoint: sp,
             prev_measurement: None,
+            prev_raw: None,
             measured_at: 0,
             fault: None,
             braking: false,
@@ -260,6 +267,7 @@ impl Executor {
                 config.feedback.orientation_gain,
                 config.feedback.max_correction_deg.to_radians(),
             ),
+            tracking: tracking::Tracking::new(config.feedback.tracker_gain),
             placement: placement::Placement::new(
                 config.feedback.max_place_offset,
                 config.model.object_radius + config.model.fingertip_radius,
@@ -436,13 +444,24 @@ impl Executor {
         let age = measurement.map_or(0, |m| m.age as usize);
         let (cmd, adjusted) = self.written.at(age);
         let (prev_cmd, prev_adjusted) = *self.written.reflected();
+        let offset = self.drift.map_or(UnitQuaternion::identity(), |d| d.offset);
+        // The object as tracked: each sample against the plan of its own
+        // tick, smoothed over samples ([`tracking`]); what follows sees that
+        // estimate, the raw measurement is kept for telling a new one.
+        let raw = measurement;
+        let estimate = raw.map(|m| {
+            let (sampled, _) = self.written.at(age + m.object_age as usize);
+            self.tracking
+                .estimate(m, &cmd, &sampled, &offset, self.epoch)
+        });
+        let measurement = estimate.as_ref();
         if self.phase != Mode::SafeHold {
             match self.feedback.check(
                 measurement,
                 &cmd,
                 &prev_cmd,
                 self.prev_measurement.as_ref(),
-                &self.drift.map_or(UnitQuaternion::identity(), |d| d.offset),
+                &offset,
                 (&adjusted, &prev_adjusted),
             ) {
                 Ok(err) => {
@@ -461,10 +480,13 @@ impl Executor {
                 }
             }
         }
-        let new_measurement = measurement.is_some_and(|m| {
-            self.prev_measurement
+        let new_measurement = raw.is_some_and(|m| {
+            self.prev_raw
                 .is_none_or(|p| p.object != m.object || p.fingers != m.fingers)
         });
+        if let Some(m) = raw {
+            self.prev_raw = Some(*m);
+        }
         if let Some(m) = measurement {
             self.check_contacts(&cmd, m);
             self.prev_measurement = Some(*m);

@@ -86,6 +86,7 @@ impl Executor {
         };
         self.written.reset(state, adjustment);
         self.correction.clear();
+        self.tracking.clear();
     }
 }
 

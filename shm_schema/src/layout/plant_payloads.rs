@@ -194,7 +194,12 @@ pub(super) fn layouts() -> Vec<TypeLayout> {
                     "PlantFault",
                     "with FAULT: the plant's fault"
                 ),
-                f!(PlantMeasurement, reserved, "", "padding, 0"),
+                f!(
+                    PlantMeasurement,
+                    object_age_us,
+                    "µs",
+                    "how long before time_ns the object's pose was sampled (a tracker's latency; 0: with the rest)"
+                ),
                 f!(
                     PlantMeasurement,
                     object_q,

@@ -298,6 +298,8 @@ class TriFingerPlant(Plant):
             fingers=tuple(fingers),
             object_center=seen.centre,
             fault=PlantFault.Diverged if self.diverged else PlantFault.None_,
+            # The sample's age (the pose it was started on, before the first sample: still, so 0).
+            object_age=self.time - seen.t if math.isfinite(seen.t) else 0.0,
         )
 
     # ------------------------------------------------------------------ reports
