@@ -20,7 +20,7 @@ use gait::executor::{
     Executor, ExecutorCommand, ExecutorEvent, FaultKind, GoalStage, GoalTarget, Mode,
 };
 use gait::planner::Planner;
-use gait::sim::{MeasuredFinger, Measurement};
+use gait::sim::Measurement;
 use nalgebra::{UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -88,16 +88,8 @@ fn measure(truth: &HandState, t: u64, tracker: &mut Tracker) -> Measurement {
     let (object, object_age) = tracker.step(t, truth.object);
     Measurement {
         object,
-        fingers: truth.fingers.map(|f| MeasuredFinger {
-            center: f.center,
-            orientation: f.orientation,
-            contact: f.mode == gait::FingerMode::Grasping,
-            normal_force: None,
-            roll: Some(f.roll),
-        }),
-        center: None,
-        age: 0,
         object_age,
+        ..Measurement::of(truth)
     }
 }
 

@@ -10,7 +10,9 @@
 //! - `STATUS=` for systemd from the latest published status, which this
 //!   thread reads like any client;
 //! - a warning with the numbers when the grasp the hand starts (or is
-//!   reset) in cannot hold the load (the status's `load_margin` < 0).
+//!   reset) in cannot hold the load (the status's `load_margin` < 0); on a
+//!   chain hand, whose motors bound the grip before `load.max_grip` does,
+//!   a note with the motors' push instead (plans use the torque box).
 //!
 //! It has its own iceoryx2 node (ports are not shared across threads).
 
@@ -235,7 +237,12 @@ impl LoadWatch {
             self.armed = true;
         } else if self.armed && holding {
             self.armed = false;
-            if st.load_margin < 0.0 {
+            if st.load_margin < 0.0 && st.hand == shm_schema::status::hand::CHAINS {
+                // The motors, not load.max_grip, bound the closed-form grip.
+                let (peak, margin) = (st.load_grip, st.load_margin);
+                let note = super::load_check::capped_note(peak, margin, load.max_grip);
+                info!("{note}");
+            } else if st.load_margin < 0.0 {
                 let which = "the grasp the hand holds";
                 warn!("{}", super::load_check::warning(which, st.load_grip, load));
             }

@@ -57,6 +57,22 @@ pub fn warning(which: &str, peak: f64, load: &LoadConfig) -> String {
     )
 }
 
+/// The note for a chain hand whose commanded grip is capped at its motors
+/// (the status's `load_margin` < 0 with `peak` \[N\] needed, `max_grip`
+/// \[N\] allowed): the closed-form grip the executor commands is a normal
+/// push per finger, and the motors give less there; plans are certified by
+/// the torque box (SPEC §14.1), whose tangential forces share the load.
+pub fn capped_note(peak: f64, margin: f64, max_grip: f64) -> String {
+    let push = peak + margin;
+    format!(
+        "the grip is capped at the motors: its closed-form forces need F* = {peak:.2} N at a \
+         fingertip, the weakest grasping finger's motors push {push:.2} N there (effort \
+         through the finger's Jacobian, the links' weight held; load.max_grip = {max_grip} N); \
+         goals are planned with the torque box (SPEC §14.1), which lets the contact forces' \
+         tangential parts share the load"
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -73,5 +89,13 @@ mod tests {
         assert!(w.contains("object_mass = 10 kg"), "{w}");
         assert!(w.contains("load.max_grip = 20 N"), "{w}");
         assert!(warning("x", f64::INFINITY, &cfg.load).contains("F* = inf N"));
+    }
+
+    #[test]
+    fn a_capped_chain_grip_names_the_motors_push() {
+        let n = capped_note(3.1, -0.7, 20.0);
+        assert!(n.contains("F* = 3.10 N"), "{n}");
+        assert!(n.contains("push 2.40 N"), "{n}");
+        assert!(!n.contains("refused"), "{n}");
     }
 }
