@@ -580,13 +580,14 @@ impl RemoteConnection {
     /// the old one would not (PROTOCOL.md, "Events").
     pub fn drain(&mut self) -> Drained {
         let returned = std::mem::take(&mut self.inbox.lock().resubscribe);
-        let recheck = self.recheck_at.is_some_and(|t| Instant::now() >= t) && {
+        let due = self.recheck_at.is_some_and(|t| Instant::now() >= t);
+        if due {
+            self.recheck_at = None;
+        }
+        let recheck = due && {
             let s = self.inbox.lock();
             s.continuity.history_owed() || s.continuity.missing() > 0
         };
-        if self.recheck_at.is_some_and(|t| Instant::now() >= t) {
-            self.recheck_at = None;
-        }
         if returned || recheck {
             // On an error the old subscription goes on; the next return
             // retries.

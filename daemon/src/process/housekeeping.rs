@@ -237,12 +237,13 @@ impl LoadWatch {
             self.armed = true;
         } else if self.armed && holding {
             self.armed = false;
-            if st.load_margin < 0.0 && st.hand == shm_schema::status::hand::CHAINS {
+            let short = st.load_margin < 0.0;
+            if short && st.hand == shm_schema::status::hand::CHAINS {
                 // The motors, not load.max_grip, bound the closed-form grip.
                 let (peak, margin) = (st.load_grip, st.load_margin);
                 let note = super::load_check::capped_note(peak, margin, load.max_grip);
                 info!("{note}");
-            } else if st.load_margin < 0.0 {
+            } else if short {
                 let which = "the grasp the hand holds";
                 warn!("{}", super::load_check::warning(which, st.load_grip, load));
             }

@@ -450,7 +450,10 @@ impl Executor {
         // estimate, the raw measurement is kept for telling a new one.
         let raw = measurement;
         let estimate = raw.map(|m| {
-            let (sampled, _) = self.written.at(age + m.object_age as usize);
+            let sampled = match m.object_age {
+                0 => cmd,
+                n => self.written.at(age + n as usize).0,
+            };
             self.tracking
                 .estimate(m, &cmd, &sampled, &offset, self.epoch)
         });

@@ -131,49 +131,34 @@ mod tests {
     #[test]
     fn samples_are_averaged_held_ones_once_and_a_new_epoch_starts_afresh() {
         let plan = HandState::paper_start(&HandConfig::default());
-        let id = UnitQuaternion::identity();
         let mut t = Tracking::new(0.5);
-        let off = |deg: f64| UnitQuaternion::from_scaled_axis(Vector3::x() * deg.to_radians());
+        // The estimate for a sample `deg` off the plan about x (the plan
+        // as sampled and now the same), in `epoch`.
+        let mut see = |deg: f64, c: Option<Vector3<f64>>, age: u32, epoch: u32| {
+            let off = UnitQuaternion::from_scaled_axis(Vector3::x() * deg.to_radians());
+            let m = at(&plan, off * plan.object, c, age);
+            let e = t.estimate(&m, &plan, &plan, &UnitQuaternion::identity(), epoch);
+            (e.object.angle_to(&plan.object).to_degrees(), e.center)
+        };
         // First sample: taken as it is (1° off about x, centre 1 mm up).
         let c1 = Some(Vector3::new(0.0, 0.0, 1e-3));
-        let e = t.estimate(
-            &at(&plan, off(-1.0) * plan.object, c1, 3),
-            &plan,
-            &plan,
-            &id,
-            0,
-        );
-        assert!((e.object.angle_to(&plan.object).to_degrees() - 1.0).abs() < 1e-9);
-        assert_eq!(e.center, c1);
+        let (deg, c) = see(-1.0, c1, 3, 0);
+        assert!((deg - 1.0).abs() < 1e-9);
+        assert_eq!(c, c1);
         // The same sample held: unchanged.
-        let e = t.estimate(
-            &at(&plan, off(-1.0) * plan.object, c1, 4),
-            &plan,
-            &plan,
-            &id,
-            0,
-        );
-        assert!((e.object.angle_to(&plan.object).to_degrees() - 1.0).abs() < 1e-9);
+        let (deg, _) = see(-1.0, c1, 4, 0);
+        assert!((deg - 1.0).abs() < 1e-9);
         // A new one on the plan: halfway there (gain 0.5).
-        let e = t.estimate(
-            &at(&plan, plan.object, Some(Vector3::zeros()), 0),
-            &plan,
-            &plan,
-            &id,
-            0,
-        );
-        assert!((e.object.angle_to(&plan.object).to_degrees() - 0.5).abs() < 1e-9);
-        assert!((e.center.unwrap().z - 0.5e-3).abs() < 1e-15);
+        let (deg, c) = see(0.0, Some(Vector3::zeros()), 0, 0);
+        assert!((deg - 0.5).abs() < 1e-9);
+        assert!((c.unwrap().z - 0.5e-3).abs() < 1e-15);
+        // That one held: counted once, still halfway.
+        let (deg, _) = see(0.0, Some(Vector3::zeros()), 1, 0);
+        assert!((deg - 0.5).abs() < 1e-9);
         // Another epoch (a re-base): the next sample as it is.
-        let e = t.estimate(
-            &at(&plan, off(-2.0) * plan.object, None, 0),
-            &plan,
-            &plan,
-            &id,
-            1,
-        );
-        assert!((e.object.angle_to(&plan.object).to_degrees() - 2.0).abs() < 1e-9);
-        assert_eq!(e.center, None);
+        let (deg, c) = see(-2.0, None, 0, 1);
+        assert!((deg - 2.0).abs() < 1e-9);
+        assert_eq!(c, None);
     }
 
     #[test]
