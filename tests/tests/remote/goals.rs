@@ -130,12 +130,9 @@ fn delivered_as_documented(seqs: &[u64]) -> bool {
         return true;
     };
     let ascending = |older: bool| {
-        let run: Vec<u64> = seqs
-            .iter()
-            .copied()
-            .filter(|&s| (s < first) == older)
-            .collect();
-        run.windows(2).all(|w| w[0] < w[1])
+        seqs.iter()
+            .filter(|&&s| (s < first) == older)
+            .is_sorted_by(|a, b| a < b)
     };
     ascending(true) && ascending(false)
 }
